@@ -1,0 +1,47 @@
+#!/usr/bin/env bash
+# hardsphere set-up: installs what is missing (Debian 12, apt), builds, then either runs the
+# default simulation ("run") or the whole test suite ("test").
+#   bash scripts/setup.sh run     # build + default simulation + speed-distribution plot
+#   bash scripts/setup.sh test    # build + all tests (ctest)
+set -euo pipefail
+mode=${1:-run}
+root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
+build=${HS_BUILD_DIR:-$root/build}
+
+packages=(cmake g++ make libgtest-dev libgmock-dev libbenchmark-dev libcli11-dev nlohmann-json3-dev
+          python3-numpy python3-scipy python3-matplotlib python3-pytest)
+if [ "${HS_WITH_LAMMPS:-1}" = 1 ]; then
+  packages+=(lammps liblammps-dev openmpi-bin libopenmpi-dev liggghts)
+fi
+missing=()
+for p in "${packages[@]}"; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+done
+if [ ${#missing[@]} -gt 0 ]; then
+  echo "setup: installing ${missing[*]}"
+  sudo_cmd=""
+  [ "$(id -u)" = 0 ] || sudo_cmd=sudo
+  $sudo_cmd apt-get update -q
+  DEBIAN_FRONTEND=noninteractive $sudo_cmd apt-get install -y -q --no-install-recommends "${missing[@]}"
+fi
+
+cmake -S "$root" -B "$build" -DCMAKE_BUILD_TYPE=Release -DPython3_EXECUTABLE=/usr/bin/python3 >/dev/null
+cmake --build "$build" -j"$(nproc)"
+
+case "$mode" in
+  run)
+    out=${HS_OUT_DIR:-$root/results}
+    mkdir -p "$out"
+    "$build/standalone/hardsphere" run --n 4000 --phi 0.3 --init-speed 1.7320508075688772 --steps 2000 --dt 0.01 \
+      --json "$out/summary.json" --write-data "$out/final.data" --dump "$out/trajectory.dump" --dump-every 500
+    /usr/bin/python3 "$root/compare/plot_speeds.py" "$out/final.data" "$out/speed_distribution.png"
+    echo "setup: results in $out (summary.json, final.data, trajectory.dump, speed_distribution.png)"
+    ;;
+  test)
+    cd "$build" && ctest --output-on-failure -j"$(nproc)" ${HS_CTEST_ARGS:-}
+    ;;
+  *)
+    echo "usage: $0 run|test" >&2
+    exit 2
+    ;;
+esac

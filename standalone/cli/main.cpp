@@ -1,0 +1,139 @@
+// hardsphere: command-line front end. It only parses options and calls the library.
+#include <CLI/CLI.hpp>
+#include <cmath>
+#include <iostream>
+#include <sstream>
+
+#include "hardsphere/errors.hpp"
+#include "hardsphere/simulation.hpp"
+
+using namespace hardsphere;
+
+namespace {
+
+std::vector<double> parse_list(const std::string& s, const char* what) {
+  std::vector<double> out;
+  std::stringstream in(s);
+  std::string item;
+  while (std::getline(in, item, ',')) {
+    char* end = nullptr;
+    const double v = std::strtod(item.c_str(), &end);
+    if (item.empty() || *end != '\0') throw InputError(std::string(what) + " '" + s + "': '" + item + "' is not a number");
+    out.push_back(v);
+  }
+  if (out.size() != 1 && out.size() != 3) throw InputError(std::string(what) + " '" + s + "' needs one value or three (x,y,z)");
+  if (out.size() == 1) out = {out[0], out[0], out[0]};
+  return out;
+}
+
+std::array<int, 3> parse_cells(const std::string& s) {
+  if (s == "auto") return {0, 0, 0};
+  const auto v = parse_list(s, "--cells");
+  std::array<int, 3> k{};
+  for (int d = 0; d < 3; ++d) {
+    if (!(v[d] >= 1) || v[d] != std::floor(v[d]) || v[d] > 1e6)
+      throw InputError("--cells '" + s + "': cell counts must be whole numbers >= 1 (or auto)");
+    k[d] = int(v[d]);
+  }
+  return k;
+}
+
+void print_summary(const nlohmann::json& j, std::ostream& o) {
+  o << "hardsphere: " << j["n"] << " spheres, packing fraction " << j["packing_fraction"].get<double>() << ", "
+    << j["steps"] << " steps of dt " << j["dt"].get<double>() << " (" << j["scene_kernel"].get<std::string>() << ", cells "
+    << j["cells_per_dim"].dump() << ")\n"
+    << "  collisions        " << j["collisions"] << " (" << j["collision_rate_per_particle"].get<double>() << " per particle per unit time)\n"
+    << "  temperature       " << j["temperature"].get<double>() << "\n"
+    << "  Z = PV/NkT        " << j["compressibility_factor"].get<double>() << "\n"
+    << "  energy drift      " << j["energy_rel_drift"].get<double>() << " (relative)\n"
+    << "  max overlap       " << j["max_overlap"].get<double>() << "\n"
+    << "  speed KS distance " << j["speed_ks_distance"].get<double>() << " from Maxwell-Boltzmann\n"
+    << "  CPU time (loop)   " << j["loop_cpu_seconds"].get<double>() << " s, "
+    << j["particle_steps_per_second"].get<double>() << " particle-steps/s\n";
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{"hardsphere: time-stepped hard-sphere molecular dynamics with cell lists"};
+  app.require_subcommand(1);
+  auto* run = app.add_subcommand("run", "run a simulation and report a summary");
+
+  RunSpec spec;
+  std::int64_t n = 1000;
+  double phi = 0.2;
+  std::string box_s, boundary_s = "p", cells_s = "auto", precision_s = "double", init_s = "auto", json_s, detect_s = "overlap";
+  double init_speed = 0;
+  std::string read_data_s, write_data_s, dump_s;
+
+  auto* o_n = run->add_option("--n", n, "number of spheres (default 1000)");
+  auto* o_phi = run->add_option("--phi", phi, "packing fraction: sets the cubic box from n (default 0.2)");
+  auto* o_box = run->add_option("--box", box_s, "box length L or Lx,Ly,Lz (box from 0 to L)");
+  auto* o_radius = run->add_option("--radius", spec.init.radius, "sphere radius (default 0.5)");
+  auto* o_mass = run->add_option("--mass", spec.init.mass, "sphere mass (default 1)");
+  run->add_option("--boundary", boundary_s, "p (periodic) or w (wall) per axis, e.g. p,p,w (default p)");
+  auto* o_t = run->add_option("--temperature", spec.init.temperature, "initial temperature, k_B = 1 (default 1)");
+  auto* o_speed = run->add_option("--init-speed", init_speed, "give every sphere this speed, isotropic directions");
+  auto* o_init = run->add_option("--init", init_s, "initial positions: auto, random (insertion) or lattice (dense route)");
+  auto* o_seed = run->add_option("--seed", spec.init.seed, "random seed (default 1)");
+  run->add_option("--dt", spec.stepper.dt, "time step (default 0.01)");
+  run->add_option("--steps", spec.steps, "measured steps (default 1000)");
+  run->add_option("--equilibrate", spec.equilibrate, "steps run first and not measured (default 0)");
+  run->add_option("--cells", cells_s, "cells per axis: auto, K or Kx,Ky,Kz (1 = one box, O(N^2))");
+  run->add_option("--precision", precision_s, "double or float (default double)");
+  run->add_option("--detect", detect_s, "contact detection: overlap (a posteriori, default) or sweep (whole step)");
+  auto* o_read = run->add_option("--read-data", read_data_s, "start from a LAMMPS data file (atom_style sphere)");
+  run->add_option("--write-data", write_data_s, "write the final state as a LAMMPS data file");
+  auto* o_dump = run->add_option("--dump", dump_s, "write a LAMMPS text dump");
+  run->add_option("--dump-every", spec.dump_every, "steps between dump frames (default 100)")->needs(o_dump);
+  run->add_option("--json", json_s, "write the JSON summary to FILE (- for stdout)");
+  run->add_option("--histogram-bins", spec.histogram_bins, "bins of the speed histogram in the JSON (default 40)");
+  for (auto* o : {o_n, o_phi, o_box, o_radius, o_mass, o_t, o_speed, o_init, o_seed}) o_read->excludes(o);
+  o_t->excludes(o_speed);
+
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    return app.exit(e);
+  }
+
+  try {
+    spec.periodic = parse_boundary(boundary_s);
+    spec.stepper.cells = parse_cells(cells_s);
+    spec.precision = parse_precision(precision_s);
+    spec.stepper.detect = parse_detect(detect_s);
+    if (!read_data_s.empty()) spec.read_data = read_data_s;
+    if (!write_data_s.empty()) spec.write_data = write_data_s;
+    if (!dump_s.empty()) spec.dump = dump_s;
+    if (!json_s.empty()) spec.json = json_s;
+    if (!spec.read_data) {
+      spec.init.n = n;
+      spec.init.method = parse_init_method(init_s);
+      if (o_speed->count()) spec.init.speed = init_speed;
+      const double r = spec.init.radius;
+      if (!(std::isfinite(r) && r > 0)) throw InputError("--radius " + std::to_string(r) + " must be positive and finite");
+      if (n < 1) throw InputError("--n " + std::to_string(n) + " must be >= 1");
+      std::array<double, 3> len{};
+      if (o_box->count()) {
+        if (o_phi->count()) throw InputError("--phi and --box both set the box size; give one");
+        const auto v = parse_list(box_s, "--box");
+        for (int d = 0; d < 3; ++d) len[d] = v[d];
+      } else {
+        if (!(std::isfinite(phi) && phi > 0)) throw InputError("--phi " + std::to_string(phi) + " must be positive");
+        const double l = std::cbrt(double(n) * 4.0 / 3.0 * M_PI * r * r * r / phi);
+        len = {l, l, l};
+      }
+      spec.init.box = Box::from_lengths(len, spec.periodic);
+    }
+    const auto summary = run_simulation(spec);
+    if (spec.json && *spec.json == "-") std::cout << summary.dump(2) << '\n';
+    else print_summary(summary, std::cout);
+    return 0;
+  } catch (const InputError& e) {
+    std::cerr << "hardsphere: error: " << e.what() << '\n';
+    return 2;
+  } catch (const std::exception& e) {
+    std::cerr << "hardsphere: internal error: " << e.what() << '\n';
+    return 3;
+  }
+}

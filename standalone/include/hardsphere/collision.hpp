@@ -1,0 +1,116 @@
+#pragma once
+//! The physics kernel: contact times, elastic impulses and wall reflection as pure functions.
+//! Shared by the time stepper, the event engine and the LAMMPS fix. "No contact" is +inf,
+//! so this must never be compiled with -ffast-math.
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "hardsphere/vec3.hpp"
+
+namespace hardsphere::kernel {
+
+template <class T>
+constexpr T never() { return std::numeric_limits<T>::infinity(); }
+
+//! Back time s of a pair's entry into contact for straight-line motion: the larger root of
+//! |dr - dv s| = sigma, i.e. of a s^2 - 2 b s + c = 0 with a = dv^2, b = dr.dv, c = dr^2 - sigma^2.
+//! dr = r1 - r2, dv = v1 - v2 now. Valid when the pair touches at all (b^2 - a c >= 0), e.g. it
+//! overlaps now (c < 0). Stable forms: -c / (sqrt(disc) - b) for b < 0, (b + sqrt(disc)) / a
+//! for b >= 0, each a ratio of same-signed terms. +inf when there is no relative motion.
+template <class T>
+inline T rewind_time(Vec3<T> dr, Vec3<T> dv, T sigma) {
+  const T b = dot(dr, dv);
+  const T c = dot(dr, dr) - sigma * sigma;
+  const T a = dot(dv, dv);
+  const T root = std::sqrt(std::max(T(0), b * b - a * c));
+  if (b < T(0)) return -c / (root - b);
+  if (a > T(0)) return (b + root) / a;
+  return never<T>();
+}
+
+//! Did a pair moving in straight lines over the last `window` of time touch while approaching?
+//! True iff it overlapped at some back time s in [0, window] at which it was still approaching:
+//! the approach lasts for back times s > b/a and the overlap for s in (s_exit, s_entry), so the
+//! test is b < window a, entry s_entry > 0 and a real contact (disc > 0).
+//! `overlap_only` restricts it to pairs that overlap now (the seed's a posteriori detection).
+template <class T>
+inline bool touched_within(Vec3<T> dr, Vec3<T> dv, T sigma, T window, bool overlap_only) {
+  const T c = dot(dr, dr) - sigma * sigma;
+  const T b = dot(dr, dv);
+  if (!(c < T(0)) && (overlap_only || !(b > T(0)))) return false;
+  const T a = dot(dv, dv);
+  return b < window * a && b * b - a * c > T(0);
+}
+
+//! Time t >= 0 until a pair touches, or +inf if it never does (receding, or missing).
+//! Same stable form as rewind_time; an overlapping approaching pair collides now (t = 0).
+template <class T>
+inline T contact_time(Vec3<T> dr, Vec3<T> dv, T sigma) {
+  const T b = dot(dr, dv);
+  if (!(b < T(0))) return never<T>();
+  const T c = dot(dr, dr) - sigma * sigma;
+  if (c <= T(0)) return T(0);
+  const T a = dot(dv, dv);
+  const T disc = b * b - a * c;
+  if (disc <= T(0)) return never<T>();
+  return c / (std::sqrt(disc) - b);
+}
+
+//! Elastic (or restituted, e < 1) impulse J along the contact normal n = dr/|dr|:
+//! v1 += (J/m1) n, v2 -= (J/m2) n. Returns J >= 0 for an approaching pair, 0 otherwise.
+//! dr.dp1 = J |dr| is the pair's contribution to the collision virial.
+template <class T>
+inline T normal_impulse(Vec3<T> dr, Vec3<T> dv, T m1, T m2, T restitution = T(1)) {
+  const T r2 = dot(dr, dr);
+  const T b = dot(dr, dv);
+  if (!(b < T(0)) || !(r2 > T(0))) return T(0);
+  const T reduced_mass = m1 * m2 / (m1 + m2);
+  // J n = -(1+e) mu (dv.n) n with n = dr/|dr|; return J/|dr| times |dr| folded into one division.
+  return -(T(1) + restitution) * reduced_mass * b / std::sqrt(r2);
+}
+
+//! Applies a pair collision at contact separation dr; returns the virial term dr.dp1 (>= 0).
+template <class T>
+inline T collide(Vec3<T> dr, Vec3<T>& v1, Vec3<T>& v2, T m1, T m2, T restitution = T(1)) {
+  const T j = normal_impulse(dr, v1 - v2, m1, m2, restitution);
+  if (j == T(0)) return T(0);
+  const T inv_len = T(1) / std::sqrt(dot(dr, dr));
+  const Vec3<T> n = inv_len * dr;
+  v1 += (j / m1) * n;
+  v2 -= (j / m2) * n;
+  return j / inv_len;
+}
+
+//! Equal-mass special case: the velocity change is exactly antisymmetric, so momentum is
+//! conserved bit for bit. Returns dr.dp1 / m.
+template <class T>
+inline T collide_equal_mass(Vec3<T> dr, Vec3<T>& v1, Vec3<T>& v2) {
+  const T r2 = dot(dr, dr);
+  const T b = dot(dr, v1 - v2);
+  if (!(b < T(0)) || !(r2 > T(0))) return T(0);
+  const Vec3<T> dv_n = (b / r2) * dr;  // normal component of the relative velocity
+  v1 -= dv_n;
+  v2 += dv_n;
+  return -b;  // = |dr| * |dv.n|: with unit mass, J |dr| where J = mu*2|dv.n| = |dv.n|
+}
+
+//! Reflects a coordinate from the walls [lo, hi] of one axis for a sphere of radius r:
+//! rewind to the wall contact, flip the velocity, re-advance, which is an exact mirror.
+//! Returns the momentum given to the wall per unit mass (2|v|) or 0 if no contact.
+template <class T>
+inline T reflect_from_walls(T& x, T& v, T lo, T hi, T r) {
+  if (x - r < lo && v < T(0)) {
+    x = T(2) * (lo + r) - x;
+    v = -v;
+    return T(2) * v;
+  }
+  if (x + r > hi && v > T(0)) {
+    x = T(2) * (hi - r) - x;
+    v = -v;
+    return -T(2) * v;
+  }
+  return T(0);
+}
+
+}  // namespace hardsphere::kernel

@@ -1,0 +1,32 @@
+#pragma once
+//! Measurements on a particle state: energy, momentum, temperature, pressure, speed statistics.
+#include <cstdint>
+#include <vector>
+
+#include "hardsphere/particles.hpp"
+
+namespace hardsphere {
+
+double kinetic_energy(const ParticleSystem& sys);   //!< sum m v^2 / 2
+Vec3d total_momentum(const ParticleSystem& sys);    //!< sum m v
+double temperature(const ParticleSystem& sys);      //!< sum m v^2 / 3N (k_B = 1)
+
+//! Z = PV/(NkT) from the collision virial: 1 + sum(r_ij . dp_i) / (3 N T t).
+double compressibility_factor(double pair_virial, double sim_time, std::size_t n, double temperature);
+
+struct Histogram {
+  double lo = 0, hi = 0;
+  std::vector<std::int64_t> counts;
+  double width() const { return counts.empty() ? 0.0 : (hi - lo) / double(counts.size()); }
+};
+//! Histogram of |v| over [0, vmax) in `bins` bins (speeds >= vmax land in the last bin).
+Histogram speed_histogram(const ParticleSystem& sys, int bins, double vmax);
+
+//! Maxwell-Boltzmann cumulative distribution of u = |v| sqrt(m/T) (a chi distribution, 3 dof).
+double maxwell_cdf(double u);
+//! Kolmogorov-Smirnov distance between the scaled speeds u_i = |v_i| sqrt(m_i/T) and maxwell_cdf.
+double maxwell_ks_distance(const ParticleSystem& sys, double temperature);
+//! Asymptotic Kolmogorov distribution tail Q(lambda) = P(sqrt(n) D > lambda).
+double kolmogorov_pvalue(double d, std::size_t n);
+
+}  // namespace hardsphere

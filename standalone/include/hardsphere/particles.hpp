@@ -1,0 +1,44 @@
+#pragma once
+//! The canonical particle state exchanged between engines, initialisers and file I/O.
+//! Engines keep their own reordered, precision-specific copies; this one is ordered as read.
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "hardsphere/box.hpp"
+#include "hardsphere/vec3.hpp"
+
+namespace hardsphere {
+
+struct ParticleSystem {
+  Box box;
+  std::vector<std::int64_t> id;   //!< LAMMPS atom IDs, kept through every engine
+  std::vector<int> type;          //!< LAMMPS atom types (>= 1)
+  std::vector<double> radius;
+  std::vector<double> mass;
+  std::vector<Vec3d> pos;
+  std::vector<Vec3d> vel;
+
+  std::size_t size() const { return pos.size(); }
+  void resize(std::size_t n);
+  void reserve(std::size_t n);
+  void push_back(std::int64_t id, int type, double radius, double mass, Vec3d pos, Vec3d vel);
+
+  bool monodisperse() const;  //!< all radii and all masses equal
+  double max_radius() const;
+  double packing_fraction() const;  //!< sum of sphere volumes / box volume
+};
+
+//! Full consistency check; throws InputError naming the particle id, the value and `source`:
+//! non-positive or non-finite radius/mass, NaN/inf positions or velocities, particles outside
+//! a wall axis, duplicate ids, periodic box too short for the largest pair, overlapping pairs.
+//! Periodic coordinates are wrapped into the box first (as LAMMPS read_data does).
+void validate_and_wrap(ParticleSystem& sys, const std::string& source);
+
+//! Largest pair overlap max(0, R_i + R_j - |r_ij|) over all pairs (minimum image), via a cell grid.
+double max_overlap(const ParticleSystem& sys);
+
+//! Wraps periodic coordinates into [lo, hi).
+void wrap_periodic(ParticleSystem& sys);
+
+}  // namespace hardsphere

@@ -1,0 +1,40 @@
+#pragma once
+//! One complete run as the CLI performs it: initial state, equilibration, timed stepping with
+//! dumps, summary. Output files are committed only when the whole run succeeded.
+#include <cstdint>
+#include <optional>
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "hardsphere/init.hpp"
+#include "hardsphere/stepper.hpp"
+
+namespace hardsphere {
+
+struct RunSpec {
+  // Initial state: generated from `init`, or read from a LAMMPS data file.
+  InitSpec init;
+  std::optional<std::string> read_data;
+  std::array<bool, 3> periodic{true, true, true};  //!< boundaries (data files carry none)
+
+  StepperConfig stepper;
+  Precision precision = Precision::Double;
+  std::int64_t steps = 1000;
+  std::int64_t equilibrate = 0;  //!< steps run before measuring (not timed, not counted)
+
+  std::optional<std::string> write_data, dump, json;
+  std::int64_t dump_every = 100;
+  int histogram_bins = 40;
+};
+
+//! Runs the job and returns the JSON summary (keys documented in README). Throws InputError.
+nlohmann::json run_simulation(const RunSpec& spec);
+
+//! The initial state a RunSpec describes (generated or read), validated.
+ParticleSystem initial_state(const RunSpec& spec);
+
+//! CPU time of this process in seconds (what the seed paper measured).
+double process_cpu_seconds();
+
+}  // namespace hardsphere

@@ -1,0 +1,68 @@
+#include "hardsphere/observables.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace hardsphere {
+
+double kinetic_energy(const ParticleSystem& sys) {
+  double e = 0;
+  for (std::size_t i = 0; i < sys.size(); ++i) e += 0.5 * sys.mass[i] * dot(sys.vel[i], sys.vel[i]);
+  return e;
+}
+
+Vec3d total_momentum(const ParticleSystem& sys) {
+  Vec3d p{};
+  for (std::size_t i = 0; i < sys.size(); ++i) p += sys.mass[i] * sys.vel[i];
+  return p;
+}
+
+double temperature(const ParticleSystem& sys) {
+  return sys.size() ? 2.0 * kinetic_energy(sys) / (3.0 * double(sys.size())) : 0.0;
+}
+
+double compressibility_factor(double pair_virial, double sim_time, std::size_t n, double t) {
+  if (!(sim_time > 0) || n == 0 || !(t > 0)) return 1.0;
+  return 1.0 + pair_virial / (3.0 * double(n) * t * sim_time);
+}
+
+Histogram speed_histogram(const ParticleSystem& sys, int bins, double vmax) {
+  Histogram h;
+  h.lo = 0;
+  h.hi = vmax;
+  h.counts.assign(std::size_t(std::max(1, bins)), 0);
+  for (const auto& v : sys.vel) {
+    const auto b = std::size_t(norm(v) / vmax * double(h.counts.size()));
+    ++h.counts[std::min(b, h.counts.size() - 1)];
+  }
+  return h;
+}
+
+double maxwell_cdf(double u) {
+  return std::erf(u / std::sqrt(2.0)) - std::sqrt(2.0 / M_PI) * u * std::exp(-0.5 * u * u);
+}
+
+double maxwell_ks_distance(const ParticleSystem& sys, double t) {
+  std::vector<double> u(sys.size());
+  for (std::size_t i = 0; i < sys.size(); ++i) u[i] = norm(sys.vel[i]) * std::sqrt(sys.mass[i] / t);
+  std::sort(u.begin(), u.end());
+  double d = 0;
+  const double n = double(u.size());
+  for (std::size_t i = 0; i < u.size(); ++i) {
+    const double f = maxwell_cdf(u[i]);
+    d = std::max({d, f - double(i) / n, double(i + 1) / n - f});
+  }
+  return d;
+}
+
+double kolmogorov_pvalue(double d, std::size_t n) {
+  // Stephens' finite-n correction of the asymptotic Kolmogorov series.
+  const double sn = std::sqrt(double(n));
+  const double lambda = (sn + 0.12 + 0.11 / sn) * d;
+  if (lambda < 0.2) return 1.0;
+  double q = 0;
+  for (int k = 1; k <= 100; ++k) q += 2 * ((k % 2) ? 1 : -1) * std::exp(-2.0 * k * k * lambda * lambda);
+  return std::clamp(q, 0.0, 1.0);
+}
+
+}  // namespace hardsphere

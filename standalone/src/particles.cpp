@@ -1,0 +1,168 @@
+#include "hardsphere/particles.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+#include <unordered_set>
+
+#include "hardsphere/cell_grid.hpp"
+#include "hardsphere/errors.hpp"
+
+namespace hardsphere {
+
+void ParticleSystem::resize(std::size_t n) {
+  id.resize(n);
+  type.resize(n, 1);
+  radius.resize(n);
+  mass.resize(n);
+  pos.resize(n);
+  vel.resize(n);
+}
+
+void ParticleSystem::reserve(std::size_t n) {
+  id.reserve(n);
+  type.reserve(n);
+  radius.reserve(n);
+  mass.reserve(n);
+  pos.reserve(n);
+  vel.reserve(n);
+}
+
+void ParticleSystem::push_back(std::int64_t i, int t, double r, double m, Vec3d p, Vec3d v) {
+  id.push_back(i);
+  type.push_back(t);
+  radius.push_back(r);
+  mass.push_back(m);
+  pos.push_back(p);
+  vel.push_back(v);
+}
+
+bool ParticleSystem::monodisperse() const {
+  for (std::size_t i = 1; i < size(); ++i)
+    if (radius[i] != radius[0] || mass[i] != mass[0]) return false;
+  return true;
+}
+
+double ParticleSystem::max_radius() const {
+  double r = 0;
+  for (double x : radius) r = std::max(r, x);
+  return r;
+}
+
+double ParticleSystem::packing_fraction() const {
+  double v = 0;
+  for (double r : radius) v += 4.0 / 3.0 * M_PI * r * r * r;
+  return v / box.volume();
+}
+
+void wrap_periodic(ParticleSystem& sys) {
+  for (auto& p : sys.pos)
+    for (int d = 0; d < 3; ++d) {
+      if (!sys.box.periodic[d]) continue;
+      const double len = sys.box.length(d);
+      p[d] -= len * std::floor((p[d] - sys.box.lo[d]) / len);
+      if (p[d] >= sys.box.hi[d]) p[d] = sys.box.lo[d];  // rounding at the top edge
+    }
+}
+
+namespace {
+
+// Calls f(i, j, dr) for every pair closer than `cutoff` (minimum image), via a cell grid.
+template <class F>
+void for_each_close_pair(const ParticleSystem& sys, double cutoff, F&& f) {
+  const std::size_t n = sys.size();
+  if (n < 2) return;
+  const CellGrid grid = CellGrid::with_min_width(sys.box, cutoff, std::int64_t(2 * n + 27));
+  std::vector<double> x(n), y(n), z(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    x[i] = sys.pos[i].x;
+    y[i] = sys.pos[i].y;
+    z[i] = sys.pos[i].z;
+  }
+  std::vector<int> cell;
+  std::vector<std::uint32_t> start, order;
+  grid.sort(x.data(), y.data(), z.data(), n, cell, start, order);
+  for (std::int64_t c = 0; c < grid.size(); ++c) {
+    grid.for_each_neighbour(int(c), [&](int nb) {
+      if (nb < c) return;
+      for (std::uint32_t a = start[c]; a < start[c + 1]; ++a)
+        for (std::uint32_t b = (nb == c ? a + 1 : start[nb]); b < start[nb + 1]; ++b) {
+          const std::uint32_t i = order[a], j = order[b];
+          Vec3d dr = sys.pos[i] - sys.pos[j];
+          for (int d = 0; d < 3; ++d)
+            if (sys.box.periodic[d]) dr[d] -= sys.box.length(d) * std::nearbyint(dr[d] / sys.box.length(d));
+          if (dot(dr, dr) < cutoff * cutoff) f(i, j, dr);
+        }
+    });
+  }
+}
+
+bool finite(Vec3d v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
+
+}  // namespace
+
+double max_overlap(const ParticleSystem& sys) {
+  double worst = 0;
+  for_each_close_pair(sys, 2 * sys.max_radius(), [&](std::size_t i, std::size_t j, Vec3d dr) {
+    worst = std::max(worst, sys.radius[i] + sys.radius[j] - norm(dr));
+  });
+  return worst;
+}
+
+void validate_and_wrap(ParticleSystem& sys, const std::string& source) {
+  validate_box(sys.box, source);
+  static const char* axis = "xyz";
+  std::unordered_set<std::int64_t> seen;
+  for (std::size_t i = 0; i < sys.size(); ++i) {
+    std::ostringstream where;
+    where << source << ": atom " << sys.id[i];
+    auto fail = [&](const std::string& what) { throw InputError(where.str() + ": " + what); };
+    if (!seen.insert(sys.id[i]).second) fail("duplicate atom id");
+    if (sys.id[i] < 1) fail("atom id must be >= 1");
+    if (sys.type[i] < 1) fail("atom type " + std::to_string(sys.type[i]) + " must be >= 1");
+    if (!(std::isfinite(sys.radius[i]) && sys.radius[i] > 0)) {
+      std::ostringstream m;
+      m << "radius " << sys.radius[i] << " must be positive and finite";
+      fail(m.str());
+    }
+    if (!(std::isfinite(sys.mass[i]) && sys.mass[i] > 0)) {
+      std::ostringstream m;
+      m << "mass " << sys.mass[i] << " must be positive and finite";
+      fail(m.str());
+    }
+    if (!finite(sys.pos[i])) fail("position is not finite (NaN or inf)");
+    if (!finite(sys.vel[i])) fail("velocity is not finite (NaN or inf)");
+    for (int d = 0; d < 3; ++d) {
+      if (sys.box.periodic[d]) continue;
+      const double p = sys.pos[i][d], r = sys.radius[i];
+      if (p - r < sys.box.lo[d] || p + r > sys.box.hi[d]) {
+        std::ostringstream m;
+        m.precision(17);
+        m << axis[d] << " = " << p << " with radius " << r << " is outside the wall-bounded box [" << sys.box.lo[d]
+          << ", " << sys.box.hi[d] << "]";
+        fail(m.str());
+      }
+    }
+  }
+  const double diameter = 2 * sys.max_radius();
+  for (int d = 0; d < 3; ++d)
+    if (sys.box.periodic[d] && sys.box.length(d) < 2 * diameter) {
+      std::ostringstream m;
+      m << source << ": periodic box length " << sys.box.length(d) << " along " << axis[d]
+        << " is less than twice the largest diameter " << diameter << " (minimum image would be ambiguous)";
+      throw InputError(m.str());
+    }
+  wrap_periodic(sys);
+  for_each_close_pair(sys, diameter, [&](std::size_t i, std::size_t j, Vec3d dr) {
+    const double dist = norm(dr), contact = sys.radius[i] + sys.radius[j];
+    if (dist < contact) {
+      std::ostringstream m;
+      m.precision(17);
+      m << source << ": atoms " << sys.id[i] << " and " << sys.id[j] << " overlap: distance " << dist
+        << " < contact distance " << contact;
+      throw InputError(m.str());
+    }
+  });
+}
+
+}  // namespace hardsphere
