@@ -75,8 +75,13 @@ class Stepper final : public StepperBase {
   struct Candidate {
     std::uint32_t i, j;  // i < j (cell order)
     std::uint8_t image;
-    Real back;  // time back from the end of the step to the contact
+    Real back;                       // time back from the end of the step to the contact
     std::uint32_t count_i, count_j;  // velocity-change counters when predicted (lazy invalidation)
+  };
+  // Per-sphere in-step bookkeeping, packed so one cache line serves a neighbour test.
+  struct Change {
+    Real back;           // straight-line window: time since the last velocity change (dt if none)
+    std::uint32_t count; // velocity changes so far, invalidates stale predictions
   };
 
   template <bool AllPeriodic, bool Mono, bool Sweep>
@@ -86,7 +91,7 @@ class Stepper final : public StepperBase {
   template <bool AllPeriodic, bool Mono, bool Sweep> void step();
   template <bool AllPeriodic> void drift();
   template <bool Mono, bool Sweep> void scan_pair_list();
-  template <bool Mono> void sweep_neighbours(std::uint32_t i);
+  template <bool Mono> void sweep_neighbours(std::uint32_t s);
   template <bool Mono> void expand_candidates();
   template <bool AllPeriodic, bool Mono> bool resolve_one(const Candidate& c);
   template <bool AllPeriodic, bool Mono> void resolve_in_time_order();
@@ -96,26 +101,36 @@ class Stepper final : public StepperBase {
     return std::minmax(id_[a.i], id_[a.j]) > std::minmax(id_[b.i], id_[b.j]);
   }
   void rebuild();
+  void build_pairs_half_stencil();
+  void build_pairs_any_grid();
+  void add_pairs_between(std::uint32_t b0, std::uint32_t b1, std::uint32_t e0, std::uint32_t e1, std::uint8_t image,
+                         bool same_cell);
+  void push_pair(std::uint32_t i, std::uint32_t j, std::uint8_t image) {
+    pair_i_.push_back(i);
+    pair_j_.push_back(j);
+    pair_image_.push_back(image);
+  }
   void reflect(std::uint32_t i);
   void note_displacement(std::uint32_t i) {
-    const Real dx = x_[i] - x0_[i], dy = y_[i] - y0_[i], dz = z_[i] - z0_[i];
-    max_disp2_ = std::max(max_disp2_, dx * dx + dy * dy + dz * dz);
+    const V3<Real> d = pos_[i] - pos0_[i];
+    max_disp2_ = std::max(max_disp2_, dot(d, d));
   }
   void mark_changed(std::uint32_t i, Real back) {
-    change_stamp_[i] = step_no_;
-    change_back_[i] = back;
-    ++change_count_[i];
+    if (change_[i].back == dt_) changed_.push_back(i);  // first change this step
+    change_[i].back = back;
+    ++change_[i].count;
   }
-  //! Each sphere moved in a straight line for the last window(i) of this step: all of it, or
-  //! the time since its last collision or wall bounce.
-  Real window(std::uint32_t i) const { return change_stamp_[i] == step_no_ ? change_back_[i] : dt_; }
   //! Adds (i, j) if the pair touched while approaching within its common straight-line window;
   //! it is rewound to its entry into contact, or to the window's start if overlapping then.
   void consider(std::uint32_t i, std::uint32_t j, std::uint8_t image, V3<Real> dr, Real sigma, bool overlap_only) {
-    const V3<Real> dv{vx_[i] - vx_[j], vy_[i] - vy_[j], vz_[i] - vz_[j]};
-    const Real w = std::min(window(i), window(j));
+    const V3<Real> dv = vel_[i] - vel_[j];
+    const Change ci = change_[i], cj = change_[j];
+    const Real w = std::min(ci.back, cj.back);
     if (kernel::touched_within(dr, dv, sigma, w, overlap_only))
-      candidates_.push_back({i, j, image, std::min(kernel::rewind_time(dr, dv, sigma), w), change_count_[i], change_count_[j]});
+      candidates_.push_back({i, j, image, std::min(kernel::rewind_time(dr, dv, sigma), w), ci.count, cj.count});
+  }
+  V3<Real> separation(std::uint32_t i, std::uint32_t j, std::uint8_t image) const {
+    return pos_[i] - pos_[j] - image_shift_[image];
   }
   bool list_expired() const { return Real(4) * max_disp2_ >= skin_ * skin_; }
   Real contact_distance(std::uint32_t i, std::uint32_t j) const { return r_[i] + r_[j]; }
@@ -128,33 +143,32 @@ class Stepper final : public StepperBase {
   Real sigma_ = 0, mass_ = 0;  // monodisperse constants
   std::int64_t max_events_;
   std::array<Real, 3> length_{};
-  Real image_shift_[27][3];
+  V3<Real> image_shift_[27];  // code (kx+1)*9+(ky+1)*3+(kz+1) -> (kx Lx, ky Ly, kz Lz)
 
-  // Structure of arrays in cell order.
-  std::vector<Real> x_, y_, z_, vx_, vy_, vz_, x0_, y0_, z0_, r_, m_;
+  // Per-field arrays in cell order: a neighbour's position or velocity is one cache line.
+  std::vector<V3<Real>> pos_, vel_, pos0_;  // pos0_: positions at the last rebuild
+  std::vector<Real> r_, m_;
+  std::vector<Change> change_;
   std::vector<std::int64_t> id_;
   std::vector<int> type_, cell_;
-  std::vector<std::uint32_t> cell_start_, order_;
+  std::vector<std::uint32_t> cell_start_, order_, changed_;
   // Candidate pairs within r_i + r_j + skin at the last rebuild, with their periodic image.
   std::vector<std::uint32_t> pair_i_, pair_j_;
   std::vector<std::uint8_t> pair_image_;
-  // For each sphere, the indices of the list pairs it belongs to (CSR), for local sweeps.
-  std::vector<std::uint32_t> adj_start_, adj_pair_;
+  // For each sphere s, its list partners q and the image of r_s - r_q (CSR), for local sweeps.
+  std::vector<std::uint32_t> adj_start_, adj_partner_;
+  std::vector<std::uint8_t> adj_image_;
   std::vector<Candidate> candidates_, heap_;
-  // When each sphere last changed velocity (step number, time back from the step's end), how
-  // often, and in which expansion its neighbours were last swept.
-  std::uint64_t step_no_ = 1, sweep_no_ = 1;
-  std::vector<std::uint64_t> change_stamp_, swept_stamp_;
-  std::vector<std::uint32_t> change_count_;
-  std::vector<Real> change_back_;
+  // Expansion sweeps: which expansion last swept each sphere.
+  std::uint64_t sweep_no_ = 1;
+  std::vector<std::uint64_t> swept_stamp_;
   StepCounters counters_;
 };
 
 template <class Real>
 Stepper<Real>::Stepper(const ParticleSystem& sys, const StepperConfig& cfg)
     : box_(sys.box), all_periodic_(sys.box.all_periodic()), mono_(sys.monodisperse()),
-      sweep_(cfg.detect == Detect::Sweep), dt_(Real(cfg.dt)),
-      max_events_(cfg.max_events_per_step) {
+      sweep_(cfg.detect == Detect::Sweep), dt_(Real(cfg.dt)), max_events_(cfg.max_events_per_step) {
   if (!(std::isfinite(cfg.dt) && cfg.dt > 0)) {
     std::ostringstream m;
     m << "time step dt = " << cfg.dt << " must be positive and finite";
@@ -165,10 +179,9 @@ Stepper<Real>::Stepper(const ParticleSystem& sys, const StepperConfig& cfg)
   if (n >= std::numeric_limits<std::uint32_t>::max() / 2) throw InputError("too many particles for one engine");
   const double diameter = 2 * sys.max_radius();
 
-  bool auto_cells = cfg.cells[0] == 0 && cfg.cells[1] == 0 && cfg.cells[2] == 0;
+  const bool auto_cells = cfg.cells[0] == 0 && cfg.cells[1] == 0 && cfg.cells[2] == 0;
   if (auto_cells) {
-    const double skin = auto_skin(sys, cfg.dt);
-    grid_ = CellGrid::with_min_width(box_, diameter + skin, std::int64_t(2 * n + 27));
+    grid_ = CellGrid::with_min_width(box_, diameter + auto_skin(sys, cfg.dt), std::int64_t(2 * n + 27));
   } else {
     for (int d = 0; d < 3; ++d)
       if (cfg.cells[d] < 1) throw InputError("cells per axis must be >= 1, got " + std::to_string(cfg.cells[d]));
@@ -187,24 +200,18 @@ Stepper<Real>::Stepper(const ParticleSystem& sys, const StepperConfig& cfg)
   for (int d = 0; d < 3; ++d) length_[d] = Real(box_.length(d));
   for (int kx = -1; kx <= 1; ++kx)
     for (int ky = -1; ky <= 1; ++ky)
-      for (int kz = -1; kz <= 1; ++kz) {
-        auto* s = image_shift_[image_code(kx, ky, kz)];
-        s[0] = Real(kx) * length_[0];
-        s[1] = Real(ky) * length_[1];
-        s[2] = Real(kz) * length_[2];
-      }
+      for (int kz = -1; kz <= 1; ++kz)
+        image_shift_[image_code(kx, ky, kz)] = {Real(kx) * length_[0], Real(ky) * length_[1], Real(kz) * length_[2]};
 
-  auto fill = [n](std::vector<Real>& a) { a.resize(n); };
-  for (auto* a : {&x_, &y_, &z_, &vx_, &vy_, &vz_, &x0_, &y0_, &z0_, &r_, &m_}) fill(*a);
+  pos_.resize(n);
+  vel_.resize(n);
+  r_.resize(n);
+  m_.resize(n);
   id_ = sys.id;
   type_ = sys.type;
   for (std::size_t i = 0; i < n; ++i) {
-    x_[i] = Real(sys.pos[i].x);
-    y_[i] = Real(sys.pos[i].y);
-    z_[i] = Real(sys.pos[i].z);
-    vx_[i] = Real(sys.vel[i].x);
-    vy_[i] = Real(sys.vel[i].y);
-    vz_[i] = Real(sys.vel[i].z);
+    pos_[i] = {Real(sys.pos[i].x), Real(sys.pos[i].y), Real(sys.pos[i].z)};
+    vel_[i] = {Real(sys.vel[i].x), Real(sys.vel[i].y), Real(sys.vel[i].z)};
     r_[i] = Real(sys.radius[i]);
     m_[i] = Real(sys.mass[i]);
   }
@@ -212,59 +219,78 @@ Stepper<Real>::Stepper(const ParticleSystem& sys, const StepperConfig& cfg)
     sigma_ = Real(2) * r_[0];
     mass_ = m_[0];
   }
-  change_count_.assign(n, 0);
-  change_stamp_.assign(n, 0);
+  change_.assign(n, Change{dt_, 0});
   swept_stamp_.assign(n, 0);
-  change_back_.assign(n, Real(0));
   rebuild();
   counters_.rebuilds = 0;
 }
 
 template <class Real>
-void Stepper<Real>::rebuild() {
-  const std::size_t n = x_.size();
-  for (int d = 0; d < 3; ++d) {
-    if (!box_.periodic[d]) continue;
-    auto& a = d == 0 ? x_ : (d == 1 ? y_ : z_);
-    const Real lo = Real(box_.lo[d]), len = length_[d];
-    for (auto& v : a) {
-      v -= len * std::floor((v - lo) / len);
-      if (v >= lo + len) v -= len;  // floor rounding at the top edge
+void Stepper<Real>::add_pairs_between(std::uint32_t b0, std::uint32_t b1, std::uint32_t e0, std::uint32_t e1,
+                                      std::uint8_t image, bool same_cell) {
+  const Real skin = std::isinf(skin_) ? std::numeric_limits<Real>::max() / 4 : skin_;
+  const Real mono_cut2 = (sigma_ + skin) * (sigma_ + skin);
+  for (std::uint32_t i = b0; i < b1; ++i) {
+    const V3<Real> ri = pos_[i] - image_shift_[image];
+    for (std::uint32_t j = same_cell ? i + 1 : e0; j < e1; ++j) {
+      const V3<Real> d = ri - pos_[j];
+      Real cut2 = mono_cut2;
+      if (!mono_) {
+        const Real cut = r_[i] + r_[j] + skin;
+        cut2 = cut * cut;
+      }
+      if (dot(d, d) < cut2) push_pair(i, j, image);
     }
   }
-  grid_.sort(x_.data(), y_.data(), z_.data(), n, cell_, cell_start_, order_);
-  auto permute = [&](auto& a) {
-    auto tmp = a;
-    for (std::size_t k = 0; k < n; ++k) tmp[k] = a[order_[k]];
-    a.swap(tmp);
-  };
-  for (auto* a : {&x_, &y_, &z_, &vx_, &vy_, &vz_, &r_, &m_, &change_back_}) permute(*a);
-  permute(change_stamp_);
-  permute(change_count_);
-  std::fill(swept_stamp_.begin(), swept_stamp_.end(), 0);
-  permute(id_);
-  permute(type_);
-  permute(cell_);
-  x0_ = x_;
-  y0_ = y_;
-  z0_ = z_;
-  max_disp2_ = 0;
+}
 
-  // Candidate list: every pair that could touch before the next rebuild.
-  pair_i_.clear();
-  pair_j_.clear();
-  pair_image_.clear();
+template <class Real>
+void Stepper<Real>::build_pairs_half_stencil() {
+  // Every periodic axis has >= 3 cells and positions are wrapped: each unordered pair of
+  // neighbouring cells is met once through 13 forward offsets, and a periodic wrap of the
+  // neighbour's cell coordinate is exactly the pair's minimum image. No division per pair.
+  static const int offsets[13][3] = {{1, 0, 0},  {-1, 1, 0}, {0, 1, 0},  {1, 1, 0},  {-1, -1, 1}, {0, -1, 1}, {1, -1, 1},
+                                     {-1, 0, 1}, {0, 0, 1},  {1, 0, 1},  {-1, 1, 1}, {0, 1, 1},   {1, 1, 1}};
+  const auto k = grid_.counts();
+  for (int cz = 0; cz < k[2]; ++cz)
+    for (int cy = 0; cy < k[1]; ++cy)
+      for (int cx = 0; cx < k[0]; ++cx) {
+        const int c = grid_.index(cx, cy, cz);
+        const std::uint32_t b0 = cell_start_[c], b1 = cell_start_[c + 1];
+        if (b0 == b1) continue;
+        add_pairs_between(b0, b1, b0, b1, image_code(0, 0, 0), true);
+        for (const auto& o : offsets) {
+          int n[3] = {cx + o[0], cy + o[1], cz + o[2]}, img[3] = {0, 0, 0};
+          bool inside = true;
+          for (int d = 0; d < 3; ++d) {
+            if (n[d] >= 0 && n[d] < k[d]) continue;
+            if (!box_.periodic[d]) inside = false;
+            // Across the lower face the nearest image of j is one box down: r_i - r_j + L.
+            img[d] = n[d] < 0 ? -1 : 1;
+            n[d] = (n[d] + k[d]) % k[d];
+          }
+          if (!inside) continue;
+          const int nb = grid_.index(n[0], n[1], n[2]);
+          add_pairs_between(b0, b1, cell_start_[nb], cell_start_[nb + 1], image_code(img[0], img[1], img[2]), false);
+        }
+      }
+}
+
+template <class Real>
+void Stepper<Real>::build_pairs_any_grid() {
+  // General grids (an axis with 1 or 2 periodic cells): neighbour cells may repeat, so take
+  // each unordered cell pair once by index and the minimum image per pair.
   const Real skin = std::isinf(skin_) ? std::numeric_limits<Real>::max() / 4 : skin_;
   const std::int64_t ncell = grid_.size();
   for (std::int64_t c = 0; c < ncell; ++c) {
     const std::uint32_t b0 = cell_start_[c], b1 = cell_start_[c + 1];
     if (b0 == b1) continue;
     grid_.for_each_neighbour(int(c), [&](int nb) {
-      if (nb < c) return;  // each unordered cell pair once
+      if (nb < c) return;
       const std::uint32_t e1 = cell_start_[nb + 1];
       for (std::uint32_t i = b0; i < b1; ++i) {
         for (std::uint32_t j = (nb == c ? i + 1 : cell_start_[nb]); j < e1; ++j) {
-          Real d[3] = {x_[i] - x_[j], y_[i] - y_[j], z_[i] - z_[j]};
+          V3<Real> d = pos_[i] - pos_[j];
           int k[3] = {0, 0, 0};
           for (int a = 0; a < 3; ++a)
             if (box_.periodic[a]) {
@@ -272,15 +298,58 @@ void Stepper<Real>::rebuild() {
               d[a] -= Real(k[a]) * length_[a];
             }
           const Real cut = r_[i] + r_[j] + skin;
-          if (d[0] * d[0] + d[1] * d[1] + d[2] * d[2] < cut * cut) {
-            pair_i_.push_back(i);
-            pair_j_.push_back(j);
-            pair_image_.push_back(image_code(k[0], k[1], k[2]));
-          }
+          if (dot(d, d) < cut * cut) push_pair(i, j, image_code(k[0], k[1], k[2]));
         }
       }
     });
   }
+}
+
+template <class Real>
+void Stepper<Real>::rebuild() {
+  const std::size_t n = pos_.size();
+  for (int d = 0; d < 3; ++d) {
+    if (!box_.periodic[d]) continue;
+    const Real lo = Real(box_.lo[d]), len = length_[d];
+    for (auto& p : pos_) {
+      p[d] -= len * std::floor((p[d] - lo) / len);
+      if (p[d] >= lo + len) p[d] -= len;  // floor rounding at the top edge
+    }
+  }
+  std::vector<Real> x(n), y(n), z(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    x[i] = pos_[i].x;
+    y[i] = pos_[i].y;
+    z[i] = pos_[i].z;
+  }
+  grid_.sort(x.data(), y.data(), z.data(), n, cell_, cell_start_, order_);
+  auto permute = [&](auto& a) {
+    auto tmp = a;
+    for (std::size_t k = 0; k < n; ++k) tmp[k] = a[order_[k]];
+    a.swap(tmp);
+  };
+  permute(pos_);
+  permute(vel_);
+  permute(r_);
+  permute(m_);
+  permute(change_);
+  permute(id_);
+  permute(type_);
+  permute(cell_);
+  changed_.clear();  // indices are stale after the permutation: rebuild the list
+  for (std::uint32_t i = 0; i < n; ++i)
+    if (change_[i].back != dt_) changed_.push_back(i);
+  pos0_ = pos_;
+  max_disp2_ = 0;
+  std::fill(swept_stamp_.begin(), swept_stamp_.end(), 0);
+
+  // Candidate list: every pair that could touch before the next rebuild.
+  pair_i_.clear();
+  pair_j_.clear();
+  pair_image_.clear();
+  if (grid_.half_stencil_ok()) build_pairs_half_stencil();
+  else build_pairs_any_grid();
+
   // Adjacency (both directions) for sweeping one sphere's neighbours.
   adj_start_.assign(n + 1, 0);
   for (std::size_t p = 0; p < pair_i_.size(); ++p) {
@@ -288,11 +357,15 @@ void Stepper<Real>::rebuild() {
     ++adj_start_[pair_j_[p] + 1];
   }
   for (std::size_t i = 0; i < n; ++i) adj_start_[i + 1] += adj_start_[i];
-  adj_pair_.resize(2 * pair_i_.size());
+  adj_partner_.resize(2 * pair_i_.size());
+  adj_image_.resize(2 * pair_i_.size());
   order_.assign(adj_start_.begin(), adj_start_.end() - 1);  // reuse as fill cursors
   for (std::size_t p = 0; p < pair_i_.size(); ++p) {
-    adj_pair_[order_[pair_i_[p]]++] = std::uint32_t(p);
-    adj_pair_[order_[pair_j_[p]]++] = std::uint32_t(p);
+    const std::uint32_t i = pair_i_[p], j = pair_j_[p];
+    adj_partner_[order_[i]] = j;
+    adj_image_[order_[i]++] = pair_image_[p];
+    adj_partner_[order_[j]] = i;
+    adj_image_[order_[j]++] = std::uint8_t(26 - pair_image_[p]);  // the mirrored image
   }
   ++counters_.rebuilds;
 }
@@ -300,23 +373,17 @@ void Stepper<Real>::rebuild() {
 template <class Real>
 template <bool AllPeriodic>
 void Stepper<Real>::drift() {
-  const std::size_t n = x_.size();
+  const std::size_t n = pos_.size();
   const Real dt = dt_;
-  Real* __restrict x = x_.data();
-  Real* __restrict y = y_.data();
-  Real* __restrict z = z_.data();
-  const Real* __restrict vx = vx_.data();
-  const Real* __restrict vy = vy_.data();
-  const Real* __restrict vz = vz_.data();
-  const Real* __restrict x0 = x0_.data();
-  const Real* __restrict y0 = y0_.data();
-  const Real* __restrict z0 = z0_.data();
+  V3<Real>* __restrict p = pos_.data();
+  const V3<Real>* __restrict v = vel_.data();
+  const V3<Real>* __restrict p0 = pos0_.data();
   Real m = max_disp2_;
   for (std::size_t i = 0; i < n; ++i) {
-    x[i] += vx[i] * dt;
-    y[i] += vy[i] * dt;
-    z[i] += vz[i] * dt;
-    const Real dx = x[i] - x0[i], dy = y[i] - y0[i], dz = z[i] - z0[i];
+    p[i].x += v[i].x * dt;
+    p[i].y += v[i].y * dt;
+    p[i].z += v[i].z * dt;
+    const Real dx = p[i].x - p0[i].x, dy = p[i].y - p0[i].y, dz = p[i].z - p0[i].z;
     const Real d2 = dx * dx + dy * dy + dz * dz;
     m = d2 > m ? d2 : m;
   }
@@ -328,18 +395,16 @@ void Stepper<Real>::drift() {
 
 template <class Real>
 void Stepper<Real>::reflect(std::uint32_t i) {
-  Real* pos[3] = {&x_[i], &y_[i], &z_[i]};
-  Real* vel[3] = {&vx_[i], &vy_[i], &vz_[i]};
   for (int d = 0; d < 3; ++d) {
     if (box_.periodic[d]) continue;
-    const Real before = *pos[d], v = *vel[d];
-    const Real dp = kernel::reflect_from_walls(*pos[d], *vel[d], Real(box_.lo[d]), Real(box_.hi[d]), r_[i]);
+    const Real before = pos_[i][d], v = vel_[i][d];
+    const Real dp = kernel::reflect_from_walls(pos_[i][d], vel_[i][d], Real(box_.lo[d]), Real(box_.hi[d]), r_[i]);
     if (dp != Real(0)) {
       ++counters_.wall_collisions;
       counters_.wall_impulse[d] += double(m_[i]) * std::abs(double(dp));
       note_displacement(i);
       // The bounce happened half the mirror distance ago.
-      mark_changed(i, std::min(window(i), std::abs(*pos[d] - before) / (Real(2) * std::abs(v))));
+      mark_changed(i, std::min(change_[i].back, std::abs(pos_[i][d] - before) / (Real(2) * std::abs(v))));
     }
   }
 }
@@ -352,36 +417,37 @@ void Stepper<Real>::scan_pair_list() {
   const std::uint32_t* __restrict pi = pair_i_.data();
   const std::uint32_t* __restrict pj = pair_j_.data();
   const std::uint8_t* __restrict img = pair_image_.data();
-  const Real* __restrict x = x_.data();
-  const Real* __restrict y = y_.data();
-  const Real* __restrict z = z_.data();
+  const V3<Real>* __restrict pos = pos_.data();
   // Sweep: a pair can have touched within the step only if its gap is below |dv| dt; bound
   // |dv| by twice the fastest speed so the cheap distance test still rejects most pairs.
-  Real reach2 = 0;
+  Real reach = 0;
   if constexpr (Sweep) {
     Real v2 = 0;
-    for (std::size_t i = 0; i < vx_.size(); ++i) v2 = std::max(v2, vx_[i] * vx_[i] + vy_[i] * vy_[i] + vz_[i] * vz_[i]);
-    reach2 = Real(2) * std::sqrt(v2) * dt_;
+    for (const auto& v : vel_) v2 = std::max(v2, dot(v, v));
+    reach = Real(2) * std::sqrt(v2) * dt_;
   }
   for (std::size_t p = 0; p < np; ++p) {
     const std::uint32_t i = pi[p], j = pj[p];
-    const Real* s = image_shift_[img[p]];
-    const Real dx = x[i] - x[j] - s[0], dy = y[i] - y[j] - s[1], dz = z[i] - z[j] - s[2];
-    const Real d2 = dx * dx + dy * dy + dz * dz;
+    const V3<Real> d = pos[i] - pos[j] - image_shift_[img[p]];
     const Real sg = Mono ? sigma_ : r_[i] + r_[j];
-    const Real lim = Sweep ? sg + reach2 : sg;
-    if (d2 < lim * lim) consider(i, j, img[p], {dx, dy, dz}, sg, !Sweep);
+    const Real lim = Sweep ? sg + reach : sg;
+    if (dot(d, d) < lim * lim) consider(i, j, img[p], d, sg, !Sweep);
   }
 }
 
 template <class Real>
 template <bool Mono>
-void Stepper<Real>::sweep_neighbours(std::uint32_t sphere) {
-  for (std::uint32_t k = adj_start_[sphere]; k < adj_start_[sphere + 1]; ++k) {
-    const std::uint32_t p = adj_pair_[k], i = pair_i_[p], j = pair_j_[p];
-    const Real* s = image_shift_[pair_image_[p]];
-    const Real sg = Mono ? sigma_ : contact_distance(i, j);
-    consider(i, j, pair_image_[p], {x_[i] - x_[j] - s[0], y_[i] - y_[j] - s[1], z_[i] - z_[j] - s[2]}, sg, false);
+void Stepper<Real>::sweep_neighbours(std::uint32_t s) {
+  const V3<Real> ps = pos_[s];
+  for (std::uint32_t k = adj_start_[s]; k < adj_start_[s + 1]; ++k) {
+    const std::uint32_t q = adj_partner_[k];
+    const std::uint8_t img = adj_image_[k];
+    const V3<Real> dr = ps - pos_[q] - image_shift_[img];
+    const Real sg = Mono ? sigma_ : contact_distance(s, q);
+    // Candidates keep list orientation (lower index first) so orders match a full scan;
+    // the mirrored image code of (q, s) is 26 - code.
+    if (s < q) consider(s, q, img, dr, sg, false);
+    else consider(q, s, std::uint8_t(26 - img), -dr, sg, false);
   }
 }
 
@@ -405,13 +471,11 @@ template <class Real>
 template <bool AllPeriodic, bool Mono>
 bool Stepper<Real>::resolve_one(const Candidate& c) {
   const std::uint32_t i = c.i, j = c.j;
-  const Real* s = image_shift_[c.image];
-  V3<Real> ri{x_[i], y_[i], z_[i]}, rj{x_[j], y_[j], z_[j]};
-  V3<Real> vi{vx_[i], vy_[i], vz_[i]}, vj{vx_[j], vy_[j], vz_[j]};
-  const V3<Real> shift{s[0], s[1], s[2]};
+  V3<Real> ri = pos_[i], rj = pos_[j], vi = vel_[i], vj = vel_[j];
+  const V3<Real> shift = image_shift_[c.image];
   const V3<Real> dr = ri - rj - shift, dv = vi - vj;
   const Real sg = Mono ? sigma_ : contact_distance(i, j);
-  const Real w = std::min(window(i), window(j));
+  const Real w = std::min(change_[i].back, change_[j].back);
   if (!kernel::touched_within(dr, dv, sg, w, false)) return false;
   const Real back = std::min(kernel::rewind_time(dr, dv, sg), w);
   ri -= back * vi;
@@ -421,12 +485,10 @@ bool Stepper<Real>::resolve_one(const Candidate& c) {
   if constexpr (Mono) virial = double(mass_) * double(kernel::collide_equal_mass(contact, vi, vj));
   else virial = double(kernel::collide(contact, vi, vj, m_[i], m_[j]));
   if (virial == 0.0) return false;  // receding at the rewound contact: nothing to resolve
-  ri += back * vi;
-  rj += back * vj;
-  x_[i] = ri.x; y_[i] = ri.y; z_[i] = ri.z;
-  x_[j] = rj.x; y_[j] = rj.y; z_[j] = rj.z;
-  vx_[i] = vi.x; vy_[i] = vi.y; vz_[i] = vi.z;
-  vx_[j] = vj.x; vy_[j] = vj.y; vz_[j] = vj.z;
+  pos_[i] = ri + back * vi;
+  pos_[j] = rj + back * vj;
+  vel_[i] = vi;
+  vel_[j] = vj;
   ++counters_.collisions;
   counters_.pair_virial += virial;
   for (const std::uint32_t k : {i, j}) {
@@ -451,7 +513,7 @@ void Stepper<Real>::resolve_in_time_order() {
     std::pop_heap(heap_.begin(), heap_.end(), cmp);
     const Candidate c = heap_.back();
     heap_.pop_back();
-    if (c.count_i != change_count_[c.i] || c.count_j != change_count_[c.j]) continue;  // stale
+    if (c.count_i != change_[c.i].count || c.count_j != change_[c.j].count) continue;  // stale
     if (++events > max_events_) {
       ++counters_.unresolved_steps;
       heap_.clear();
@@ -485,14 +547,16 @@ void Stepper<Real>::step() {
     if constexpr (!Sweep) expand_candidates<Mono>();
     resolve_in_time_order<AllPeriodic, Mono>();
   }
+  // Every sphere starts the next step with a whole-step straight-line window.
+  for (const std::uint32_t i : changed_) change_[i].back = dt_;
+  changed_.clear();
   ++counters_.steps;
-  ++step_no_;
   counters_.sim_time += double(dt_);
 }
 
 template <class Real>
 ParticleSystem Stepper<Real>::state() const {
-  const std::size_t n = x_.size();
+  const std::size_t n = pos_.size();
   std::vector<std::size_t> by_id(n);
   std::iota(by_id.begin(), by_id.end(), std::size_t(0));
   std::sort(by_id.begin(), by_id.end(), [this](std::size_t a, std::size_t b) { return id_[a] < id_[b]; });
@@ -500,8 +564,8 @@ ParticleSystem Stepper<Real>::state() const {
   out.box = box_;
   out.reserve(n);
   for (const std::size_t k : by_id)
-    out.push_back(id_[k], type_[k], double(r_[k]), double(m_[k]), {double(x_[k]), double(y_[k]), double(z_[k])},
-                  {double(vx_[k]), double(vy_[k]), double(vz_[k])});
+    out.push_back(id_[k], type_[k], double(r_[k]), double(m_[k]), {double(pos_[k].x), double(pos_[k].y), double(pos_[k].z)},
+                  {double(vel_[k].x), double(vel_[k].y), double(vel_[k].z)});
   wrap_periodic(out);
   return out;
 }

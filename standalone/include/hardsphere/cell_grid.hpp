@@ -26,6 +26,13 @@ class CellGrid {
   //! +inf when every axis is covered whole by the neighbour stencil.
   double reach() const;
 
+  //! True when every periodic axis has at least 3 cells, so the 13 forward neighbours of a
+  //! cell are distinct and a wrapped neighbour coordinate is the minimum image.
+  bool half_stencil_ok() const {
+    for (int d = 0; d < 3; ++d)
+      if (periodic_[d] && counts_[d] < 3) return false;
+    return true;
+  }
   //! Cell of a point; points slightly outside the box are clamped to the edge cells.
   int cell_of(double x, double y, double z) const {
     return index(coord(x, 0), coord(y, 1), coord(z, 2));
