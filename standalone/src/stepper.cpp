@@ -9,6 +9,7 @@
 
 #include "hardsphere/cell_grid.hpp"
 #include "hardsphere/collision.hpp"
+#include "hardsphere/contact_resolver.hpp"
 #include "hardsphere/errors.hpp"
 
 namespace hardsphere {
@@ -42,64 +43,64 @@ namespace {
 template <class Real>
 using V3 = Vec3<Real>;
 
-template <class Real>
+//! Mono: every sphere has the same radius and mass (chosen from the scene by make_stepper).
+template <class Real, bool Mono>
 class Stepper final : public StepperBase {
  public:
   Stepper(const ParticleSystem& sys, const StepperConfig& cfg);
 
   void run(std::int64_t steps) override {
     // Scene features select a specialised kernel once per run, not per pair.
-    const int key = (all_periodic_ ? 4 : 0) + (mono_ ? 2 : 0) + (sweep_ ? 1 : 0);
+    const int key = (all_periodic_ ? 2 : 0) + (sweep_ ? 1 : 0);
     switch (key) {
-      case 0: run_impl<false, false, false>(steps); break;
-      case 1: run_impl<false, false, true>(steps); break;
-      case 2: run_impl<false, true, false>(steps); break;
-      case 3: run_impl<false, true, true>(steps); break;
-      case 4: run_impl<true, false, false>(steps); break;
-      case 5: run_impl<true, false, true>(steps); break;
-      case 6: run_impl<true, true, false>(steps); break;
-      default: run_impl<true, true, true>(steps); break;
+      case 0: run_impl<false, false>(steps); break;
+      case 1: run_impl<false, true>(steps); break;
+      case 2: run_impl<true, false>(steps); break;
+      default: run_impl<true, true>(steps); break;
     }
   }
   ParticleSystem state() const override;
-  const StepCounters& counters() const override { return counters_; }
-  void reset_counters() override { counters_ = StepCounters{}; }
+  const StepCounters& counters() const override {
+    counters_.collisions = tally_.collisions;
+    counters_.pair_virial = tally_.virial;
+    counters_.unresolved_steps = tally_.unresolved_steps;
+    return counters_;
+  }
+  void reset_counters() override {
+    counters_ = StepCounters{};
+    tally_ = ContactTally{};
+  }
   std::array<int, 3> cells_per_dim() const override { return grid_.counts(); }
   double skin() const override { return double(skin_); }
   std::string scene_kernel() const override {
-    return std::string(all_periodic_ ? "periodic" : "walls") + (mono_ ? ",mono" : ",poly") +
+    return std::string(all_periodic_ ? "periodic" : "walls") + (Mono ? ",mono" : ",poly") +
            (sizeof(Real) == sizeof(float) ? ",float" : ",double") + (sweep_ ? ",sweep" : ",overlap");
   }
 
  private:
-  struct Candidate {
-    std::uint32_t i, j;  // i < j (cell order)
-    std::uint8_t image;
-    Real back;                       // time back from the end of the step to the contact
-    std::uint32_t count_i, count_j;  // velocity-change counters when predicted (lazy invalidation)
-  };
-  // Per-sphere in-step bookkeeping, packed so one cache line serves a neighbour test.
-  struct Change {
-    Real back;           // straight-line window: time since the last velocity change (dt if none)
-    std::uint32_t count; // velocity changes so far, invalidates stale predictions
+  //! What the shared resolver needs from this engine after each collision.
+  template <bool AllPeriodic>
+  struct Hooks {
+    Stepper& s;
+    void after_collision(std::uint32_t k, Real) {
+      s.note_displacement(k);
+      if constexpr (!AllPeriodic) s.reflect(k);
+    }
+    bool must_rescan() const { return s.list_expired(); }
+    void rescan() {
+      // Collisions moved spheres past the skin: rebuild (indices change) and re-predict all.
+      s.rebuild();
+      s.template scan_pair_list<true>();
+    }
   };
 
-  template <bool AllPeriodic, bool Mono, bool Sweep>
+  template <bool AllPeriodic, bool Sweep>
   void run_impl(std::int64_t steps) {
-    for (std::int64_t s = 0; s < steps; ++s) step<AllPeriodic, Mono, Sweep>();
+    for (std::int64_t s = 0; s < steps; ++s) step<AllPeriodic, Sweep>();
   }
-  template <bool AllPeriodic, bool Mono, bool Sweep> void step();
+  template <bool AllPeriodic, bool Sweep> void step();
   template <bool AllPeriodic> void drift();
-  template <bool Mono, bool Sweep> void scan_pair_list();
-  template <bool Mono> void sweep_neighbours(std::uint32_t s);
-  template <bool Mono> void expand_candidates();
-  template <bool AllPeriodic, bool Mono> bool resolve_one(const Candidate& c);
-  template <bool AllPeriodic, bool Mono> void resolve_in_time_order();
-  //! Heap order: the earliest contact (largest back time) on top; ties by atom ids.
-  bool later(const Candidate& a, const Candidate& b) const {
-    if (a.back != b.back) return a.back < b.back;
-    return std::minmax(id_[a.i], id_[a.j]) > std::minmax(id_[b.i], id_[b.j]);
-  }
+  template <bool Sweep> void scan_pair_list();
   void rebuild();
   void build_pairs_half_stencil();
   void build_pairs_any_grid();
@@ -115,60 +116,36 @@ class Stepper final : public StepperBase {
     const V3<Real> d = pos_[i] - pos0_[i];
     max_disp2_ = std::max(max_disp2_, dot(d, d));
   }
-  void mark_changed(std::uint32_t i, Real back) {
-    if (change_[i].back == dt_) changed_.push_back(i);  // first change this step
-    change_[i].back = back;
-    ++change_[i].count;
-  }
-  //! Adds (i, j) if the pair touched while approaching within its common straight-line window;
-  //! it is rewound to its entry into contact, or to the window's start if overlapping then.
-  void consider(std::uint32_t i, std::uint32_t j, std::uint8_t image, V3<Real> dr, Real sigma, bool overlap_only) {
-    const V3<Real> dv = vel_[i] - vel_[j];
-    const Change ci = change_[i], cj = change_[j];
-    const Real w = std::min(ci.back, cj.back);
-    if (kernel::touched_within(dr, dv, sigma, w, overlap_only))
-      candidates_.push_back({i, j, image, std::min(kernel::rewind_time(dr, dv, sigma), w), ci.count, cj.count});
-  }
-  V3<Real> separation(std::uint32_t i, std::uint32_t j, std::uint8_t image) const {
-    return pos_[i] - pos_[j] - image_shift_[image];
-  }
   bool list_expired() const { return Real(4) * max_disp2_ >= skin_ * skin_; }
-  Real contact_distance(std::uint32_t i, std::uint32_t j) const { return r_[i] + r_[j]; }
-  static std::uint8_t image_code(int kx, int ky, int kz) { return std::uint8_t((kx + 1) * 9 + (ky + 1) * 3 + (kz + 1)); }
 
   Box box_;
   CellGrid grid_;
-  bool all_periodic_, mono_, sweep_;
+  bool all_periodic_, sweep_;
   Real dt_, skin_, max_disp2_ = 0;
-  Real sigma_ = 0, mass_ = 0;  // monodisperse constants
-  std::int64_t max_events_;
+  Real sigma_ = 0;  // monodisperse diameter
   std::array<Real, 3> length_{};
-  V3<Real> image_shift_[27];  // code (kx+1)*9+(ky+1)*3+(kz+1) -> (kx Lx, ky Ly, kz Lz)
+  V3<Real> image_shift_[27];  // by image code: (kx Lx, ky Ly, kz Lz)
 
   // Per-field arrays in cell order: a neighbour's position or velocity is one cache line.
   std::vector<V3<Real>> pos_, vel_, pos0_;  // pos0_: positions at the last rebuild
   std::vector<Real> r_, m_;
-  std::vector<Change> change_;
   std::vector<std::int64_t> id_;
   std::vector<int> type_, cell_;
-  std::vector<std::uint32_t> cell_start_, order_, changed_;
+  std::vector<std::uint32_t> cell_start_, order_;
   // Candidate pairs within r_i + r_j + skin at the last rebuild, with their periodic image.
   std::vector<std::uint32_t> pair_i_, pair_j_;
   std::vector<std::uint8_t> pair_image_;
   // For each sphere s, its list partners q and the image of r_s - r_q (CSR), for local sweeps.
-  std::vector<std::uint32_t> adj_start_, adj_partner_;
+  std::vector<std::uint32_t> adj_start_, adj_partner_, adj_cursor_;
   std::vector<std::uint8_t> adj_image_;
-  std::vector<Candidate> candidates_, heap_;
-  // Expansion sweeps: which expansion last swept each sphere.
-  std::uint64_t sweep_no_ = 1;
-  std::vector<std::uint64_t> swept_stamp_;
-  StepCounters counters_;
+  ContactResolver<Real, Mono> resolver_;
+  ContactTally tally_;
+  mutable StepCounters counters_;
 };
 
-template <class Real>
-Stepper<Real>::Stepper(const ParticleSystem& sys, const StepperConfig& cfg)
-    : box_(sys.box), all_periodic_(sys.box.all_periodic()), mono_(sys.monodisperse()),
-      sweep_(cfg.detect == Detect::Sweep), dt_(Real(cfg.dt)), max_events_(cfg.max_events_per_step) {
+template <class Real, bool Mono>
+Stepper<Real, Mono>::Stepper(const ParticleSystem& sys, const StepperConfig& cfg)
+    : box_(sys.box), all_periodic_(sys.box.all_periodic()), sweep_(cfg.detect == Detect::Sweep), dt_(Real(cfg.dt)) {
   if (!(std::isfinite(cfg.dt) && cfg.dt > 0)) {
     std::ostringstream m;
     m << "time step dt = " << cfg.dt << " must be positive and finite";
@@ -215,19 +192,17 @@ Stepper<Real>::Stepper(const ParticleSystem& sys, const StepperConfig& cfg)
     r_[i] = Real(sys.radius[i]);
     m_[i] = Real(sys.mass[i]);
   }
-  if (n) {
-    sigma_ = Real(2) * r_[0];
-    mass_ = m_[0];
-  }
-  change_.assign(n, Change{dt_, 0});
-  swept_stamp_.assign(n, 0);
+  if (n) sigma_ = Real(2) * r_[0];
+  resolver_.reset(n, dt_);
+  resolver_.set_uniform(sigma_, n ? m_[0] : Real(0));
+  resolver_.set_event_limit(cfg.max_events_per_step);
   rebuild();
   counters_.rebuilds = 0;
 }
 
-template <class Real>
-void Stepper<Real>::add_pairs_between(std::uint32_t b0, std::uint32_t b1, std::uint32_t e0, std::uint32_t e1,
-                                      std::uint8_t image, bool same_cell) {
+template <class Real, bool Mono>
+void Stepper<Real, Mono>::add_pairs_between(std::uint32_t b0, std::uint32_t b1, std::uint32_t e0, std::uint32_t e1,
+                                            std::uint8_t image, bool same_cell) {
   const Real skin = std::isinf(skin_) ? std::numeric_limits<Real>::max() / 4 : skin_;
   const Real mono_cut2 = (sigma_ + skin) * (sigma_ + skin);
   for (std::uint32_t i = b0; i < b1; ++i) {
@@ -235,7 +210,7 @@ void Stepper<Real>::add_pairs_between(std::uint32_t b0, std::uint32_t b1, std::u
     for (std::uint32_t j = same_cell ? i + 1 : e0; j < e1; ++j) {
       const V3<Real> d = ri - pos_[j];
       Real cut2 = mono_cut2;
-      if (!mono_) {
+      if constexpr (!Mono) {
         const Real cut = r_[i] + r_[j] + skin;
         cut2 = cut * cut;
       }
@@ -244,8 +219,8 @@ void Stepper<Real>::add_pairs_between(std::uint32_t b0, std::uint32_t b1, std::u
   }
 }
 
-template <class Real>
-void Stepper<Real>::build_pairs_half_stencil() {
+template <class Real, bool Mono>
+void Stepper<Real, Mono>::build_pairs_half_stencil() {
   // Every periodic axis has >= 3 cells and positions are wrapped: each unordered pair of
   // neighbouring cells is met once through 13 forward offsets, and a periodic wrap of the
   // neighbour's cell coordinate is exactly the pair's minimum image. No division per pair.
@@ -258,7 +233,7 @@ void Stepper<Real>::build_pairs_half_stencil() {
         const int c = grid_.index(cx, cy, cz);
         const std::uint32_t b0 = cell_start_[c], b1 = cell_start_[c + 1];
         if (b0 == b1) continue;
-        add_pairs_between(b0, b1, b0, b1, image_code(0, 0, 0), true);
+        add_pairs_between(b0, b1, b0, b1, kNoImage, true);
         for (const auto& o : offsets) {
           int n[3] = {cx + o[0], cy + o[1], cz + o[2]}, img[3] = {0, 0, 0};
           bool inside = true;
@@ -276,8 +251,8 @@ void Stepper<Real>::build_pairs_half_stencil() {
       }
 }
 
-template <class Real>
-void Stepper<Real>::build_pairs_any_grid() {
+template <class Real, bool Mono>
+void Stepper<Real, Mono>::build_pairs_any_grid() {
   // General grids (an axis with 1 or 2 periodic cells): neighbour cells may repeat, so take
   // each unordered cell pair once by index and the minimum image per pair.
   const Real skin = std::isinf(skin_) ? std::numeric_limits<Real>::max() / 4 : skin_;
@@ -305,8 +280,8 @@ void Stepper<Real>::build_pairs_any_grid() {
   }
 }
 
-template <class Real>
-void Stepper<Real>::rebuild() {
+template <class Real, bool Mono>
+void Stepper<Real, Mono>::rebuild() {
   const std::size_t n = pos_.size();
   for (int d = 0; d < 3; ++d) {
     if (!box_.periodic[d]) continue;
@@ -332,16 +307,12 @@ void Stepper<Real>::rebuild() {
   permute(vel_);
   permute(r_);
   permute(m_);
-  permute(change_);
   permute(id_);
   permute(type_);
   permute(cell_);
-  changed_.clear();  // indices are stale after the permutation: rebuild the list
-  for (std::uint32_t i = 0; i < n; ++i)
-    if (change_[i].back != dt_) changed_.push_back(i);
+  resolver_.permute(order_);
   pos0_ = pos_;
   max_disp2_ = 0;
-  std::fill(swept_stamp_.begin(), swept_stamp_.end(), 0);
 
   // Candidate list: every pair that could touch before the next rebuild.
   pair_i_.clear();
@@ -359,20 +330,22 @@ void Stepper<Real>::rebuild() {
   for (std::size_t i = 0; i < n; ++i) adj_start_[i + 1] += adj_start_[i];
   adj_partner_.resize(2 * pair_i_.size());
   adj_image_.resize(2 * pair_i_.size());
-  order_.assign(adj_start_.begin(), adj_start_.end() - 1);  // reuse as fill cursors
+  adj_cursor_.assign(adj_start_.begin(), adj_start_.end() - 1);
   for (std::size_t p = 0; p < pair_i_.size(); ++p) {
     const std::uint32_t i = pair_i_[p], j = pair_j_[p];
-    adj_partner_[order_[i]] = j;
-    adj_image_[order_[i]++] = pair_image_[p];
-    adj_partner_[order_[j]] = i;
-    adj_image_[order_[j]++] = std::uint8_t(26 - pair_image_[p]);  // the mirrored image
+    adj_partner_[adj_cursor_[i]] = j;
+    adj_image_[adj_cursor_[i]++] = pair_image_[p];
+    adj_partner_[adj_cursor_[j]] = i;
+    adj_image_[adj_cursor_[j]++] = std::uint8_t(26 - pair_image_[p]);  // the mirrored image
   }
+  resolver_.bind({pos_.data(), vel_.data(), r_.data(), m_.data(), id_.data(), adj_start_.data(), adj_partner_.data(),
+                  adj_image_.data(), image_shift_});
   ++counters_.rebuilds;
 }
 
-template <class Real>
+template <class Real, bool Mono>
 template <bool AllPeriodic>
-void Stepper<Real>::drift() {
+void Stepper<Real, Mono>::drift() {
   const std::size_t n = pos_.size();
   const Real dt = dt_;
   V3<Real>* __restrict p = pos_.data();
@@ -393,8 +366,8 @@ void Stepper<Real>::drift() {
   }
 }
 
-template <class Real>
-void Stepper<Real>::reflect(std::uint32_t i) {
+template <class Real, bool Mono>
+void Stepper<Real, Mono>::reflect(std::uint32_t i) {
   for (int d = 0; d < 3; ++d) {
     if (box_.periodic[d]) continue;
     const Real before = pos_[i][d], v = vel_[i][d];
@@ -404,15 +377,15 @@ void Stepper<Real>::reflect(std::uint32_t i) {
       counters_.wall_impulse[d] += double(m_[i]) * std::abs(double(dp));
       note_displacement(i);
       // The bounce happened half the mirror distance ago.
-      mark_changed(i, std::min(change_[i].back, std::abs(pos_[i][d] - before) / (Real(2) * std::abs(v))));
+      resolver_.mark_changed(i, std::min(resolver_.window(i), std::abs(pos_[i][d] - before) / (Real(2) * std::abs(v))));
     }
   }
 }
 
-template <class Real>
-template <bool Mono, bool Sweep>
-void Stepper<Real>::scan_pair_list() {
-  candidates_.clear();
+template <class Real, bool Mono>
+template <bool Sweep>
+void Stepper<Real, Mono>::scan_pair_list() {
+  resolver_.clear_candidates();
   const std::size_t np = pair_i_.size();
   const std::uint32_t* __restrict pi = pair_i_.data();
   const std::uint32_t* __restrict pj = pair_j_.data();
@@ -431,131 +404,28 @@ void Stepper<Real>::scan_pair_list() {
     const V3<Real> d = pos[i] - pos[j] - image_shift_[img[p]];
     const Real sg = Mono ? sigma_ : r_[i] + r_[j];
     const Real lim = Sweep ? sg + reach : sg;
-    if (dot(d, d) < lim * lim) consider(i, j, img[p], d, sg, !Sweep);
+    if (dot(d, d) < lim * lim) resolver_.consider(i, j, img[p], d, sg, !Sweep);
   }
 }
 
-template <class Real>
-template <bool Mono>
-void Stepper<Real>::sweep_neighbours(std::uint32_t s) {
-  const V3<Real> ps = pos_[s];
-  for (std::uint32_t k = adj_start_[s]; k < adj_start_[s + 1]; ++k) {
-    const std::uint32_t q = adj_partner_[k];
-    const std::uint8_t img = adj_image_[k];
-    const V3<Real> dr = ps - pos_[q] - image_shift_[img];
-    const Real sg = Mono ? sigma_ : contact_distance(s, q);
-    // Candidates keep list orientation (lower index first) so orders match a full scan;
-    // the mirrored image code of (q, s) is 26 - code.
-    if (s < q) consider(s, q, img, dr, sg, false);
-    else consider(q, s, std::uint8_t(26 - img), -dr, sg, false);
-  }
-}
-
-template <class Real>
-template <bool Mono>
-void Stepper<Real>::expand_candidates() {
-  // A sphere that collides in this step may also have grazed a neighbour earlier in the step,
-  // which the end-of-step overlap test cannot see: sweep the neighbours of every sphere in a
-  // contact (and of theirs, transitively) so contacts are resolved in true time order.
-  ++sweep_no_;
-  for (std::size_t k = 0; k < candidates_.size(); ++k) {
-    for (const std::uint32_t p : {candidates_[k].i, candidates_[k].j})
-      if (swept_stamp_[p] != sweep_no_) {
-        swept_stamp_[p] = sweep_no_;
-        sweep_neighbours<Mono>(p);
-      }
-  }
-}
-
-template <class Real>
-template <bool AllPeriodic, bool Mono>
-bool Stepper<Real>::resolve_one(const Candidate& c) {
-  const std::uint32_t i = c.i, j = c.j;
-  V3<Real> ri = pos_[i], rj = pos_[j], vi = vel_[i], vj = vel_[j];
-  const V3<Real> shift = image_shift_[c.image];
-  const V3<Real> dr = ri - rj - shift, dv = vi - vj;
-  const Real sg = Mono ? sigma_ : contact_distance(i, j);
-  const Real w = std::min(change_[i].back, change_[j].back);
-  if (!kernel::touched_within(dr, dv, sg, w, false)) return false;
-  const Real back = std::min(kernel::rewind_time(dr, dv, sg), w);
-  ri -= back * vi;
-  rj -= back * vj;
-  const V3<Real> contact = ri - rj - shift;
-  double virial;
-  if constexpr (Mono) virial = double(mass_) * double(kernel::collide_equal_mass(contact, vi, vj));
-  else virial = double(kernel::collide(contact, vi, vj, m_[i], m_[j]));
-  if (virial == 0.0) return false;  // receding at the rewound contact: nothing to resolve
-  pos_[i] = ri + back * vi;
-  pos_[j] = rj + back * vj;
-  vel_[i] = vi;
-  vel_[j] = vj;
-  ++counters_.collisions;
-  counters_.pair_virial += virial;
-  for (const std::uint32_t k : {i, j}) {
-    mark_changed(k, back);
-    note_displacement(k);
-    if constexpr (!AllPeriodic) reflect(k);
-  }
-  return true;
-}
-
-template <class Real>
-template <bool AllPeriodic, bool Mono>
-void Stepper<Real>::resolve_in_time_order() {
-  // A small event loop inside the step: contacts come off a heap earliest first; each
-  // collision invalidates the predictions of its two spheres (counters) and re-predicts their
-  // contacts over the rest of the step, so a sphere deflected into a neighbour meets it in order.
-  auto cmp = [this](const Candidate& a, const Candidate& b) { return later(a, b); };
-  heap_.assign(candidates_.begin(), candidates_.end());
-  std::make_heap(heap_.begin(), heap_.end(), cmp);
-  std::int64_t events = 0;
-  while (!heap_.empty()) {
-    std::pop_heap(heap_.begin(), heap_.end(), cmp);
-    const Candidate c = heap_.back();
-    heap_.pop_back();
-    if (c.count_i != change_[c.i].count || c.count_j != change_[c.j].count) continue;  // stale
-    if (++events > max_events_) {
-      ++counters_.unresolved_steps;
-      heap_.clear();
-      break;
-    }
-    if (!resolve_one<AllPeriodic, Mono>(c)) continue;
-    candidates_.clear();
-    if (list_expired()) {
-      // Collisions moved spheres past the skin: rebuild (indices change) and re-predict all.
-      rebuild();
-      heap_.clear();
-      scan_pair_list<Mono, true>();
-    } else {
-      sweep_neighbours<Mono>(c.i);
-      sweep_neighbours<Mono>(c.j);
-    }
-    for (const auto& n : candidates_) {
-      heap_.push_back(n);
-      std::push_heap(heap_.begin(), heap_.end(), cmp);
-    }
-  }
-}
-
-template <class Real>
-template <bool AllPeriodic, bool Mono, bool Sweep>
-void Stepper<Real>::step() {
+template <class Real, bool Mono>
+template <bool AllPeriodic, bool Sweep>
+void Stepper<Real, Mono>::step() {
   drift<AllPeriodic>();
   if (list_expired()) rebuild();
-  scan_pair_list<Mono, Sweep>();
-  if (!candidates_.empty()) {
-    if constexpr (!Sweep) expand_candidates<Mono>();
-    resolve_in_time_order<AllPeriodic, Mono>();
+  scan_pair_list<Sweep>();
+  if (resolver_.has_candidates()) {
+    if constexpr (!Sweep) resolver_.expand_candidates();
+    Hooks<AllPeriodic> hooks{*this};
+    resolver_.resolve(hooks, tally_);
   }
-  // Every sphere starts the next step with a whole-step straight-line window.
-  for (const std::uint32_t i : changed_) change_[i].back = dt_;
-  changed_.clear();
+  resolver_.end_step();
   ++counters_.steps;
   counters_.sim_time += double(dt_);
 }
 
-template <class Real>
-ParticleSystem Stepper<Real>::state() const {
+template <class Real, bool Mono>
+ParticleSystem Stepper<Real, Mono>::state() const {
   const std::size_t n = pos_.size();
   std::vector<std::size_t> by_id(n);
   std::iota(by_id.begin(), by_id.end(), std::size_t(0));
@@ -570,11 +440,17 @@ ParticleSystem Stepper<Real>::state() const {
   return out;
 }
 
+template <class Real>
+std::unique_ptr<StepperBase> make_stepper_for(const ParticleSystem& sys, const StepperConfig& cfg) {
+  if (sys.monodisperse()) return std::make_unique<Stepper<Real, true>>(sys, cfg);
+  return std::make_unique<Stepper<Real, false>>(sys, cfg);
+}
+
 }  // namespace
 
 std::unique_ptr<StepperBase> make_stepper(const ParticleSystem& sys, const StepperConfig& cfg, Precision precision) {
-  if (precision == Precision::Float) return std::make_unique<Stepper<float>>(sys, cfg);
-  return std::make_unique<Stepper<double>>(sys, cfg);
+  if (precision == Precision::Float) return make_stepper_for<float>(sys, cfg);
+  return make_stepper_for<double>(sys, cfg);
 }
 
 }  // namespace hardsphere

@@ -1,0 +1,233 @@
+#pragma once
+//! In-step contact resolution, shared by the standalone stepper and the LAMMPS fix.
+//!
+//! After every sphere has drifted by dt, an engine hands the resolver the pairs that touched
+//! within the step (`consider`). The resolver rewinds each to its exact contact time, applies
+//! the elastic impulse from the kernel and re-advances, earliest contact first from a heap
+//! (ties broken by atom ids, so every engine and every MPI rank orders them alike). A collision
+//! changes two velocities: their pending predictions are invalidated by per-sphere counters and
+//! their contacts over the rest of the step are predicted again from the neighbour lists.
+//!
+//! Indices are the engine's local ones (cell order in the stepper, owned + ghost atoms in
+//! LAMMPS). Engines own the arrays; the resolver keeps per-sphere windows and counters.
+#include <algorithm>
+#include <cstdint>
+#include <vector>
+
+#include "hardsphere/collision.hpp"
+#include "hardsphere/vec3.hpp"
+
+namespace hardsphere {
+
+//! Image code of a periodic shift (kx, ky, kz) in {-1, 0, 1}^3; 13 means no shift and the
+//! mirrored shift of code c is 26 - c.
+constexpr std::uint8_t image_code(int kx, int ky, int kz) { return std::uint8_t((kx + 1) * 9 + (ky + 1) * 3 + (kz + 1)); }
+constexpr std::uint8_t kNoImage = 13;
+
+//! Views of an engine's per-sphere arrays and of its neighbour lists (CSR, both directions).
+//! For partner k of sphere s the separation is pos[s] - pos[partner[k]] - image_shift[image[k]].
+template <class Real>
+struct ContactArrays {
+  Vec3<Real>* pos = nullptr;
+  Vec3<Real>* vel = nullptr;
+  const Real* radius = nullptr;
+  const Real* mass = nullptr;
+  const std::int64_t* id = nullptr;  //!< tie-break for equal contact times
+  const std::uint32_t* adj_start = nullptr;
+  const std::uint32_t* adj_partner = nullptr;
+  const std::uint8_t* adj_image = nullptr;
+  const Vec3<Real>* image_shift = nullptr;  //!< 27 shifts by image code
+};
+
+//! Totals of resolved contacts.
+struct ContactTally {
+  std::int64_t collisions = 0;
+  std::int64_t unresolved_steps = 0;  //!< steps that hit the event limit with contacts left
+  double virial = 0;                  //!< sum over collisions of r_ij . dp_i at contact
+};
+
+//! Mono: every sphere has the diameter `sigma` and mass `mass` given to set_uniform().
+template <class Real, bool Mono>
+class ContactResolver {
+ public:
+  struct Candidate {
+    std::uint32_t i, j;  // i < j
+    std::uint8_t image;  // of r_i - r_j
+    Real back;           // time back from the end of the step to the contact
+    std::uint32_t count_i, count_j;  // velocity-change counters when predicted
+  };
+
+  //! Per-sphere record packed into one word pair: `back` is the straight-line window (time
+  //! since the sphere's last velocity change in this step, dt if none), `count` its changes.
+  struct Change {
+    Real back;
+    std::uint32_t count;
+  };
+
+  void reset(std::size_t n, Real dt) {
+    dt_ = dt;
+    change_.assign(n, Change{dt, 0});
+    changed_.clear();
+    swept_stamp_.assign(n, 0);
+  }
+  void set_uniform(Real sigma, Real mass) {
+    sigma_ = sigma;
+    mass_ = mass;
+  }
+  void set_event_limit(std::int64_t max_events) { max_events_ = max_events; }
+  void bind(const ContactArrays<Real>& a) { a_ = a; }
+
+  //! After the engine reorders its spheres (new[k] = old[order[k]]), reorder the records too.
+  template <class Order>
+  void permute(const Order& order) {
+    std::vector<Change> moved(change_.size());
+    for (std::size_t k = 0; k < moved.size(); ++k) moved[k] = change_[order[k]];
+    change_.swap(moved);
+    changed_.clear();
+    for (std::uint32_t k = 0; k < change_.size(); ++k)
+      if (change_[k].back != dt_) changed_.push_back(k);
+    std::fill(swept_stamp_.begin(), swept_stamp_.end(), 0);
+  }
+
+  //! Records a velocity change of sphere i that happened `back` before the end of the step.
+  void mark_changed(std::uint32_t i, Real back) {
+    if (change_[i].back == dt_) changed_.push_back(i);  // first change this step
+    change_[i].back = back;
+    ++change_[i].count;
+  }
+  Real window(std::uint32_t i) const { return change_[i].back; }
+
+  Real sigma(std::uint32_t i, std::uint32_t j) const {
+    if constexpr (Mono) return sigma_;
+    else return a_.radius[i] + a_.radius[j];
+  }
+
+  //! Queues (i, j), i < j, if the pair touched while approaching within its common
+  //! straight-line window; `overlap_only` is the seed's test (the pair overlaps now).
+  void consider(std::uint32_t i, std::uint32_t j, std::uint8_t image, Vec3<Real> dr, Real sigma, bool overlap_only) {
+    const Vec3<Real> dv = a_.vel[i] - a_.vel[j];
+    const Change ci = change_[i], cj = change_[j];
+    const Real w = std::min(ci.back, cj.back);
+    if (kernel::touched_within(dr, dv, sigma, w, overlap_only))
+      candidates_.push_back({i, j, image, std::min(kernel::rewind_time(dr, dv, sigma), w), ci.count, cj.count});
+  }
+
+  //! Predicts every contact of sphere s with its list partners over its window.
+  void sweep_neighbours(std::uint32_t s) {
+    const Vec3<Real> ps = a_.pos[s];
+    for (std::uint32_t k = a_.adj_start[s]; k < a_.adj_start[s + 1]; ++k) {
+      const std::uint32_t q = a_.adj_partner[k];
+      const std::uint8_t img = a_.adj_image[k];
+      const Vec3<Real> dr = ps - a_.pos[q] - a_.image_shift[img];
+      // Candidates keep the lower index first so their order matches a full scan.
+      if (s < q) consider(s, q, img, dr, sigma(s, q), false);
+      else consider(q, s, std::uint8_t(26 - img), -dr, sigma(s, q), false);
+    }
+  }
+
+  //! The end-of-step overlap test cannot see a graze earlier in the step by a sphere that
+  //! also collides later: sweep the neighbours of every sphere in a contact (transitively).
+  void expand_candidates() {
+    ++sweep_no_;
+    for (std::size_t k = 0; k < candidates_.size(); ++k) {
+      for (const std::uint32_t p : {candidates_[k].i, candidates_[k].j})
+        if (swept_stamp_[p] != sweep_no_) {
+          swept_stamp_[p] = sweep_no_;
+          sweep_neighbours(p);
+        }
+    }
+  }
+
+  bool has_candidates() const { return !candidates_.empty(); }
+  void clear_candidates() { candidates_.clear(); }
+
+  //! Resolves the queued contacts in time order. Hooks (engine specific):
+  //!   void after_collision(std::uint32_t k, Real back)  sphere k changed velocity at `back`
+  //!   bool must_rescan()   the neighbour lists are no longer valid (e.g. skin exceeded)
+  //!   void rescan()        rebuild them, bind() again and consider() every touching pair
+  template <class Hooks>
+  void resolve(Hooks& hooks, ContactTally& tally) {
+    auto cmp = [this](const Candidate& x, const Candidate& y) { return later(x, y); };
+    heap_.assign(candidates_.begin(), candidates_.end());
+    std::make_heap(heap_.begin(), heap_.end(), cmp);
+    std::int64_t events = 0;
+    while (!heap_.empty()) {
+      std::pop_heap(heap_.begin(), heap_.end(), cmp);
+      const Candidate c = heap_.back();
+      heap_.pop_back();
+      if (c.count_i != change_[c.i].count || c.count_j != change_[c.j].count) continue;  // stale
+      if (++events > max_events_) {
+        ++tally.unresolved_steps;
+        heap_.clear();
+        break;
+      }
+      if (!collide(c, hooks, tally)) continue;
+      candidates_.clear();
+      if (hooks.must_rescan()) {
+        heap_.clear();
+        hooks.rescan();
+      } else {
+        sweep_neighbours(c.i);
+        sweep_neighbours(c.j);
+      }
+      for (const auto& n : candidates_) {
+        heap_.push_back(n);
+        std::push_heap(heap_.begin(), heap_.end(), cmp);
+      }
+    }
+    candidates_.clear();
+  }
+
+  //! Every sphere starts the next step with a whole-step straight-line window.
+  void end_step() {
+    for (const std::uint32_t i : changed_) change_[i].back = dt_;
+    changed_.clear();
+  }
+
+ private:
+  //! Heap order: the earliest contact (largest back time) on top; ties by atom ids.
+  bool later(const Candidate& x, const Candidate& y) const {
+    if (x.back != y.back) return x.back < y.back;
+    return std::minmax(a_.id[x.i], a_.id[x.j]) > std::minmax(a_.id[y.i], a_.id[y.j]);
+  }
+
+  template <class Hooks>
+  bool collide(const Candidate& c, Hooks& hooks, ContactTally& tally) {
+    const std::uint32_t i = c.i, j = c.j;
+    Vec3<Real> ri = a_.pos[i], rj = a_.pos[j], vi = a_.vel[i], vj = a_.vel[j];
+    const Vec3<Real> shift = a_.image_shift[c.image];
+    const Real sg = sigma(i, j);
+    const Real w = std::min(change_[i].back, change_[j].back);
+    if (!kernel::touched_within(ri - rj - shift, vi - vj, sg, w, false)) return false;
+    const Real back = std::min(kernel::rewind_time(ri - rj - shift, vi - vj, sg), w);
+    ri -= back * vi;
+    rj -= back * vj;
+    const Vec3<Real> contact = ri - rj - shift;
+    double virial;
+    if constexpr (Mono) virial = double(mass_) * double(kernel::collide_equal_mass(contact, vi, vj));
+    else virial = double(kernel::collide(contact, vi, vj, a_.mass[i], a_.mass[j]));
+    if (virial == 0.0) return false;  // receding at the rewound contact: nothing to resolve
+    a_.pos[i] = ri + back * vi;
+    a_.pos[j] = rj + back * vj;
+    a_.vel[i] = vi;
+    a_.vel[j] = vj;
+    ++tally.collisions;
+    tally.virial += virial;
+    for (const std::uint32_t k : {i, j}) {
+      mark_changed(k, back);
+      hooks.after_collision(k, back);
+    }
+    return true;
+  }
+
+  ContactArrays<Real> a_;
+  Real dt_ = 0, sigma_ = 0, mass_ = 0;
+  std::int64_t max_events_ = 100000000;
+  std::vector<Change> change_;
+  std::vector<std::uint32_t> changed_;
+  std::vector<Candidate> candidates_, heap_;
+  std::uint64_t sweep_no_ = 1;
+  std::vector<std::uint64_t> swept_stamp_;  // which expansion last swept each sphere
+};
+
+}  // namespace hardsphere
