@@ -1,3 +1,5 @@
+import os
+
 import pytest
 
 
@@ -7,4 +9,4 @@ def pytest_addoption(parser):
 
 @pytest.fixture(scope="session")
 def hs(request):
-    return request.config.getoption("--hardsphere")
+    return os.path.abspath(request.config.getoption("--hardsphere"))

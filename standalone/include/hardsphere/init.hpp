@@ -24,9 +24,10 @@ struct InitSpec {
   InitMethod method = InitMethod::Auto;
 };
 
-//! Above this packing fraction Auto uses the lattice route (random insertion slows down
-//! sharply towards its jamming limit near 0.38).
-constexpr double kRandomInsertionLimit = 0.30;
+//! Above this packing fraction Auto uses the lattice route: random insertion slows down
+//! sharply towards its jamming limit near 0.38 and already fails now and then at 0.30 for a
+//! few hundred spheres (2000 attempts per sphere).
+constexpr double kRandomInsertionLimit = 0.25;
 //! The densest state the lattice route promises (freezing is at 0.494; 0.55 still melts).
 constexpr double kLatticeRouteLimit = 0.55;
 

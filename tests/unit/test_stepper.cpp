@@ -1,0 +1,238 @@
+// The stepper as a whole: analytic few-body runs, conservation laws, Maxwell-Boltzmann
+// relaxation, invariance under the cell grid, determinism, and the dense initial route.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "hardsphere/errors.hpp"
+#include "hardsphere/init.hpp"
+#include "hardsphere/observables.hpp"
+#include "hardsphere/stepper.hpp"
+
+using namespace hardsphere;
+
+namespace {
+
+ParticleSystem gas(std::int64_t n, double phi, std::uint64_t seed, std::optional<double> speed = std::nullopt,
+                   std::array<bool, 3> periodic = {true, true, true}) {
+  InitSpec spec;
+  spec.n = n;
+  const double l = std::cbrt(double(n) * M_PI / 6.0 / phi);
+  spec.box = Box::from_lengths({l, l, l}, periodic);
+  spec.seed = seed;
+  spec.speed = speed;
+  return make_initial_state(spec);
+}
+
+ParticleSystem run(const ParticleSystem& sys, double dt, std::int64_t steps, StepperConfig cfg = {},
+                   Precision p = Precision::Double, StepCounters* counters = nullptr) {
+  cfg.dt = dt;
+  auto st = make_stepper(sys, cfg, p);
+  st->run(steps);
+  if (counters) *counters = st->counters();
+  return st->state();
+}
+
+ParticleSystem pair(Vec3d r1, Vec3d v1, Vec3d r2, Vec3d v2, double length = 10, std::array<bool, 3> periodic = {true, true, true}) {
+  ParticleSystem s;
+  s.box = Box::from_lengths({length, length, length}, periodic);
+  s.push_back(1, 1, 0.5, 1.0, r1, v1);
+  s.push_back(2, 1, 0.5, 1.0, r2, v2);
+  return s;
+}
+
+}  // namespace
+
+TEST(StepperTwoBody, HeadOnPairIsRewoundToExactContact) {
+  // Gap 1 closing at speed 2: contact at t = 0.5, inside the second step of 0.3. After the
+  // rewind, swap and re-advance by 0.1 the spheres sit 0.1 back from where they touched.
+  const auto s = pair({2, 5, 5}, {1, 0, 0}, {4, 5, 5}, {-1, 0, 0});
+  StepCounters c;
+  const auto out = run(s, 0.3, 2, StepperConfig{}, Precision::Double, &c);
+  EXPECT_EQ(c.collisions, 1);
+  EXPECT_NEAR(out.pos[0].x, 2.4, 1e-12);
+  EXPECT_NEAR(out.pos[1].x, 3.6, 1e-12);
+  EXPECT_DOUBLE_EQ(out.vel[0].x, -1.0);
+  EXPECT_DOUBLE_EQ(out.vel[1].x, 1.0);
+  // Virial r_ij . dp_i = |r| * J = 1 * 2 for unit masses.
+  EXPECT_NEAR(c.pair_virial, 2.0, 1e-12);
+}
+
+TEST(StepperTwoBody, PairAcrossThePeriodicBoundaryCollides) {
+  // Same collision through the x faces: the minimum image is used.
+  const auto s = pair({0.5, 5, 5}, {-1, 0, 0}, {8.5, 5, 5}, {1, 0, 0});
+  StepCounters c;
+  const auto out = run(s, 0.3, 2, StepperConfig{}, Precision::Double, &c);
+  EXPECT_EQ(c.collisions, 1);
+  EXPECT_NEAR(out.pos[0].x, 0.1, 1e-12);
+  EXPECT_NEAR(out.pos[1].x, 8.9, 1e-12);
+  EXPECT_DOUBLE_EQ(out.vel[0].x, 1.0);
+}
+
+TEST(StepperTwoBody, WallBounceMirrorsAtTheContactTime) {
+  // Radius 0.5 at x = 1 moving at -1 toward the wall at 0: contact after 0.5, then 0.2 back.
+  auto s = pair({1, 5, 5}, {-1, 0, 0}, {7, 5, 5}, {0, 0, 0}, 10, {false, true, true});
+  StepCounters c;
+  const auto out = run(s, 0.7, 1, StepperConfig{}, Precision::Double, &c);
+  EXPECT_EQ(c.wall_collisions, 1);
+  EXPECT_NEAR(out.pos[0].x, 0.7, 1e-12);
+  EXPECT_DOUBLE_EQ(out.vel[0].x, 1.0);
+  EXPECT_NEAR(c.wall_impulse[0], 2.0, 1e-12);
+}
+
+TEST(StepperTwoBody, ChainIsResolvedInTimeOrder) {
+  // A hits B (at rest) at t = 0.5; B then hits C (at rest, 0.5 gap) at t = 1.0, all in one
+  // step of 1.2: the momentum must end on C, not be lost to an out-of-order resolution.
+  ParticleSystem s;
+  s.box = Box::from_lengths({20, 20, 20}, {true, true, true});
+  s.push_back(1, 1, 0.5, 1.0, {2, 5, 5}, {1, 0, 0});
+  s.push_back(2, 1, 0.5, 1.0, {3.5, 5, 5}, {0, 0, 0});
+  s.push_back(3, 1, 0.5, 1.0, {5.0, 5, 5}, {0, 0, 0});
+  StepCounters c;
+  const auto out = run(s, 1.2, 1, StepperConfig{}, Precision::Double, &c);
+  EXPECT_EQ(c.collisions, 2);
+  EXPECT_NEAR(out.vel[0].x, 0.0, 1e-15);
+  EXPECT_NEAR(out.vel[1].x, 0.0, 1e-15);
+  EXPECT_NEAR(out.vel[2].x, 1.0, 1e-15);
+  EXPECT_NEAR(out.pos[0].x, 2.5, 1e-12);
+  EXPECT_NEAR(out.pos[1].x, 4.0, 1e-12);
+  EXPECT_NEAR(out.pos[2].x, 5.2, 1e-12);
+}
+
+TEST(StepperConservation, GasOf1000Over10000Steps) {
+  // 10^3 spheres at phi = 0.3, 10^4 steps: every collision conserves momentum exactly for
+  // equal masses (antisymmetric update), energy to round-off per collision.
+  const auto s = gas(1000, 0.3, 7);
+  StepCounters c;
+  const auto out = run(s, 0.01, 10000, StepperConfig{}, Precision::Double, &c);
+  EXPECT_GT(c.collisions, 300000);
+  const double e0 = kinetic_energy(s), e1 = kinetic_energy(out);
+  EXPECT_LT(std::abs(e1 - e0) / e0, 1e-12);
+  const Vec3d p = total_momentum(out);
+  EXPECT_LT(norm(p), 1e-10);  // |p| of the gas is ~30; round-off of ~1e6 antisymmetric updates
+  EXPECT_EQ(max_overlap(out), 0.0);
+  EXPECT_EQ(c.unresolved_steps, 0);
+}
+
+TEST(StepperConservation, PolydisperseMixtureWithWalls) {
+  // Two sizes and masses, walls on z: momentum along x, y conserved, energy to round-off.
+  InitSpec spec;
+  spec.n = 300;
+  spec.box = Box::from_lengths({9, 9, 9}, {true, true, false});
+  spec.seed = 3;
+  auto s = make_initial_state(spec);
+  for (std::size_t i = 0; i < s.size(); i += 3) {
+    s.radius[i] = 0.3;
+    s.mass[i] = 0.25;
+  }
+  StepCounters c;
+  const auto out = run(s, 0.01, 3000, StepperConfig{}, Precision::Double, &c);
+  EXPECT_GT(c.collisions, 5000);
+  EXPECT_GT(c.wall_collisions, 500);
+  const double e0 = kinetic_energy(s), e1 = kinetic_energy(out);
+  EXPECT_LT(std::abs(e1 - e0) / e0, 1e-12);
+  const Vec3d p0 = total_momentum(s), p1 = total_momentum(out);
+  EXPECT_NEAR(p1.x, p0.x, 1e-11);
+  EXPECT_NEAR(p1.y, p0.y, 1e-11);
+  EXPECT_EQ(max_overlap(out), 0.0);
+}
+
+TEST(StepperConservation, SweepDetectionAndFloatPrecision) {
+  const auto s = gas(1000, 0.25, 11);
+  StepperConfig sweep;
+  sweep.detect = Detect::Sweep;
+  StepCounters cs, cf;
+  const auto out_s = run(s, 0.02, 1000, sweep, Precision::Double, &cs);
+  EXPECT_LT(std::abs(kinetic_energy(out_s) / kinetic_energy(s) - 1), 1e-12);
+  EXPECT_EQ(max_overlap(out_s), 0.0);
+  const auto out_f = run(s, 0.02, 1000, StepperConfig{}, Precision::Float, &cf);
+  EXPECT_LT(std::abs(kinetic_energy(out_f) / kinetic_energy(s) - 1), 1e-4);  // float round-off
+  EXPECT_LT(max_overlap(out_f), 1e-5);
+  // Same physics: collision totals agree within their statistical spread (~1%).
+  EXPECT_NEAR(double(cf.collisions) / double(cs.collisions), 1.0, 0.03);
+}
+
+TEST(StepperMaxwell, OneSpeedGasRelaxesToMaxwellBoltzmann) {
+  // All 4000 spheres start at |v| = sqrt(3) (T = 1): the speed distribution is far from MB.
+  // After ~25 collisions per sphere it must pass a Kolmogorov-Smirnov test against MB at
+  // T = <m v^2>/3 at the 1% significance level (fails if p < 0.01).
+  const auto s = gas(4000, 0.3, 5, std::sqrt(3.0));
+  const double t0 = temperature(s);
+  EXPECT_LT(kolmogorov_pvalue(maxwell_ks_distance(s, t0), s.size()), 1e-10);  // the test can fail
+  const auto out = run(s, 0.01, 300);
+  const double t = temperature(out);
+  EXPECT_NEAR(t, t0, 1e-12);
+  const double p = kolmogorov_pvalue(maxwell_ks_distance(out, t), out.size());
+  EXPECT_GT(p, 0.01) << "KS distance " << maxwell_ks_distance(out, t);
+}
+
+TEST(StepperCells, OneBoxAndAutoCellsGiveTheSameCollisions) {
+  // K = 1 is the seed's all-pairs baseline; auto and a fixed 3^3 grid must resolve the very
+  // same collisions, with states equal to round-off. The grids differ only in how a periodic
+  // image is subtracted (last-bit differences), which the gas's chaos amplifies by ~e^(4t):
+  // over t = 1 that stays far below the 1e-9 tolerance, over t = 4 it would not.
+  const auto s = gas(300, 0.2, 9);
+  StepperConfig one, three;
+  one.cells = {1, 1, 1};
+  three.cells = {3, 3, 3};
+  StepCounters ca, c1, c3;
+  const auto a = run(s, 0.01, 100, StepperConfig{}, Precision::Double, &ca);
+  const auto b = run(s, 0.01, 100, one, Precision::Double, &c1);
+  const auto c = run(s, 0.01, 100, three, Precision::Double, &c3);
+  ASSERT_GT(ca.collisions, 300);
+  EXPECT_EQ(ca.collisions, c1.collisions);
+  EXPECT_EQ(ca.collisions, c3.collisions);
+  for (std::size_t i = 0; i < s.size(); ++i) {
+    EXPECT_NEAR(a.pos[i].x, b.pos[i].x, 1e-9);
+    EXPECT_NEAR(a.vel[i].y, b.vel[i].y, 1e-9);
+    EXPECT_NEAR(a.pos[i].z, c.pos[i].z, 1e-9);
+  }
+}
+
+TEST(StepperDeterminism, SameSeedSameRunDifferentSeedDifferentRun) {
+  const auto a = run(gas(500, 0.3, 42), 0.01, 200);
+  const auto b = run(gas(500, 0.3, 42), 0.01, 200);
+  const auto c = run(gas(500, 0.3, 43), 0.01, 200);
+  for (std::size_t i = 0; i < a.size(); ++i) {
+    ASSERT_EQ(a.pos[i].x, b.pos[i].x);
+    ASSERT_EQ(a.vel[i].z, b.vel[i].z);
+  }
+  EXPECT_NE(a.pos[0].x, c.pos[0].x);
+}
+
+TEST(StepperPressure, CompressibilityFactorNearCarnahanStarling) {
+  // phi = 0.3, dt = 0.005 (~0.04 mean free times): Z within 1.5% of CS. The statistical error
+  // of this run is ~0.5%; the small-dt bias of the overlap detection is below that.
+  const double phi = 0.3;
+  auto s = gas(2000, phi, 21);
+  StepperConfig cfg;
+  cfg.dt = 0.005;
+  auto st = make_stepper(s, cfg);
+  st->run(200);  // forget the initial state
+  st->reset_counters();
+  st->run(2000);
+  const auto& c = st->counters();
+  const double z = compressibility_factor(c.pair_virial, c.sim_time, s.size(), temperature(s));
+  const double z_cs = (1 + phi + phi * phi - phi * phi * phi) / std::pow(1 - phi, 3);
+  EXPECT_NEAR(z / z_cs, 1.0, 0.015) << "Z " << z << " vs CS " << z_cs;
+}
+
+TEST(StepperInput, RejectsBadTimeStepAndCells) {
+  const auto s = gas(100, 0.1, 1);
+  StepperConfig cfg;
+  cfg.dt = 0;
+  EXPECT_THROW(make_stepper(s, cfg), InputError);
+  cfg.dt = std::nan("");
+  EXPECT_THROW(make_stepper(s, cfg), InputError);
+  cfg.dt = 0.01;
+  cfg.cells = {50, 50, 50};  // cells narrower than a diameter
+  EXPECT_THROW(make_stepper(s, cfg), InputError);
+}
+
+TEST(DenseInit, LatticeRouteReachesHalfPacking) {
+  const auto s = gas(500, 0.50, 4);
+  EXPECT_NEAR(s.packing_fraction(), 0.50, 1e-12);
+  EXPECT_EQ(max_overlap(s), 0.0);
+  EXPECT_NEAR(norm(total_momentum(s)), 0.0, 1e-10);
+  EXPECT_NEAR(temperature(s), 1.0, 1e-12);
+}
