@@ -73,15 +73,9 @@ void for_each_close_pair(const ParticleSystem& sys, double cutoff, F&& f) {
   const std::size_t n = sys.size();
   if (n < 2) return;
   const CellGrid grid = CellGrid::with_min_width(sys.box, cutoff, std::int64_t(2 * n + 27));
-  std::vector<double> x(n), y(n), z(n);
-  for (std::size_t i = 0; i < n; ++i) {
-    x[i] = sys.pos[i].x;
-    y[i] = sys.pos[i].y;
-    z[i] = sys.pos[i].z;
-  }
   std::vector<int> cell;
   std::vector<std::uint32_t> start, order;
-  grid.sort(x.data(), y.data(), z.data(), n, cell, start, order);
+  grid.sort(n, [&](std::size_t i) { return sys.pos[i]; }, cell, start, order);
   for (std::int64_t c = 0; c < grid.size(); ++c) {
     grid.for_each_neighbour(int(c), [&](int nb) {
       if (nb < c) return;

@@ -102,15 +102,19 @@ class Stepper final : public StepperBase {
   template <bool AllPeriodic> void drift();
   template <bool Sweep> void scan_pair_list();
   void rebuild();
+  void build_stencil();
   void build_pairs_half_stencil();
   void build_pairs_any_grid();
-  void add_pairs_between(std::uint32_t b0, std::uint32_t b1, std::uint32_t e0, std::uint32_t e1, std::uint8_t image,
-                         bool same_cell);
+  void build_adjacency();
   void push_pair(std::uint32_t i, std::uint32_t j, std::uint8_t image) {
-    pair_i_.push_back(i);
-    pair_j_.push_back(j);
-    pair_image_.push_back(image);
+    if (image == kNoImage) near_.push_back({i, j});
+    else {
+      wrap_.push_back({i, j});
+      wrap_image_.push_back(image);
+    }
   }
+  //! Candidate cut-off of a pair: contact distance plus skin (an infinite skin takes all).
+  Real list_cut(Real contact) const { return std::isinf(skin_) ? std::numeric_limits<Real>::max() / 4 : contact + skin_; }
   void reflect(std::uint32_t i);
   void note_displacement(std::uint32_t i) {
     const V3<Real> d = pos_[i] - pos0_[i];
@@ -132,9 +136,31 @@ class Stepper final : public StepperBase {
   std::vector<std::int64_t> id_;
   std::vector<int> type_, cell_;
   std::vector<std::uint32_t> cell_start_, order_;
-  // Candidate pairs within r_i + r_j + skin at the last rebuild, with their periodic image.
-  std::vector<std::uint32_t> pair_i_, pair_j_;
-  std::vector<std::uint8_t> pair_image_;
+  // Candidate pairs within r_i + r_j + skin at the last rebuild: those inside the box (most)
+  // need no image shift; pairs across a periodic face carry their image code.
+  struct Pair {
+    std::uint32_t i, j;
+  };
+  std::vector<Pair> near_, wrap_;
+  std::vector<std::uint8_t> wrap_image_;
+  // Half stencil: for each cell its 13 forward neighbour cells and their image codes.
+  struct StencilEntry {
+    int cell;
+    std::uint8_t image;
+  };
+  std::vector<StencilEntry> stencil_;
+  // Pair build scratch: the forward neighbours of one cell, image-shifted.
+  struct Neighbour {
+    V3<Real> pos;
+    Real radius;
+    std::uint32_t index;
+    std::uint8_t image;
+  };
+  std::vector<Neighbour> gathered_;
+  std::vector<V3<Real>> scratch_v3_;
+  std::vector<Real> scratch_real_;
+  std::vector<std::int64_t> scratch_id_;
+  std::vector<int> scratch_int_;
   // For each sphere s, its list partners q and the image of r_s - r_q (CSR), for local sweeps.
   std::vector<std::uint32_t> adj_start_, adj_partner_, adj_cursor_;
   std::vector<std::uint8_t> adj_image_;
@@ -145,7 +171,7 @@ class Stepper final : public StepperBase {
 
 template <class Real, bool Mono>
 Stepper<Real, Mono>::Stepper(const ParticleSystem& sys, const StepperConfig& cfg)
-    : box_(sys.box), all_periodic_(sys.box.all_periodic()), sweep_(cfg.detect == Detect::Sweep), dt_(Real(cfg.dt)) {
+    : box_(sys.box), all_periodic_(cfg.specialise && sys.box.all_periodic()), sweep_(cfg.detect == Detect::Sweep), dt_(Real(cfg.dt)) {
   if (!(std::isfinite(cfg.dt) && cfg.dt > 0)) {
     std::ostringstream m;
     m << "time step dt = " << cfg.dt << " must be positive and finite";
@@ -196,44 +222,24 @@ Stepper<Real, Mono>::Stepper(const ParticleSystem& sys, const StepperConfig& cfg
   resolver_.reset(n, dt_);
   resolver_.set_uniform(sigma_, n ? m_[0] : Real(0));
   resolver_.set_event_limit(cfg.max_events_per_step);
+  if (grid_.half_stencil_ok()) build_stencil();
   rebuild();
   counters_.rebuilds = 0;
 }
 
 template <class Real, bool Mono>
-void Stepper<Real, Mono>::add_pairs_between(std::uint32_t b0, std::uint32_t b1, std::uint32_t e0, std::uint32_t e1,
-                                            std::uint8_t image, bool same_cell) {
-  const Real skin = std::isinf(skin_) ? std::numeric_limits<Real>::max() / 4 : skin_;
-  const Real mono_cut2 = (sigma_ + skin) * (sigma_ + skin);
-  for (std::uint32_t i = b0; i < b1; ++i) {
-    const V3<Real> ri = pos_[i] - image_shift_[image];
-    for (std::uint32_t j = same_cell ? i + 1 : e0; j < e1; ++j) {
-      const V3<Real> d = ri - pos_[j];
-      Real cut2 = mono_cut2;
-      if constexpr (!Mono) {
-        const Real cut = r_[i] + r_[j] + skin;
-        cut2 = cut * cut;
-      }
-      if (dot(d, d) < cut2) push_pair(i, j, image);
-    }
-  }
-}
-
-template <class Real, bool Mono>
-void Stepper<Real, Mono>::build_pairs_half_stencil() {
-  // Every periodic axis has >= 3 cells and positions are wrapped: each unordered pair of
-  // neighbouring cells is met once through 13 forward offsets, and a periodic wrap of the
-  // neighbour's cell coordinate is exactly the pair's minimum image. No division per pair.
+void Stepper<Real, Mono>::build_stencil() {
+  // Every periodic axis has >= 3 cells: the 13 forward neighbours of a cell are distinct, and
+  // wrapping a neighbour's cell coordinate gives exactly the pair's minimum image, so each
+  // unordered pair of neighbouring cells is met once and no pair needs a division.
   static const int offsets[13][3] = {{1, 0, 0},  {-1, 1, 0}, {0, 1, 0},  {1, 1, 0},  {-1, -1, 1}, {0, -1, 1}, {1, -1, 1},
                                      {-1, 0, 1}, {0, 0, 1},  {1, 0, 1},  {-1, 1, 1}, {0, 1, 1},   {1, 1, 1}};
   const auto k = grid_.counts();
+  stencil_.assign(std::size_t(grid_.size()) * 13, StencilEntry{-1, kNoImage});
   for (int cz = 0; cz < k[2]; ++cz)
     for (int cy = 0; cy < k[1]; ++cy)
       for (int cx = 0; cx < k[0]; ++cx) {
-        const int c = grid_.index(cx, cy, cz);
-        const std::uint32_t b0 = cell_start_[c], b1 = cell_start_[c + 1];
-        if (b0 == b1) continue;
-        add_pairs_between(b0, b1, b0, b1, kNoImage, true);
+        StencilEntry* out = &stencil_[std::size_t(grid_.index(cx, cy, cz)) * 13];
         for (const auto& o : offsets) {
           int n[3] = {cx + o[0], cy + o[1], cz + o[2]}, img[3] = {0, 0, 0};
           bool inside = true;
@@ -244,18 +250,47 @@ void Stepper<Real, Mono>::build_pairs_half_stencil() {
             img[d] = n[d] < 0 ? -1 : 1;
             n[d] = (n[d] + k[d]) % k[d];
           }
-          if (!inside) continue;
-          const int nb = grid_.index(n[0], n[1], n[2]);
-          add_pairs_between(b0, b1, cell_start_[nb], cell_start_[nb + 1], image_code(img[0], img[1], img[2]), false);
+          if (inside) *out++ = {grid_.index(n[0], n[1], n[2]), image_code(img[0], img[1], img[2])};
         }
       }
+}
+
+template <class Real, bool Mono>
+void Stepper<Real, Mono>::build_pairs_half_stencil() {
+  const Real mono_cut = list_cut(sigma_), mono_cut2 = mono_cut * mono_cut;
+  const std::int64_t ncell = grid_.size();
+  for (std::int64_t c = 0; c < ncell; ++c) {
+    const std::uint32_t b0 = cell_start_[c], b1 = cell_start_[c + 1];
+    if (b0 == b1) continue;
+    // Gather the forward neighbours once per cell (shifted into this cell's image) so the
+    // inner loop is a plain distance test over one contiguous buffer.
+    gathered_.clear();
+    for (const StencilEntry* e = &stencil_[std::size_t(c) * 13]; e != &stencil_[std::size_t(c) * 13 + 13]; ++e) {
+      if (e->cell < 0) break;
+      const V3<Real> shift = image_shift_[e->image];
+      for (std::uint32_t j = cell_start_[e->cell]; j < cell_start_[e->cell + 1]; ++j)
+        gathered_.push_back({pos_[j] + shift, r_[j], j, e->image});
+    }
+    for (std::uint32_t i = b0; i < b1; ++i) {
+      const V3<Real> pi = pos_[i];
+      for (std::uint32_t j = i + 1; j < b1; ++j) {
+        const V3<Real> d = pi - pos_[j];
+        const Real cut = Mono ? mono_cut : list_cut(r_[i] + r_[j]);
+        if (dot(d, d) < (Mono ? mono_cut2 : cut * cut)) near_.push_back({i, j});
+      }
+      for (const Neighbour& q : gathered_) {
+        const V3<Real> d = pi - q.pos;
+        const Real cut = Mono ? mono_cut : list_cut(r_[i] + q.radius);
+        if (dot(d, d) < (Mono ? mono_cut2 : cut * cut)) push_pair(i, q.index, q.image);
+      }
+    }
+  }
 }
 
 template <class Real, bool Mono>
 void Stepper<Real, Mono>::build_pairs_any_grid() {
   // General grids (an axis with 1 or 2 periodic cells): neighbour cells may repeat, so take
   // each unordered cell pair once by index and the minimum image per pair.
-  const Real skin = std::isinf(skin_) ? std::numeric_limits<Real>::max() / 4 : skin_;
   const std::int64_t ncell = grid_.size();
   for (std::int64_t c = 0; c < ncell; ++c) {
     const std::uint32_t b0 = cell_start_[c], b1 = cell_start_[c + 1];
@@ -272,7 +307,7 @@ void Stepper<Real, Mono>::build_pairs_any_grid() {
               k[a] = int(std::nearbyint(d[a] / length_[a]));
               d[a] -= Real(k[a]) * length_[a];
             }
-          const Real cut = r_[i] + r_[j] + skin;
+          const Real cut = list_cut(r_[i] + r_[j]);
           if (dot(d, d) < cut * cut) push_pair(i, j, image_code(k[0], k[1], k[2]));
         }
       }
@@ -291,56 +326,55 @@ void Stepper<Real, Mono>::rebuild() {
       if (p[d] >= lo + len) p[d] -= len;  // floor rounding at the top edge
     }
   }
-  std::vector<Real> x(n), y(n), z(n);
-  for (std::size_t i = 0; i < n; ++i) {
-    x[i] = pos_[i].x;
-    y[i] = pos_[i].y;
-    z[i] = pos_[i].z;
-  }
-  grid_.sort(x.data(), y.data(), z.data(), n, cell_, cell_start_, order_);
-  auto permute = [&](auto& a) {
-    auto tmp = a;
-    for (std::size_t k = 0; k < n; ++k) tmp[k] = a[order_[k]];
-    a.swap(tmp);
+  grid_.sort(n, [this](std::size_t i) { return pos_[i]; }, cell_, cell_start_, order_);
+  auto permute = [&](auto& a, auto& scratch) {
+    scratch.resize(n);
+    for (std::size_t k = 0; k < n; ++k) scratch[k] = a[order_[k]];
+    a.swap(scratch);
   };
-  permute(pos_);
-  permute(vel_);
-  permute(r_);
-  permute(m_);
-  permute(id_);
-  permute(type_);
-  permute(cell_);
+  permute(pos_, scratch_v3_);
+  permute(vel_, scratch_v3_);
+  if constexpr (!Mono) {  // equal radii and masses need no reordering
+    permute(r_, scratch_real_);
+    permute(m_, scratch_real_);
+  }
+  permute(id_, scratch_id_);
+  permute(type_, scratch_int_);
   resolver_.permute(order_);
   pos0_ = pos_;
   max_disp2_ = 0;
 
   // Candidate list: every pair that could touch before the next rebuild.
-  pair_i_.clear();
-  pair_j_.clear();
-  pair_image_.clear();
-  if (grid_.half_stencil_ok()) build_pairs_half_stencil();
+  near_.clear();
+  wrap_.clear();
+  wrap_image_.clear();
+  if (!stencil_.empty()) build_pairs_half_stencil();
   else build_pairs_any_grid();
-
-  // Adjacency (both directions) for sweeping one sphere's neighbours.
-  adj_start_.assign(n + 1, 0);
-  for (std::size_t p = 0; p < pair_i_.size(); ++p) {
-    ++adj_start_[pair_i_[p] + 1];
-    ++adj_start_[pair_j_[p] + 1];
-  }
-  for (std::size_t i = 0; i < n; ++i) adj_start_[i + 1] += adj_start_[i];
-  adj_partner_.resize(2 * pair_i_.size());
-  adj_image_.resize(2 * pair_i_.size());
-  adj_cursor_.assign(adj_start_.begin(), adj_start_.end() - 1);
-  for (std::size_t p = 0; p < pair_i_.size(); ++p) {
-    const std::uint32_t i = pair_i_[p], j = pair_j_[p];
-    adj_partner_[adj_cursor_[i]] = j;
-    adj_image_[adj_cursor_[i]++] = pair_image_[p];
-    adj_partner_[adj_cursor_[j]] = i;
-    adj_image_[adj_cursor_[j]++] = std::uint8_t(26 - pair_image_[p]);  // the mirrored image
-  }
+  build_adjacency();
   resolver_.bind({pos_.data(), vel_.data(), r_.data(), m_.data(), id_.data(), adj_start_.data(), adj_partner_.data(),
                   adj_image_.data(), image_shift_});
   ++counters_.rebuilds;
+}
+
+template <class Real, bool Mono>
+void Stepper<Real, Mono>::build_adjacency() {
+  // Both directions, CSR, for sweeping one sphere's neighbours; (j, i) carries the mirrored image.
+  const std::size_t n = pos_.size(), np = near_.size() + wrap_.size();
+  adj_start_.assign(n + 1, 0);
+  for (const auto& p : near_) ++adj_start_[p.i + 1], ++adj_start_[p.j + 1];
+  for (const auto& p : wrap_) ++adj_start_[p.i + 1], ++adj_start_[p.j + 1];
+  for (std::size_t i = 0; i < n; ++i) adj_start_[i + 1] += adj_start_[i];
+  adj_partner_.resize(2 * np);
+  adj_image_.resize(2 * np);
+  adj_cursor_.assign(adj_start_.begin(), adj_start_.end() - 1);
+  auto add = [&](std::uint32_t i, std::uint32_t j, std::uint8_t image) {
+    adj_partner_[adj_cursor_[i]] = j;
+    adj_image_[adj_cursor_[i]++] = image;
+    adj_partner_[adj_cursor_[j]] = i;
+    adj_image_[adj_cursor_[j]++] = std::uint8_t(26 - image);
+  };
+  for (const auto& p : near_) add(p.i, p.j, kNoImage);
+  for (std::size_t k = 0; k < wrap_.size(); ++k) add(wrap_[k].i, wrap_[k].j, wrap_image_[k]);
 }
 
 template <class Real, bool Mono>
@@ -386,10 +420,6 @@ template <class Real, bool Mono>
 template <bool Sweep>
 void Stepper<Real, Mono>::scan_pair_list() {
   resolver_.clear_candidates();
-  const std::size_t np = pair_i_.size();
-  const std::uint32_t* __restrict pi = pair_i_.data();
-  const std::uint32_t* __restrict pj = pair_j_.data();
-  const std::uint8_t* __restrict img = pair_image_.data();
   const V3<Real>* __restrict pos = pos_.data();
   // Sweep: a pair can have touched within the step only if its gap is below |dv| dt; bound
   // |dv| by twice the fastest speed so the cheap distance test still rejects most pairs.
@@ -399,12 +429,15 @@ void Stepper<Real, Mono>::scan_pair_list() {
     for (const auto& v : vel_) v2 = std::max(v2, dot(v, v));
     reach = Real(2) * std::sqrt(v2) * dt_;
   }
-  for (std::size_t p = 0; p < np; ++p) {
-    const std::uint32_t i = pi[p], j = pj[p];
-    const V3<Real> d = pos[i] - pos[j] - image_shift_[img[p]];
+  auto test = [&](std::uint32_t i, std::uint32_t j, std::uint8_t image, V3<Real> d) {
     const Real sg = Mono ? sigma_ : r_[i] + r_[j];
     const Real lim = Sweep ? sg + reach : sg;
-    if (dot(d, d) < lim * lim) resolver_.consider(i, j, img[p], d, sg, !Sweep);
+    if (dot(d, d) < lim * lim) resolver_.consider(i, j, image, d, sg, !Sweep);
+  };
+  for (const Pair& p : near_) test(p.i, p.j, kNoImage, pos[p.i] - pos[p.j]);
+  for (std::size_t k = 0; k < wrap_.size(); ++k) {
+    const Pair p = wrap_[k];
+    test(p.i, p.j, wrap_image_[k], pos[p.i] - pos[p.j] - image_shift_[wrap_image_[k]]);
   }
 }
 
@@ -442,7 +475,7 @@ ParticleSystem Stepper<Real, Mono>::state() const {
 
 template <class Real>
 std::unique_ptr<StepperBase> make_stepper_for(const ParticleSystem& sys, const StepperConfig& cfg) {
-  if (sys.monodisperse()) return std::make_unique<Stepper<Real, true>>(sys, cfg);
+  if (cfg.specialise && sys.monodisperse()) return std::make_unique<Stepper<Real, true>>(sys, cfg);
   return std::make_unique<Stepper<Real, false>>(sys, cfg);
 }
 

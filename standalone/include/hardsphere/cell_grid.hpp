@@ -58,14 +58,16 @@ class CellGrid {
 
   //! Counting sort of points into cells: fills start (size()+1 offsets) and the permutation
   //! order[k] = index of the k-th point in cell order. cell[i] receives each point's cell.
-  template <class T>
-  void sort(const T* x, const T* y, const T* z, std::size_t n, std::vector<int>& cell,
-            std::vector<std::uint32_t>& start, std::vector<std::uint32_t>& order) const {
+  //! `point(i)` returns anything with .x, .y, .z.
+  template <class Point>
+  void sort(std::size_t n, Point&& point, std::vector<int>& cell, std::vector<std::uint32_t>& start,
+            std::vector<std::uint32_t>& order) const {
     const std::size_t nc = std::size_t(size());
     cell.resize(n);
     start.assign(nc + 1, 0);
     for (std::size_t i = 0; i < n; ++i) {
-      cell[i] = cell_of(double(x[i]), double(y[i]), double(z[i]));
+      const auto p = point(i);
+      cell[i] = cell_of(double(p.x), double(p.y), double(p.z));
       ++start[std::size_t(cell[i]) + 1];
     }
     for (std::size_t c = 0; c < nc; ++c) start[c + 1] += start[c];

@@ -39,6 +39,10 @@ struct StepperConfig {
   //! only an inelastic collapse could need more.
   std::int64_t max_events_per_step = 100000000;
   Detect detect = Detect::Overlap;
+  //! Select kernels specialised for the scene (no wall tests in periodic boxes, no per-sphere
+  //! radii and masses when all are equal). false runs the general kernel on any scene: only
+  //! for measuring what the specialisation gains, results are the same.
+  bool specialise = true;
 };
 
 struct StepCounters {
