@@ -27,15 +27,16 @@ Detect parse_detect(const std::string& s) {
 }
 
 double auto_skin(const ParticleSystem& sys, double dt) {
-  // Rebuilding costs about as much as ten list scans, so aim for a rebuild every ~10 steps
-  // for the fastest spheres (about 4 rms speeds in a Maxwellian gas of 1e5), within
-  // [0.1, 1] largest diameters so neither the list nor the rebuild rate explodes.
+  // A rebuild costs about as much as ten list scans, but a thick skin makes every scan and
+  // every neighbour sweep longer. Measured optimum (bench CellsSweep, phi 0.2-0.45): a rebuild
+  // every ~4 steps for the fastest spheres (about 2.5 rms speeds), i.e. skin ~ 20 v_rms dt,
+  // kept within [0.3, 0.6] diameters: thinner skins rebuild mid-step in dense gases.
   double v2 = 0;
   for (const auto& v : sys.vel) v2 += dot(v, v);
   const double v_rms = sys.size() ? std::sqrt(v2 / double(sys.size())) : 0.0;
   const double diameter = 2 * sys.max_radius();
-  const double skin = 2.0 * 10.0 * 2.5 * v_rms * dt;
-  return std::clamp(skin, 0.1 * diameter, 0.6 * diameter);
+  const double skin = 2.0 * 4.0 * 2.5 * v_rms * dt;
+  return std::clamp(skin, 0.3 * diameter, 0.6 * diameter);
 }
 
 namespace {
