@@ -265,13 +265,15 @@ void Stepper<Real, Mono>::build_pairs_half_stencil() {
     if (b0 == b1) continue;
     // Gather the forward neighbours once per cell (shifted into this cell's image) so the
     // inner loop is a plain distance test over one contiguous buffer.
-    gathered_.clear();
+    std::size_t count = 0;
     for (const StencilEntry* e = &stencil_[std::size_t(c) * 13]; e != &stencil_[std::size_t(c) * 13 + 13]; ++e) {
       if (e->cell < 0) break;
       const V3<Real> shift = image_shift_[e->image];
-      for (std::uint32_t j = cell_start_[e->cell]; j < cell_start_[e->cell + 1]; ++j)
-        gathered_.push_back({pos_[j] + shift, r_[j], j, e->image});
+      const std::uint32_t e0 = cell_start_[e->cell], e1 = cell_start_[e->cell + 1];
+      if (count + (e1 - e0) > gathered_.size()) gathered_.resize(2 * (count + (e1 - e0)));
+      for (std::uint32_t j = e0; j < e1; ++j) gathered_[count++] = {pos_[j] + shift, Mono ? Real(0) : r_[j], j, e->image};
     }
+    const Neighbour* const gathered_end = gathered_.data() + count;
     for (std::uint32_t i = b0; i < b1; ++i) {
       const V3<Real> pi = pos_[i];
       for (std::uint32_t j = i + 1; j < b1; ++j) {
@@ -279,10 +281,10 @@ void Stepper<Real, Mono>::build_pairs_half_stencil() {
         const Real cut = Mono ? mono_cut : list_cut(r_[i] + r_[j]);
         if (dot(d, d) < (Mono ? mono_cut2 : cut * cut)) near_.push_back({i, j});
       }
-      for (const Neighbour& q : gathered_) {
-        const V3<Real> d = pi - q.pos;
-        const Real cut = Mono ? mono_cut : list_cut(r_[i] + q.radius);
-        if (dot(d, d) < (Mono ? mono_cut2 : cut * cut)) push_pair(i, q.index, q.image);
+      for (const Neighbour* q = gathered_.data(); q != gathered_end; ++q) {
+        const V3<Real> d = pi - q->pos;
+        const Real cut = Mono ? mono_cut : list_cut(r_[i] + q->radius);
+        if (dot(d, d) < (Mono ? mono_cut2 : cut * cut)) push_pair(i, q->index, q->image);
       }
     }
   }
@@ -323,6 +325,7 @@ void Stepper<Real, Mono>::rebuild() {
     if (!box_.periodic[d]) continue;
     const Real lo = Real(box_.lo[d]), len = length_[d];
     for (auto& p : pos_) {
+      if (p[d] >= lo && p[d] < lo + len) continue;
       p[d] -= len * std::floor((p[d] - lo) / len);
       if (p[d] >= lo + len) p[d] -= len;  // floor rounding at the top edge
     }

@@ -17,6 +17,13 @@
 #include "hardsphere/collision.hpp"
 #include "hardsphere/vec3.hpp"
 
+// The neighbour sweep calls consider() for every partner: keep it inlined.
+#if defined(__GNUC__)
+#define HS_ALWAYS_INLINE inline __attribute__((always_inline))
+#else
+#define HS_ALWAYS_INLINE inline
+#endif
+
 namespace hardsphere {
 
 //! Image code of a periodic shift (kx, ky, kz) in {-1, 0, 1}^3; 13 means no shift and the
@@ -80,9 +87,9 @@ class ContactResolver {
   //! After the engine reorders its spheres (new[k] = old[order[k]]), reorder the records too.
   template <class Order>
   void permute(const Order& order) {
-    std::vector<Change> moved(change_.size());
-    for (std::size_t k = 0; k < moved.size(); ++k) moved[k] = change_[order[k]];
-    change_.swap(moved);
+    moved_.resize(change_.size());
+    for (std::size_t k = 0; k < moved_.size(); ++k) moved_[k] = change_[order[k]];
+    change_.swap(moved_);
     changed_.clear();
     for (std::uint32_t k = 0; k < change_.size(); ++k)
       if (change_[k].back != dt_) changed_.push_back(k);
@@ -104,7 +111,7 @@ class ContactResolver {
 
   //! Queues (i, j), i < j, if the pair touched while approaching within its common
   //! straight-line window; `overlap_only` is the seed's test (the pair overlaps now).
-  void consider(std::uint32_t i, std::uint32_t j, std::uint8_t image, Vec3<Real> dr, Real sigma, bool overlap_only) {
+  HS_ALWAYS_INLINE void consider(std::uint32_t i, std::uint32_t j, std::uint8_t image, Vec3<Real> dr, Real sigma, bool overlap_only) {
     const Vec3<Real> dv = a_.vel[i] - a_.vel[j];
     const Change ci = change_[i], cj = change_[j];
     const Real w = std::min(ci.back, cj.back);
@@ -223,7 +230,7 @@ class ContactResolver {
   ContactArrays<Real> a_;
   Real dt_ = 0, sigma_ = 0, mass_ = 0;
   std::int64_t max_events_ = 100000000;
-  std::vector<Change> change_;
+  std::vector<Change> change_, moved_;  // moved_: scratch for permute()
   std::vector<std::uint32_t> changed_;
   std::vector<Candidate> candidates_, heap_;
   std::uint64_t sweep_no_ = 1;
