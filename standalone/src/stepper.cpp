@@ -260,34 +260,55 @@ template <class Real, bool Mono>
 void Stepper<Real, Mono>::build_pairs_half_stencil() {
   const Real mono_cut = list_cut(sigma_), mono_cut2 = mono_cut * mono_cut;
   const std::int64_t ncell = grid_.size();
+  // Pairs are written unconditionally and kept by advancing the count (no unpredictable
+  // branch per candidate); wrapped neighbours are rare and go through push_pair.
+  std::size_t n_near = 0;
+  near_.resize(std::max<std::size_t>(near_.size(), 1024));
+  auto ensure = [&](std::size_t extra) {
+    if (n_near + extra > near_.size()) near_.resize(2 * (n_near + extra));
+  };
   for (std::int64_t c = 0; c < ncell; ++c) {
     const std::uint32_t b0 = cell_start_[c], b1 = cell_start_[c + 1];
     if (b0 == b1) continue;
     // Gather the forward neighbours once per cell (shifted into this cell's image) so the
-    // inner loop is a plain distance test over one contiguous buffer.
-    std::size_t count = 0;
-    for (const StencilEntry* e = &stencil_[std::size_t(c) * 13]; e != &stencil_[std::size_t(c) * 13 + 13]; ++e) {
-      if (e->cell < 0) break;
-      const V3<Real> shift = image_shift_[e->image];
-      const std::uint32_t e0 = cell_start_[e->cell], e1 = cell_start_[e->cell + 1];
-      if (count + (e1 - e0) > gathered_.size()) gathered_.resize(2 * (count + (e1 - e0)));
-      for (std::uint32_t j = e0; j < e1; ++j) gathered_[count++] = {pos_[j] + shift, Mono ? Real(0) : r_[j], j, e->image};
+    // inner loop is a plain distance test over one contiguous buffer; same-image first.
+    std::size_t count = 0, count_near = 0;
+    for (int pass = 0; pass < 2; ++pass) {
+      for (const StencilEntry* e = &stencil_[std::size_t(c) * 13]; e != &stencil_[std::size_t(c) * 13 + 13]; ++e) {
+        if (e->cell < 0) break;
+        if ((e->image == kNoImage) != (pass == 0)) continue;
+        const V3<Real> shift = image_shift_[e->image];
+        const std::uint32_t e0 = cell_start_[e->cell], e1 = cell_start_[e->cell + 1];
+        if (count + (e1 - e0) > gathered_.size()) gathered_.resize(2 * (count + (e1 - e0)));
+        for (std::uint32_t j = e0; j < e1; ++j) gathered_[count++] = {pos_[j] + shift, Mono ? Real(0) : r_[j], j, e->image};
+      }
+      if (pass == 0) count_near = count;
     }
+    const Neighbour* const near_end = gathered_.data() + count_near;
     const Neighbour* const gathered_end = gathered_.data() + count;
+    ensure(std::size_t(b1 - b0) * (count_near + (b1 - b0)));
     for (std::uint32_t i = b0; i < b1; ++i) {
       const V3<Real> pi = pos_[i];
       for (std::uint32_t j = i + 1; j < b1; ++j) {
         const V3<Real> d = pi - pos_[j];
         const Real cut = Mono ? mono_cut : list_cut(r_[i] + r_[j]);
-        if (dot(d, d) < (Mono ? mono_cut2 : cut * cut)) near_.push_back({i, j});
+        near_[n_near] = {i, j};
+        n_near += dot(d, d) < (Mono ? mono_cut2 : cut * cut);
       }
-      for (const Neighbour* q = gathered_.data(); q != gathered_end; ++q) {
+      for (const Neighbour* q = gathered_.data(); q != near_end; ++q) {
+        const V3<Real> d = pi - q->pos;
+        const Real cut = Mono ? mono_cut : list_cut(r_[i] + q->radius);
+        near_[n_near] = {i, q->index};
+        n_near += dot(d, d) < (Mono ? mono_cut2 : cut * cut);
+      }
+      for (const Neighbour* q = near_end; q != gathered_end; ++q) {
         const V3<Real> d = pi - q->pos;
         const Real cut = Mono ? mono_cut : list_cut(r_[i] + q->radius);
         if (dot(d, d) < (Mono ? mono_cut2 : cut * cut)) push_pair(i, q->index, q->image);
       }
     }
   }
+  near_.resize(n_near);
 }
 
 template <class Real, bool Mono>
