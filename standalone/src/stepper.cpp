@@ -157,7 +157,7 @@ class Stepper final : public StepperBase {
     std::uint32_t index;
     std::uint8_t image;
   };
-  std::vector<Neighbour> gathered_;
+  std::vector<Neighbour> gathered_, gathered_wrap_;
   std::vector<V3<Real>> scratch_v3_;
   std::vector<Real> scratch_real_;
   std::vector<std::int64_t> scratch_id_;
@@ -271,21 +271,22 @@ void Stepper<Real, Mono>::build_pairs_half_stencil() {
     const std::uint32_t b0 = cell_start_[c], b1 = cell_start_[c + 1];
     if (b0 == b1) continue;
     // Gather the forward neighbours once per cell (shifted into this cell's image) so the
-    // inner loop is a plain distance test over one contiguous buffer; same-image first.
-    std::size_t count = 0, count_near = 0;
-    for (int pass = 0; pass < 2; ++pass) {
-      for (const StencilEntry* e = &stencil_[std::size_t(c) * 13]; e != &stencil_[std::size_t(c) * 13 + 13]; ++e) {
-        if (e->cell < 0) break;
-        if ((e->image == kNoImage) != (pass == 0)) continue;
+    // inner loop is a plain distance test over one contiguous buffer (one for each kind).
+    std::size_t count_near = 0, count_wrap = 0;
+    for (const StencilEntry* e = &stencil_[std::size_t(c) * 13]; e != &stencil_[std::size_t(c) * 13 + 13]; ++e) {
+      if (e->cell < 0) break;
+      const std::uint32_t e0 = cell_start_[e->cell], e1 = cell_start_[e->cell + 1];
+      if (e->image == kNoImage) {
+        if (count_near + (e1 - e0) > gathered_.size()) gathered_.resize(2 * (count_near + (e1 - e0)));
+        for (std::uint32_t j = e0; j < e1; ++j) gathered_[count_near++] = {pos_[j], Mono ? Real(0) : r_[j], j, kNoImage};
+      } else {
         const V3<Real> shift = image_shift_[e->image];
-        const std::uint32_t e0 = cell_start_[e->cell], e1 = cell_start_[e->cell + 1];
-        if (count + (e1 - e0) > gathered_.size()) gathered_.resize(2 * (count + (e1 - e0)));
-        for (std::uint32_t j = e0; j < e1; ++j) gathered_[count++] = {pos_[j] + shift, Mono ? Real(0) : r_[j], j, e->image};
+        if (count_wrap + (e1 - e0) > gathered_wrap_.size()) gathered_wrap_.resize(2 * (count_wrap + (e1 - e0)));
+        for (std::uint32_t j = e0; j < e1; ++j)
+          gathered_wrap_[count_wrap++] = {pos_[j] + shift, Mono ? Real(0) : r_[j], j, e->image};
       }
-      if (pass == 0) count_near = count;
     }
     const Neighbour* const near_end = gathered_.data() + count_near;
-    const Neighbour* const gathered_end = gathered_.data() + count;
     ensure(std::size_t(b1 - b0) * (count_near + (b1 - b0)));
     for (std::uint32_t i = b0; i < b1; ++i) {
       const V3<Real> pi = pos_[i];
@@ -301,7 +302,7 @@ void Stepper<Real, Mono>::build_pairs_half_stencil() {
         near_[n_near] = {i, q->index};
         n_near += dot(d, d) < (Mono ? mono_cut2 : cut * cut);
       }
-      for (const Neighbour* q = near_end; q != gathered_end; ++q) {
+      for (const Neighbour* q = gathered_wrap_.data(); q != gathered_wrap_.data() + count_wrap; ++q) {
         const V3<Real> d = pi - q->pos;
         const Real cut = Mono ? mono_cut : list_cut(r_[i] + q->radius);
         if (dot(d, d) < (Mono ? mono_cut2 : cut * cut)) push_pair(i, q->index, q->image);
