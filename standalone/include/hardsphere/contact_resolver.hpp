@@ -154,35 +154,49 @@ class ContactResolver {
   //!   void rescan()        rebuild them, bind() again and consider() every touching pair
   template <class Hooks>
   void resolve(Hooks& hooks, ContactTally& tally) {
+    // The contacts found by the scan are sorted once; the few predicted after collisions go
+    // to a small heap, and the earlier of the two fronts is taken each time.
     auto cmp = [this](const Candidate& x, const Candidate& y) { return later(x, y); };
-    heap_.assign(candidates_.begin(), candidates_.end());
-    std::make_heap(heap_.begin(), heap_.end(), cmp);
+    auto start_run = [&] {
+      sorted_.swap(candidates_);
+      candidates_.clear();
+      std::sort(sorted_.begin(), sorted_.end(), [&](const Candidate& x, const Candidate& y) { return later(y, x); });
+      heap_.clear();
+      return std::size_t(0);
+    };
+    std::size_t next = start_run();
     std::int64_t events = 0;
-    while (!heap_.empty()) {
-      std::pop_heap(heap_.begin(), heap_.end(), cmp);
-      const Candidate c = heap_.back();
-      heap_.pop_back();
+    while (next < sorted_.size() || !heap_.empty()) {
+      Candidate c;
+      if (heap_.empty() || (next < sorted_.size() && !later(sorted_[next], heap_.front()))) {
+        c = sorted_[next++];
+      } else {
+        std::pop_heap(heap_.begin(), heap_.end(), cmp);
+        c = heap_.back();
+        heap_.pop_back();
+      }
       if (c.count_i != change_[c.i].count || c.count_j != change_[c.j].count) continue;  // stale
       if (++events > max_events_) {
         ++tally.unresolved_steps;
-        heap_.clear();
         break;
       }
       if (!collide(c, hooks, tally)) continue;
-      candidates_.clear();
       if (hooks.must_rescan()) {
-        heap_.clear();
-        hooks.rescan();
-      } else {
-        sweep_neighbours(c.i);
-        sweep_neighbours(c.j);
+        hooks.rescan();  // refills candidates_ from the rebuilt lists
+        next = start_run();
+        continue;
       }
+      sweep_neighbours(c.i);
+      sweep_neighbours(c.j);
       for (const auto& n : candidates_) {
         heap_.push_back(n);
         std::push_heap(heap_.begin(), heap_.end(), cmp);
       }
+      candidates_.clear();
     }
     candidates_.clear();
+    sorted_.clear();
+    heap_.clear();
   }
 
   //! Every sphere starts the next step with a whole-step straight-line window.
@@ -232,7 +246,7 @@ class ContactResolver {
   std::int64_t max_events_ = 100000000;
   std::vector<Change> change_, moved_;  // moved_: scratch for permute()
   std::vector<std::uint32_t> changed_;
-  std::vector<Candidate> candidates_, heap_;
+  std::vector<Candidate> candidates_, sorted_, heap_;
   std::uint64_t sweep_no_ = 1;
   std::vector<std::uint64_t> swept_stamp_;  // which expansion last swept each sphere
 };
