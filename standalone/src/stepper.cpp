@@ -144,20 +144,15 @@ class Stepper final : public StepperBase {
   };
   std::vector<Pair> near_, wrap_;
   std::vector<std::uint8_t> wrap_image_;
-  // Half stencil: for each cell its 13 forward neighbour cells and their image codes.
-  struct StencilEntry {
-    int cell;
+  // Half stencil as runs of consecutive cells: the 13 forward neighbours of a cell are one
+  // cell and four rows of three along x, contiguous in cell order (so in memory) unless a row
+  // wraps through a periodic x face. For each cell up to kMaxRuns runs [begin, end) + image.
+  struct CellRun {
+    int begin, end;
     std::uint8_t image;
   };
-  std::vector<StencilEntry> stencil_;
-  // Pair build scratch: the forward neighbours of one cell, image-shifted.
-  struct Neighbour {
-    V3<Real> pos;
-    Real radius;
-    std::uint32_t index;
-    std::uint8_t image;
-  };
-  std::vector<Neighbour> gathered_, gathered_wrap_;
+  static constexpr int kMaxRuns = 10;
+  std::vector<CellRun> stencil_;
   std::vector<V3<Real>> scratch_v3_;
   std::vector<Real> scratch_real_;
   std::vector<std::int64_t> scratch_id_;
@@ -233,25 +228,42 @@ void Stepper<Real, Mono>::build_stencil() {
   // Every periodic axis has >= 3 cells: the 13 forward neighbours of a cell are distinct, and
   // wrapping a neighbour's cell coordinate gives exactly the pair's minimum image, so each
   // unordered pair of neighbouring cells is met once and no pair needs a division.
-  static const int offsets[13][3] = {{1, 0, 0},  {-1, 1, 0}, {0, 1, 0},  {1, 1, 0},  {-1, -1, 1}, {0, -1, 1}, {1, -1, 1},
-                                     {-1, 0, 1}, {0, 0, 1},  {1, 0, 1},  {-1, 1, 1}, {0, 1, 1},   {1, 1, 1}};
+  // Forward rows (dy, dz) whose x range is [dx_lo, 1]: the cell's own row only ahead of it.
+  static const int rows[5][3] = {{1, 0, 0}, {-1, 1, 0}, {-1, -1, 1}, {-1, 0, 1}, {-1, 1, 1}};
   const auto k = grid_.counts();
-  stencil_.assign(std::size_t(grid_.size()) * 13, StencilEntry{-1, kNoImage});
+  stencil_.assign(std::size_t(grid_.size()) * kMaxRuns, CellRun{0, 0, kNoImage});
   for (int cz = 0; cz < k[2]; ++cz)
     for (int cy = 0; cy < k[1]; ++cy)
       for (int cx = 0; cx < k[0]; ++cx) {
-        StencilEntry* out = &stencil_[std::size_t(grid_.index(cx, cy, cz)) * 13];
-        for (const auto& o : offsets) {
-          int n[3] = {cx + o[0], cy + o[1], cz + o[2]}, img[3] = {0, 0, 0};
-          bool inside = true;
-          for (int d = 0; d < 3; ++d) {
-            if (n[d] >= 0 && n[d] < k[d]) continue;
-            if (!box_.periodic[d]) inside = false;
-            // Across the lower face the nearest image of j is one box down: r_i - r_j + L.
-            img[d] = n[d] < 0 ? -1 : 1;
-            n[d] = (n[d] + k[d]) % k[d];
+        CellRun* out = &stencil_[std::size_t(grid_.index(cx, cy, cz)) * kMaxRuns];
+        for (const auto& row : rows) {
+          int ny = cy + row[1], nz = cz + row[2], iy = 0, iz = 0;
+          if (ny < 0 || ny >= k[1]) {
+            if (!box_.periodic[1]) continue;
+            iy = ny < 0 ? -1 : 1;  // across the lower face j's nearest image is one box down
+            ny = (ny + k[1]) % k[1];
           }
-          if (inside) *out++ = {grid_.index(n[0], n[1], n[2]), image_code(img[0], img[1], img[2])};
+          if (nz < 0 || nz >= k[2]) {
+            if (!box_.periodic[2]) continue;
+            iz = nz < 0 ? -1 : 1;
+            nz = (nz + k[2]) % k[2];
+          }
+          // Split the x range [cx + dx_lo, cx + 1] where it leaves the box.
+          for (int x = cx + row[0]; x <= cx + 1; ++x) {
+            int nx = x, ix = 0;
+            if (nx < 0 || nx >= k[0]) {
+              if (!box_.periodic[0]) continue;
+              ix = nx < 0 ? -1 : 1;
+              nx = (nx + k[0]) % k[0];
+            }
+            const int cell = grid_.index(nx, ny, nz);
+            const std::uint8_t image = image_code(ix, iy, iz);
+            if (out != &stencil_[std::size_t(grid_.index(cx, cy, cz)) * kMaxRuns] && out[-1].end == cell &&
+                out[-1].image == image)
+              ++out[-1].end;  // extends the previous run
+            else
+              *out++ = {cell, cell + 1, image};
+          }
         }
       }
 }
@@ -261,51 +273,40 @@ void Stepper<Real, Mono>::build_pairs_half_stencil() {
   const Real mono_cut = list_cut(sigma_), mono_cut2 = mono_cut * mono_cut;
   const std::int64_t ncell = grid_.size();
   // Pairs are written unconditionally and kept by advancing the count (no unpredictable
-  // branch per candidate); wrapped neighbours are rare and go through push_pair.
+  // branch per candidate); pairs across a periodic face (rare) take push_pair.
   std::size_t n_near = 0;
   near_.resize(std::max<std::size_t>(near_.size(), 1024));
-  auto ensure = [&](std::size_t extra) {
-    if (n_near + extra > near_.size()) near_.resize(2 * (n_near + extra));
+  const V3<Real>* __restrict pos = pos_.data();
+  auto within = [&](std::uint32_t i, std::uint32_t j, V3<Real> d) {
+    const Real cut = Mono ? mono_cut : list_cut(r_[i] + r_[j]);
+    return dot(d, d) < (Mono ? mono_cut2 : cut * cut);
   };
   for (std::int64_t c = 0; c < ncell; ++c) {
     const std::uint32_t b0 = cell_start_[c], b1 = cell_start_[c + 1];
     if (b0 == b1) continue;
-    // Gather the forward neighbours once per cell (shifted into this cell's image) so the
-    // inner loop is a plain distance test over one contiguous buffer (one for each kind).
-    std::size_t count_near = 0, count_wrap = 0;
-    for (const StencilEntry* e = &stencil_[std::size_t(c) * 13]; e != &stencil_[std::size_t(c) * 13 + 13]; ++e) {
-      if (e->cell < 0) break;
-      const std::uint32_t e0 = cell_start_[e->cell], e1 = cell_start_[e->cell + 1];
-      if (e->image == kNoImage) {
-        if (count_near + (e1 - e0) > gathered_.size()) gathered_.resize(2 * (count_near + (e1 - e0)));
-        for (std::uint32_t j = e0; j < e1; ++j) gathered_[count_near++] = {pos_[j], Mono ? Real(0) : r_[j], j, kNoImage};
-      } else {
-        const V3<Real> shift = image_shift_[e->image];
-        if (count_wrap + (e1 - e0) > gathered_wrap_.size()) gathered_wrap_.resize(2 * (count_wrap + (e1 - e0)));
-        for (std::uint32_t j = e0; j < e1; ++j)
-          gathered_wrap_[count_wrap++] = {pos_[j] + shift, Mono ? Real(0) : r_[j], j, e->image};
-      }
-    }
-    const Neighbour* const near_end = gathered_.data() + count_near;
-    ensure(std::size_t(b1 - b0) * (count_near + (b1 - b0)));
+    const CellRun* runs = &stencil_[std::size_t(c) * kMaxRuns];
+    std::size_t reach = b1 - b0;  // an upper bound of the pairs this cell can add
+    for (int r = 0; r < kMaxRuns && runs[r].begin != runs[r].end; ++r)
+      reach += cell_start_[runs[r].end] - cell_start_[runs[r].begin];
+    if (n_near + (b1 - b0) * reach > near_.size()) near_.resize(2 * (n_near + (b1 - b0) * reach));
     for (std::uint32_t i = b0; i < b1; ++i) {
-      const V3<Real> pi = pos_[i];
+      const V3<Real> pi = pos[i];
       for (std::uint32_t j = i + 1; j < b1; ++j) {
-        const V3<Real> d = pi - pos_[j];
-        const Real cut = Mono ? mono_cut : list_cut(r_[i] + r_[j]);
         near_[n_near] = {i, j};
-        n_near += dot(d, d) < (Mono ? mono_cut2 : cut * cut);
+        n_near += within(i, j, pi - pos[j]);
       }
-      for (const Neighbour* q = gathered_.data(); q != near_end; ++q) {
-        const V3<Real> d = pi - q->pos;
-        const Real cut = Mono ? mono_cut : list_cut(r_[i] + q->radius);
-        near_[n_near] = {i, q->index};
-        n_near += dot(d, d) < (Mono ? mono_cut2 : cut * cut);
-      }
-      for (const Neighbour* q = gathered_wrap_.data(); q != gathered_wrap_.data() + count_wrap; ++q) {
-        const V3<Real> d = pi - q->pos;
-        const Real cut = Mono ? mono_cut : list_cut(r_[i] + q->radius);
-        if (dot(d, d) < (Mono ? mono_cut2 : cut * cut)) push_pair(i, q->index, q->image);
+      for (int r = 0; r < kMaxRuns && runs[r].begin != runs[r].end; ++r) {
+        const std::uint32_t e0 = cell_start_[runs[r].begin], e1 = cell_start_[runs[r].end];
+        if (runs[r].image == kNoImage) {
+          for (std::uint32_t j = e0; j < e1; ++j) {
+            near_[n_near] = {i, j};
+            n_near += within(i, j, pi - pos[j]);
+          }
+        } else {
+          const V3<Real> pis = pi - image_shift_[runs[r].image];
+          for (std::uint32_t j = e0; j < e1; ++j)
+            if (within(i, j, pis - pos[j])) push_pair(i, j, runs[r].image);
+        }
       }
     }
   }
