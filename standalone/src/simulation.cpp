@@ -102,6 +102,13 @@ nlohmann::json run_simulation(const RunSpec& spec) {
   j["pair_virial"] = c.pair_virial;
   j["compressibility_factor"] = z;
   j["pressure"] = z * double(fin.size()) * t_mean / fin.box.volume();
+  // Walls: the pressure on each wall pair is the momentum it received per area and time.
+  nlohmann::json wall_p = nlohmann::json::array();
+  for (int d = 0; d < 3; ++d) {
+    if (fin.box.periodic[d] || !(c.sim_time > 0)) wall_p.push_back(nullptr);
+    else wall_p.push_back(c.wall_impulse[d] / (2.0 * fin.box.volume() / fin.box.length(d) * c.sim_time));
+  }
+  j["wall_pressure"] = wall_p;
   j["max_overlap"] = max_overlap(fin);
   j["speed_ks_distance"] = maxwell_ks_distance(fin, t_final);
   j["speed_histogram"] = {{"lo", h.lo}, {"hi", h.hi}, {"counts", h.counts}};

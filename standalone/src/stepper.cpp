@@ -412,7 +412,7 @@ void Stepper<Real, Mono>::drift() {
   V3<Real>* __restrict p = pos_.data();
   const V3<Real>* __restrict v = vel_.data();
   const V3<Real>* __restrict p0 = pos0_.data();
-  Real m = max_disp2_;
+  Real m = max_disp2_, v2max = 0;
   for (std::size_t i = 0; i < n; ++i) {
     p[i].x += v[i].x * dt;
     p[i].y += v[i].y * dt;
@@ -420,8 +420,11 @@ void Stepper<Real, Mono>::drift() {
     const Real dx = p[i].x - p0[i].x, dy = p[i].y - p0[i].y, dz = p[i].z - p0[i].z;
     const Real d2 = dx * dx + dy * dy + dz * dz;
     m = d2 > m ? d2 : m;
+    const Real v2 = v[i].x * v[i].x + v[i].y * v[i].y + v[i].z * v[i].z;
+    v2max = v2 > v2max ? v2 : v2max;
   }
   max_disp2_ = m;
+  resolver_.set_speed_bound(std::sqrt(v2max));  // walls flip velocities, speeds stay
   if constexpr (!AllPeriodic) {
     for (std::uint32_t i = 0; i < n; ++i) reflect(i);
   }

@@ -12,6 +12,7 @@
 //! LAMMPS). Engines own the arrays; the resolver keeps per-sphere windows and counters.
 #include <algorithm>
 #include <cstdint>
+#include <limits>
 #include <vector>
 
 #include "hardsphere/collision.hpp"
@@ -82,6 +83,10 @@ class ContactResolver {
     mass_ = mass;
   }
   void set_event_limit(std::int64_t max_events) { max_events_ = max_events; }
+  //! An upper bound of every sphere's speed in this step (the resolver raises it after each
+  //! collision). It lets neighbour sweeps reject distant partners early; +inf (the default)
+  //! disables that, which is always correct.
+  void set_speed_bound(Real v_max) { speed_bound_ = v_max; }
   void bind(const ContactArrays<Real>& a) { a_ = a; }
 
   //! After the engine reorders its spheres (new[k] = old[order[k]]), reorder the records too.
@@ -122,10 +127,17 @@ class ContactResolver {
   //! Predicts every contact of sphere s with its list partners over its window.
   void sweep_neighbours(std::uint32_t s) {
     const Vec3<Real> ps = a_.pos[s];
+    // A partner can have touched s within s's window only if their gap is below the closing
+    // distance |v_s - v_q| w <= (|v_s| + v_max) w: that test needs q's position only, so most
+    // partners are rejected without loading their velocity and window (the 1.001 absorbs
+    // rounding; the bound is loose by far more).
+    const Real reach = Real(1.001) * (norm(a_.vel[s]) + speed_bound_) * change_[s].back;
     for (std::uint32_t k = a_.adj_start[s]; k < a_.adj_start[s + 1]; ++k) {
       const std::uint32_t q = a_.adj_partner[k];
       const std::uint8_t img = a_.adj_image[k];
       const Vec3<Real> dr = ps - a_.pos[q] - a_.image_shift[img];
+      const Real far = sigma(s, q) + reach;
+      if (dot(dr, dr) >= far * far) continue;
       // Candidates keep the lower index first so their order matches a full scan.
       if (s < q) consider(s, q, img, dr, sigma(s, q), false);
       else consider(q, s, std::uint8_t(26 - img), -dr, sigma(s, q), false);
@@ -232,6 +244,7 @@ class ContactResolver {
     a_.pos[j] = rj + back * vj;
     a_.vel[i] = vi;
     a_.vel[j] = vj;
+    speed_bound_ = std::max({speed_bound_, norm(vi), norm(vj)});
     ++tally.collisions;
     tally.virial += virial;
     for (const std::uint32_t k : {i, j}) {
@@ -243,6 +256,7 @@ class ContactResolver {
 
   ContactArrays<Real> a_;
   Real dt_ = 0, sigma_ = 0, mass_ = 0;
+  Real speed_bound_ = std::numeric_limits<Real>::infinity();
   std::int64_t max_events_ = 100000000;
   std::vector<Change> change_, moved_;  // moved_: scratch for permute()
   std::vector<std::uint32_t> changed_;
