@@ -124,8 +124,10 @@ class ContactResolver {
       candidates_.push_back({i, j, image, std::min(kernel::rewind_time(dr, dv, sigma), w), ci.count, cj.count});
   }
 
-  //! Predicts every contact of sphere s with its list partners over its window.
-  void sweep_neighbours(std::uint32_t s) {
+  //! Predicts every contact of sphere s with its list partners over its window; with
+  //! `skip_swept`, partners already swept in this expansion are skipped (their pair with s
+  //! was considered then, from the same state).
+  void sweep_neighbours(std::uint32_t s, bool skip_swept = false) {
     const Vec3<Real> ps = a_.pos[s];
     // A partner can have touched s within s's window only if their gap is below the closing
     // distance |v_s - v_q| w <= (|v_s| + v_max) w: that test needs q's position only, so most
@@ -134,6 +136,7 @@ class ContactResolver {
     const Real reach = Real(1.001) * (norm(a_.vel[s]) + speed_bound_) * change_[s].back;
     for (std::uint32_t k = a_.adj_start[s]; k < a_.adj_start[s + 1]; ++k) {
       const std::uint32_t q = a_.adj_partner[k];
+      if (skip_swept && swept_stamp_[q] == sweep_no_) continue;
       const std::uint8_t img = a_.adj_image[k];
       const Vec3<Real> dr = ps - a_.pos[q] - a_.image_shift[img];
       const Real far = sigma(s, q) + reach;
@@ -146,14 +149,21 @@ class ContactResolver {
 
   //! The end-of-step overlap test cannot see a graze earlier in the step by a sphere that
   //! also collides later: sweep the neighbours of every sphere in a contact (transitively).
+  //! The sweeps find the scanned contacts again, so those are replaced by the sweeps'
+  //! results, and each pair is considered once.
   void expand_candidates() {
     ++sweep_no_;
-    for (std::size_t k = 0; k < candidates_.size(); ++k) {
-      for (const std::uint32_t p : {candidates_[k].i, candidates_[k].j})
-        if (swept_stamp_[p] != sweep_no_) {
-          swept_stamp_[p] = sweep_no_;
-          sweep_neighbours(p);
-        }
+    to_sweep_.clear();
+    for (const Candidate& c : candidates_) to_sweep_.push_back(c.i), to_sweep_.push_back(c.j);
+    candidates_.clear();
+    for (std::size_t k = 0; k < to_sweep_.size(); ++k) {
+      const std::uint32_t s = to_sweep_[k];
+      if (swept_stamp_[s] == sweep_no_) continue;
+      swept_stamp_[s] = sweep_no_;
+      const std::size_t found = candidates_.size();
+      sweep_neighbours(s, true);
+      for (std::size_t n = found; n < candidates_.size(); ++n)
+        to_sweep_.push_back(candidates_[n].i == s ? candidates_[n].j : candidates_[n].i);
     }
   }
 
@@ -262,7 +272,8 @@ class ContactResolver {
   std::vector<std::uint32_t> changed_;
   std::vector<Candidate> candidates_, sorted_, heap_;
   std::uint64_t sweep_no_ = 1;
-  std::vector<std::uint64_t> swept_stamp_;  // which expansion last swept each sphere
+  std::vector<std::uint64_t> swept_stamp_;
+  std::vector<std::uint32_t> to_sweep_;  // expansion queue  // which expansion last swept each sphere
 };
 
 }  // namespace hardsphere
