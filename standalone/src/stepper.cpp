@@ -27,10 +27,10 @@ Detect parse_detect(const std::string& s) {
 }
 
 double auto_skin(const ParticleSystem& sys, double dt) {
-  // A rebuild costs about as much as ten list scans, but a thick skin makes every scan and
-  // every neighbour sweep longer. Measured optimum (bench CellsSweep, phi 0.2-0.45): a rebuild
-  // every ~4 steps for the fastest spheres (about 2.5 rms speeds), i.e. skin ~ 20 v_rms dt,
-  // kept within [0.3, 0.6] diameters: thinner skins rebuild mid-step in dense gases.
+  // A thin skin means frequent rebuilds, a thick one longer scans and neighbour sweeps.
+  // Measured optimum (fixed-K runs, phi 0.2-0.45, dt 0.01-0.04): a rebuild every ~4 steps for
+  // the fastest spheres (about 2.5 rms speeds), i.e. skin ~ 20 v_rms dt, kept within
+  // [0.3, 0.6] diameters: thinner skins rebuild mid-step in dense gases, thicker ones lose.
   double v2 = 0;
   for (const auto& v : sys.vel) v2 += dot(v, v);
   const double v_rms = sys.size() ? std::sqrt(v2 / double(sys.size())) : 0.0;
