@@ -38,7 +38,24 @@ std::array<int, 3> parse_cells(const std::string& s) {
   return k;
 }
 
+void print_event_summary(const nlohmann::json& j, std::ostream& o) {
+  o << "hardsphere: " << j["n"] << " spheres, packing fraction " << j["packing_fraction"].get<double>()
+    << ", event-driven for time " << j["sim_time"].get<double>() << " (" << j["scene_kernel"].get<std::string>()
+    << ", cells " << j["cells_per_dim"].dump() << ")\n"
+    << "  collisions        " << j["collisions"] << " (" << j["collision_rate_per_particle"].get<double>() << " +- "
+    << j["collision_rate_error"].get<double>() << " per particle per unit time)\n"
+    << "  temperature       " << j["temperature"].get<double>() << "\n"
+    << "  Z = PV/NkT        " << j["compressibility_factor"].get<double>() << " +- "
+    << j["compressibility_factor_error"].get<double>() << "\n"
+    << "  energy drift      " << j["energy_rel_drift"].get<double>() << " (relative)\n"
+    << "  max overlap       " << j["max_overlap"].get<double>() << "\n"
+    << "  speed KS distance " << j["speed_ks_distance"].get<double>() << " from Maxwell-Boltzmann\n"
+    << "  CPU time (loop)   " << j["loop_cpu_seconds"].get<double>() << " s, " << j["collisions_per_second"].get<double>()
+    << " collisions/s, " << j["events_per_second"].get<double>() << " events/s\n";
+}
+
 void print_summary(const nlohmann::json& j, std::ostream& o) {
+  if (j.value("engine", "stepper") == "event") return print_event_summary(j, o);
   o << "hardsphere: " << j["n"] << " spheres, packing fraction " << j["packing_fraction"].get<double>() << ", "
     << j["steps"] << " steps of dt " << j["dt"].get<double>() << " (" << j["scene_kernel"].get<std::string>() << ", cells "
     << j["cells_per_dim"].dump() << ")\n"
@@ -76,16 +93,22 @@ int main(int argc, char** argv) {
   auto* o_speed = run->add_option("--init-speed", init_speed, "give every sphere this speed, isotropic directions");
   auto* o_init = run->add_option("--init", init_s, "initial positions: auto, random (insertion) or lattice (dense route)");
   auto* o_seed = run->add_option("--seed", spec.init.seed, "random seed (default 1)");
-  run->add_option("--dt", spec.stepper.dt, "time step (default 0.01)");
-  run->add_option("--steps", spec.steps, "measured steps (default 1000)");
-  run->add_option("--equilibrate", spec.equilibrate, "steps run first and not measured (default 0)");
+  auto* o_dt = run->add_option("--dt", spec.stepper.dt, "time step (default 0.01)");
+  auto* o_steps = run->add_option("--steps", spec.steps, "measured steps (default 1000)");
+  auto* o_equil = run->add_option("--equilibrate", spec.equilibrate, "steps run first and not measured (default 0)");
   run->add_option("--cells", cells_s, "cells per axis: auto, K or Kx,Ky,Kz (1 = one box, O(N^2))");
   run->add_option("--precision", precision_s, "double or float (default double)");
-  run->add_option("--detect", detect_s, "contact detection: overlap (a posteriori, default) or sweep (whole step)");
+  auto* o_detect = run->add_option("--detect", detect_s, "contact detection: overlap (a posteriori, default) or sweep (whole step)");
+  std::string engine_s = "stepper";
+  double time_s = 0, equilibrate_time_s = 0;
+  run->add_option("--engine", engine_s, "stepper (time-stepped, default) or event (exact event-driven)");
+  auto* o_time = run->add_option("--time", time_s, "simulated time measured (event engine; stepper: steps = time/dt)");
+  auto* o_etime = run->add_option("--equilibrate-time", equilibrate_time_s, "simulated time run first and not measured");
+  auto* o_blocks = run->add_option("--blocks", spec.blocks, "event engine: block averages for the error bars (default 20)");
   auto* o_read = run->add_option("--read-data", read_data_s, "start from a LAMMPS data file (atom_style sphere)");
   run->add_option("--write-data", write_data_s, "write the final state as a LAMMPS data file");
   auto* o_dump = run->add_option("--dump", dump_s, "write a LAMMPS text dump");
-  run->add_option("--dump-every", spec.dump_every, "steps between dump frames (default 100)")->needs(o_dump);
+  auto* o_dump_every = run->add_option("--dump-every", spec.dump_every, "steps between dump frames (default 100)")->needs(o_dump);
   run->add_option("--json", json_s, "write the JSON summary to FILE (- for stdout)");
   run->add_option("--histogram-bins", spec.histogram_bins, "bins of the speed histogram in the JSON (default 40)");
   for (auto* o : {o_n, o_phi, o_box, o_radius, o_mass, o_t, o_speed, o_init, o_seed}) o_read->excludes(o);
@@ -102,6 +125,34 @@ int main(int argc, char** argv) {
     spec.stepper.cells = parse_cells(cells_s);
     spec.precision = parse_precision(precision_s);
     spec.stepper.detect = parse_detect(detect_s);
+    spec.engine = parse_engine(engine_s);
+    if (spec.engine == Engine::Event) {
+      for (auto* o : {o_dt, o_steps, o_equil, o_detect, o_dump_every})
+        if (o->count()) throw InputError(o->get_name() + " is a stepper option; the event engine runs for --time (simulated time)");
+      if (spec.precision != Precision::Double) throw InputError("--precision " + precision_s + ": the event engine runs in double only");
+      if (!o_time->count()) throw InputError("--engine event needs --time T (simulated time to run)");
+      spec.time = time_s;
+      spec.equilibrate_time = equilibrate_time_s;
+      spec.event.cells = spec.stepper.cells;
+    } else {
+      if (o_blocks->count()) throw InputError("--blocks is an event-engine option (use with --engine event)");
+      // A bad --dt is reported by the stepper itself; only a valid one converts times to steps.
+      const double dt = spec.stepper.dt;
+      const bool dt_ok = std::isfinite(dt) && dt > 0;
+      if (o_time->count() && dt_ok) {
+        if (o_steps->count()) throw InputError("--steps and --time both set the run length; give one");
+        if (!(std::isfinite(time_s) && time_s >= 0)) throw InputError("--time " + std::to_string(time_s) + " must be >= 0");
+        if (time_s / dt > 1e15) throw InputError("--time " + std::to_string(time_s) + " / --dt is more than 1e15 steps");
+        spec.steps = std::llround(time_s / dt);
+      }
+      if (o_etime->count() && dt_ok) {
+        if (o_equil->count()) throw InputError("--equilibrate and --equilibrate-time both set the equilibration; give one");
+        if (!(std::isfinite(equilibrate_time_s) && equilibrate_time_s >= 0))
+          throw InputError("--equilibrate-time " + std::to_string(equilibrate_time_s) + " must be >= 0");
+        if (equilibrate_time_s / dt > 1e15) throw InputError("--equilibrate-time / --dt is more than 1e15 steps");
+        spec.equilibrate = std::llround(equilibrate_time_s / dt);
+      }
+    }
     if (!read_data_s.empty()) spec.read_data = read_data_s;
     if (!write_data_s.empty()) spec.write_data = write_data_s;
     if (!dump_s.empty()) spec.dump = dump_s;

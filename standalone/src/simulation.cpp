@@ -29,6 +29,7 @@ nlohmann::json vec_json(Vec3d v) { return nlohmann::json::array({v.x, v.y, v.z})
 }  // namespace
 
 nlohmann::json run_simulation(const RunSpec& spec) {
+  if (spec.engine == Engine::Event) return run_event_simulation(spec);
   if (spec.steps < 0) throw InputError("steps = " + std::to_string(spec.steps) + " must be >= 0");
   if (spec.equilibrate < 0) throw InputError("equilibrate = " + std::to_string(spec.equilibrate) + " must be >= 0");
   if (spec.dump && spec.dump_every < 1) throw InputError("dump every = " + std::to_string(spec.dump_every) + " must be >= 1");

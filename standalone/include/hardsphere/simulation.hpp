@@ -7,6 +7,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "hardsphere/event_engine.hpp"
 #include "hardsphere/init.hpp"
 #include "hardsphere/stepper.hpp"
 
@@ -23,6 +24,13 @@ struct RunSpec {
   std::int64_t steps = 1000;
   std::int64_t equilibrate = 0;  //!< steps run before measuring (not timed, not counted)
 
+  //! Event engine (exact EDMD): run length and equilibration in simulated time, not steps.
+  Engine engine = Engine::Stepper;
+  EventConfig event;
+  double time = 0;              //!< simulated time measured (event engine)
+  double equilibrate_time = 0;  //!< simulated time run first, not measured (event engine)
+  int blocks = 20;              //!< block averages for the error bar of Z (event engine)
+
   std::optional<std::string> write_data, dump, json;
   std::int64_t dump_every = 100;
   int histogram_bins = 40;
@@ -30,6 +38,9 @@ struct RunSpec {
 
 //! Runs the job and returns the JSON summary (keys documented in README). Throws InputError.
 nlohmann::json run_simulation(const RunSpec& spec);
+
+//! The same for spec.engine == Engine::Event (run_simulation dispatches to it).
+nlohmann::json run_event_simulation(const RunSpec& spec);
 
 //! The initial state a RunSpec describes (generated or read), validated.
 ParticleSystem initial_state(const RunSpec& spec);
