@@ -9,13 +9,12 @@
 #include "hardsphere/event_engine.hpp"
 #include "hardsphere/lammps_io.hpp"
 #include "hardsphere/observables.hpp"
+#include "hardsphere/run_summary.hpp"
 #include "hardsphere/simulation.hpp"
 
 namespace hardsphere {
 
 namespace {
-
-nlohmann::json vec3_json(Vec3d v) { return nlohmann::json::array({v.x, v.y, v.z}); }
 
 //! Mean and standard error of the mean of block values.
 std::pair<double, double> mean_error(const std::vector<double>& x) {
@@ -81,23 +80,14 @@ nlohmann::json run_event_simulation(const RunSpec& spec) {
   const ParticleSystem fin = engine.state();
   const EventCounters& c = engine.counters();
 
-  const double e1 = kinetic_energy(fin);
-  const double t_final = temperature(fin);
-  const double t_mean = 0.5 * (t0_temp + t_final);
-  double v2max = 0;
-  for (const auto& v : fin.vel) v2max = std::max(v2max, dot(v, v));
-  const Histogram h = speed_histogram(fin, spec.histogram_bins, std::max(1e-300, 1.0000001 * std::sqrt(v2max)));
-  const double z = compressibility_factor(c.pair_virial, c.sim_time, n, t_mean);
   const auto [z_mean, z_err] = mean_error(z_block);
   const auto [rate_mean, rate_err] = mean_error(rate_block);
   (void)z_mean;
   (void)rate_mean;
 
-  nlohmann::json j;
+  RunTotals totals{e0, p0, c.sim_time, c.collisions, c.wall_collisions, c.pair_virial, c.wall_impulse};
+  nlohmann::json j = physics_summary(fin, totals, !spec.read_data.has_value(), spec.init.seed, spec.histogram_bins);
   j["engine"] = "event";
-  j["n"] = n;
-  j["packing_fraction"] = fin.packing_fraction();
-  j["box"] = {{"lo", fin.box.lo}, {"hi", fin.box.hi}, {"boundary", boundary_string(fin.box.periodic)}};
   j["sim_time"] = c.sim_time;
   j["equilibrate_time"] = spec.equilibrate_time;
   j["blocks"] = spec.blocks;
@@ -105,8 +95,6 @@ nlohmann::json run_event_simulation(const RunSpec& spec) {
   j["scene_kernel"] = engine.scene_kernel();
   j["precision"] = "double";
   j["loop_cpu_seconds"] = cpu;
-  j["collisions"] = c.collisions;
-  j["wall_collisions"] = c.wall_collisions;
   j["cell_crossings"] = c.cell_crossings;
   j["stale_events"] = c.stale_events;
   j["events"] = c.events;
@@ -114,37 +102,10 @@ nlohmann::json run_event_simulation(const RunSpec& spec) {
   j["collisions_per_second"] = cpu > 0 ? double(c.collisions) / cpu : 0.0;
   j["events_per_second"] = cpu > 0 ? double(c.events) / cpu : 0.0;
   j["cpu_seconds_per_unit_time"] = c.sim_time > 0 ? cpu / c.sim_time : 0.0;
-  j["collision_rate_per_particle"] = c.sim_time > 0 && n ? 2.0 * double(c.collisions) / (double(n) * c.sim_time) : 0.0;
   j["collision_rate_error"] = rate_err;
-  j["kinetic_energy_initial"] = e0;
-  j["kinetic_energy_final"] = e1;
-  j["energy_rel_drift"] = e0 > 0 ? (e1 - e0) / e0 : 0.0;
-  j["momentum_initial"] = vec3_json(p0);
-  j["momentum_final"] = vec3_json(total_momentum(fin));
-  j["temperature"] = t_final;
-  j["com_removed"] = !spec.read_data.has_value();
-  j["pair_virial"] = c.pair_virial;
-  j["compressibility_factor"] = z;
   j["compressibility_factor_error"] = z_err;
-  j["pressure"] = z * double(n) * t_mean / fin.box.volume();
-  nlohmann::json wall_p = nlohmann::json::array();
-  for (int d = 0; d < 3; ++d) {
-    if (fin.box.periodic[d] || !(c.sim_time > 0)) wall_p.push_back(nullptr);
-    else wall_p.push_back(c.wall_impulse[d] / (2.0 * fin.box.volume() / fin.box.length(d) * c.sim_time));
-  }
-  j["wall_pressure"] = wall_p;
-  j["max_overlap"] = max_overlap(fin);
-  j["speed_ks_distance"] = maxwell_ks_distance(fin, t_final);
-  j["speed_histogram"] = {{"lo", h.lo}, {"hi", h.hi}, {"counts", h.counts}};
-  j["seed"] = spec.init.seed;
-
-  if (spec.write_data)
-    write_data(*spec.write_data, fin, "hardsphere state after event-driven time " + std::to_string(c.sim_time));
-  if (dump) dump->commit();
-  if (json_file) {
-    json_file->stream() << j.dump(2) << '\n';
-    json_file->commit();
-  }
+  commit_outputs(j, fin, spec.write_data, "hardsphere state after event-driven time " + std::to_string(c.sim_time), dump,
+                 json_file);
   return j;
 }
 

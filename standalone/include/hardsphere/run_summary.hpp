@@ -1,0 +1,38 @@
+#pragma once
+//! The JSON keys every engine reports the same way (state, conservation, pressure, speeds),
+//! and the final commit of a run's output files. Engines add their own keys on top.
+#include <array>
+#include <cstdint>
+#include <optional>
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "hardsphere/lammps_io.hpp"
+#include "hardsphere/particles.hpp"
+
+namespace hardsphere {
+
+//! What an engine measured over the timed part of a run.
+struct RunTotals {
+  double kinetic_energy_initial = 0;
+  Vec3d momentum_initial;
+  double sim_time = 0;
+  std::int64_t collisions = 0, wall_collisions = 0;
+  double pair_virial = 0;
+  std::array<double, 3> wall_impulse{0, 0, 0};
+};
+
+//! Keys n, packing_fraction, box, collisions, wall_collisions, collision_rate_per_particle,
+//! kinetic_energy_*, energy_rel_drift, momentum_*, temperature, com_removed, pair_virial,
+//! compressibility_factor, pressure, wall_pressure, max_overlap, speed_ks_distance,
+//! speed_histogram, seed (documented in README). T in Z is the mean of initial and final T.
+nlohmann::json physics_summary(const ParticleSystem& final_state, const RunTotals& totals, bool com_removed,
+                               std::uint64_t seed, int histogram_bins);
+
+//! Writes the JSON file and the final data file, and commits the dump: only after success.
+void commit_outputs(const nlohmann::json& summary, const ParticleSystem& final_state,
+                    const std::optional<std::string>& write_data_path, const std::string& title,
+                    std::optional<DumpWriter>& dump, std::optional<AtomicFile>& json_file);
+
+}  // namespace hardsphere

@@ -1,0 +1,68 @@
+#include "hardsphere/run_summary.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "hardsphere/box.hpp"
+#include "hardsphere/observables.hpp"
+
+namespace hardsphere {
+
+namespace {
+nlohmann::json vec_json(Vec3d v) { return nlohmann::json::array({v.x, v.y, v.z}); }
+}  // namespace
+
+nlohmann::json physics_summary(const ParticleSystem& fin, const RunTotals& t, bool com_removed, std::uint64_t seed,
+                               int histogram_bins) {
+  const std::size_t n = fin.size();
+  const double e0 = t.kinetic_energy_initial, e1 = kinetic_energy(fin);
+  const double t_final = temperature(fin);
+  const double t_mean = n ? 0.5 * (2 * e0 / (3.0 * double(n)) + t_final) : 0.0;
+  double v2max = 0;
+  for (const auto& v : fin.vel) v2max = std::max(v2max, dot(v, v));
+  const Histogram h = speed_histogram(fin, histogram_bins, std::max(1e-300, 1.0000001 * std::sqrt(v2max)));
+  const double z = compressibility_factor(t.pair_virial, t.sim_time, n, t_mean);
+
+  nlohmann::json j;
+  j["n"] = n;
+  j["packing_fraction"] = fin.packing_fraction();
+  j["box"] = {{"lo", fin.box.lo}, {"hi", fin.box.hi}, {"boundary", boundary_string(fin.box.periodic)}};
+  j["collisions"] = t.collisions;
+  j["wall_collisions"] = t.wall_collisions;
+  j["collision_rate_per_particle"] = t.sim_time > 0 && n ? 2.0 * double(t.collisions) / (double(n) * t.sim_time) : 0.0;
+  j["kinetic_energy_initial"] = e0;
+  j["kinetic_energy_final"] = e1;
+  j["energy_rel_drift"] = e0 > 0 ? (e1 - e0) / e0 : 0.0;
+  j["momentum_initial"] = vec_json(t.momentum_initial);
+  j["momentum_final"] = vec_json(total_momentum(fin));
+  j["temperature"] = t_final;
+  j["com_removed"] = com_removed;
+  j["pair_virial"] = t.pair_virial;
+  j["compressibility_factor"] = z;
+  j["pressure"] = z * double(n) * t_mean / fin.box.volume();
+  // Walls: the pressure on each wall pair is the momentum it received per area and time.
+  nlohmann::json wall_p = nlohmann::json::array();
+  for (int d = 0; d < 3; ++d) {
+    if (fin.box.periodic[d] || !(t.sim_time > 0)) wall_p.push_back(nullptr);
+    else wall_p.push_back(t.wall_impulse[d] / (2.0 * fin.box.volume() / fin.box.length(d) * t.sim_time));
+  }
+  j["wall_pressure"] = wall_p;
+  j["max_overlap"] = max_overlap(fin);
+  j["speed_ks_distance"] = maxwell_ks_distance(fin, t_final);
+  j["speed_histogram"] = {{"lo", h.lo}, {"hi", h.hi}, {"counts", h.counts}};
+  j["seed"] = seed;
+  return j;
+}
+
+void commit_outputs(const nlohmann::json& summary, const ParticleSystem& fin,
+                    const std::optional<std::string>& write_data_path, const std::string& title,
+                    std::optional<DumpWriter>& dump, std::optional<AtomicFile>& json_file) {
+  if (write_data_path) write_data(*write_data_path, fin, title);
+  if (dump) dump->commit();
+  if (json_file) {
+    json_file->stream() << summary.dump(2) << '\n';
+    json_file->commit();
+  }
+}
+
+}  // namespace hardsphere
