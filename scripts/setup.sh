@@ -11,7 +11,7 @@ build=${HS_BUILD_DIR:-$root/build}
 packages=(cmake g++ make libgtest-dev libgmock-dev libbenchmark-dev libcli11-dev nlohmann-json3-dev
           python3-numpy python3-scipy python3-matplotlib python3-pytest)
 if [ "${HS_WITH_LAMMPS:-1}" = 1 ]; then
-  packages+=(lammps liblammps-dev openmpi-bin libopenmpi-dev liggghts)
+  packages+=(lammps liblammps-dev openmpi-bin libopenmpi-dev liggghts python3-lammps dpkg-dev)
 fi
 missing=()
 for p in "${packages[@]}"; do
@@ -25,7 +25,17 @@ if [ ${#missing[@]} -gt 0 ]; then
   DEBIAN_FRONTEND=noninteractive $sudo_cmd apt-get install -y -q --no-install-recommends "${missing[@]}"
 fi
 
-cmake -S "$root" -B "$build" -DCMAKE_BUILD_TYPE=Release -DPython3_EXECUTABLE=/usr/bin/python3 >/dev/null
+# LAMMPS styles: compiled against the Debian LAMMPS source matching the installed liblammps
+# (fetched once into a cache outside the repository); skipped if that is not possible.
+lammps_args=()
+if [ "${HS_WITH_LAMMPS:-1}" = 1 ] && dpkg-query -W -f='${Status}' liblammps-dev 2>/dev/null | grep -q "install ok installed"; then
+  if lammps_src=$(bash "$root/scripts/fetch_lammps_source.sh"); then
+    lammps_args=(-DLAMMPS_SOURCE_DIR="$lammps_src")
+  else
+    echo "setup: LAMMPS source not available; building without the LAMMPS styles" >&2
+  fi
+fi
+cmake -S "$root" -B "$build" -DCMAKE_BUILD_TYPE=Release -DPython3_EXECUTABLE=/usr/bin/python3 "${lammps_args[@]}" >/dev/null
 cmake --build "$build" -j"$(nproc)"
 
 case "$mode" in

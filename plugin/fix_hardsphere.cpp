@@ -1,0 +1,518 @@
+#include "fix_hardsphere.h"
+
+#include <mpi.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <string>
+
+#include "atom.h"
+#include "comm.h"
+#include "domain.h"
+#include "error.h"
+#include "force.h"
+#include "memory.h"
+#include "modify.h"
+#include "neigh_list.h"
+#include "neigh_request.h"
+#include "neighbor.h"
+#include "pair_hardsphere.h"
+#include "update.h"
+#include "utils.h"
+
+using namespace LAMMPS_NS;
+using namespace FixConst;
+using hardsphere::kNoImage;
+
+namespace {
+constexpr int kVectorSize = 8;
+std::string num(double x)
+{
+  char b[64];
+  snprintf(b, sizeof(b), "%.6g", x);
+  return b;
+}
+}  // namespace
+
+FixHardSphere::FixHardSphere(LAMMPS *lmp, int narg, char **arg) : Fix(lmp, narg, arg)
+{
+  for (int a = 3; a < narg; a += 2) {
+    const std::string key = arg[a];
+    if (a + 1 >= narg) error->all(FLERR, "fix hardsphere: keyword '" + key + "' needs a value");
+    const std::string val = arg[a + 1];
+    if (key == "detect") {
+      if (val == "overlap") sweep = false;
+      else if (val == "sweep") sweep = true;
+      else error->all(FLERR, "fix hardsphere: detect must be 'overlap' or 'sweep', got '" + val + "'");
+    } else if (key == "max_events") {
+      max_events = utils::bnumeric(FLERR, arg[a + 1], false, lmp);
+      if (max_events < 1) error->all(FLERR, "fix hardsphere: max_events must be >= 1");
+    } else if (key == "ghost") {
+      if (val == "auto") ghost_auto = true;
+      else if (val == "user") ghost_auto = false;
+      else error->all(FLERR, "fix hardsphere: ghost must be 'auto' or 'user', got '" + val + "'");
+    } else {
+      error->all(FLERR, "fix hardsphere: unknown keyword '" + key + "' (known: detect, max_events, ghost)");
+    }
+  }
+  time_integrate = 1;
+  vector_flag = 1;
+  size_vector = kVectorSize;
+  global_freq = 1;
+  extvector = 0;
+  comm_forward = 4;  // velocity and wall-bounce time of ghosts
+  virial_global_flag = 1;
+  thermo_virial = 1;
+  force_reneighbor = 1;
+  next_reneighbor = -1;
+  for (auto &s : zero_shift) s = V3{0, 0, 0};
+
+  grow_arrays(atom->nmax);
+  atom->add_callback(Atom::GROW);
+  for (int i = 0; i < atom->nlocal; i++) wall_back[i] = 0.0;
+}
+
+FixHardSphere::~FixHardSphere()
+{
+  atom->delete_callback(id, Atom::GROW);
+  memory->destroy(wall_back);
+}
+
+int FixHardSphere::setmask() { return INITIAL_INTEGRATE | POST_FORCE | PRE_NEIGHBOR; }
+
+void FixHardSphere::init()
+{
+  if (!atom->sphere_flag || !atom->radius_flag || !atom->rmass_flag)
+    error->all(FLERR, "fix hardsphere needs per-atom radius and mass: use 'atom_style sphere'");
+  if (igroup != 0) error->all(FLERR, "fix hardsphere must act on group 'all' (every atom is a hard sphere)");
+  if (!force->pair_match("hardsphere", 1))
+    error->all(FLERR, "fix hardsphere needs 'pair_style hardsphere' and 'pair_coeff * *' (contact distances and the "
+                      "neighbour cutoff); pair hybrid is not supported");
+  if (domain->triclinic) error->all(FLERR, "fix hardsphere supports orthogonal boxes only");
+  for (int d = 0; d < 3; d++)
+    for (int s = 0; s < 2; s++)
+      if (domain->boundary[d][s] >= 2)
+        error->all(FLERR, "fix hardsphere reflects atoms at fixed box faces: use 'boundary p' or 'f' per axis, "
+                          "not shrink-wrapped s/m");
+  if (neighbor->every != 1 || neighbor->delay != 0)
+    error->all(FLERR, "fix hardsphere needs 'neigh_modify every 1 delay 0' (a later rebuild can miss collisions)");
+  for (int f = 0; f < modify->nfix; f++)
+    if (modify->fix[f] != this && modify->fix[f]->time_integrate)
+      error->all(FLERR, std::string("fix hardsphere is the time integrator: remove fix ") + modify->fix[f]->id + " (" +
+                            modify->fix[f]->style + ")");
+  dt = update->dt;
+
+  // Chains of collisions reach across the ghost boundary: with ghosts out to twice the
+  // neighbour cutoff, every ghost within one cutoff of this sub-domain has a complete list.
+  // Raise the user ghost cutoff (comm_modify cutoff) to that unless 'ghost user' was given.
+  if (ghost_auto) {
+    const double need = ghost_factor * (force->pair->cutforce + neighbor->skin);
+    if (comm->cutghostuser < need) {
+      comm->cutghostuser = need;
+      if (comm->me == 0)
+        utils::logmesg(lmp, "fix hardsphere: ghost cutoff raised to " + num(need) +
+                                " (2 x neighbour cutoff) so collision chains near sub-domain faces are seen\n");
+    }
+  }
+
+  int irequest = neighbor->request(this, instance_me);
+  neighbor->requests[irequest]->pair = 0;
+  neighbor->requests[irequest]->fix = 1;
+  // Half list (each pair once) over owned and ghost atoms, ghost-ghost pairs included; the
+  // fix makes the both-direction adjacency from it.
+  neighbor->requests[irequest]->half = 1;
+  neighbor->requests[irequest]->full = 0;
+  neighbor->requests[irequest]->newton = 2;
+  neighbor->requests[irequest]->ghost = 1;
+}
+
+void FixHardSphere::init_list(int, NeighList *ptr) { list = ptr; }
+
+void FixHardSphere::reset_dt() { dt = update->dt; }
+
+void FixHardSphere::record_build()
+{
+  const int nall = atom->nlocal + atom->nghost;
+  xbuild.resize(nall);
+  for (int i = 0; i < nall; i++) xbuild[i] = V3{atom->x[i][0], atom->x[i][1], atom->x[i][2]};
+  max_disp2 = 0.0;
+  adjacency_dirty = true;
+}
+
+void FixHardSphere::setup_pre_neighbor() { record_build(); }
+
+void FixHardSphere::pre_neighbor() { record_build(); }
+
+void FixHardSphere::setup(int vflag)
+{
+  check_setup();
+  for (int i = 0; i < atom->nlocal; i++) wall_back[i] = dt;
+  // Thermo at a run's first step reports the last resolved step's collision virial (zero
+  // before any step): setup resolves no collisions itself.
+  v_init(vflag);
+  if (vflag_global)
+    for (int k = 0; k < 6; k++) virial[k] = step_virial[k] / dt;
+}
+
+void FixHardSphere::check_setup()
+{
+  const int nlocal = atom->nlocal;
+  double *radius = atom->radius, *rmass = atom->rmass, **v = atom->v;
+  // Uniform radius and mass select the equal-mass kernel, as in the standalone stepper.
+  double lo[3] = {1e300, 1e300, 1e300}, hi[3] = {-1e300, -1e300, -1e300};
+  for (int i = 0; i < nlocal; i++) {
+    lo[0] = std::min(lo[0], radius[i]), hi[0] = std::max(hi[0], radius[i]);
+    lo[1] = std::min(lo[1], rmass[i]), hi[1] = std::max(hi[1], rmass[i]);
+    const double v2 = v[i][0] * v[i][0] + v[i][1] * v[i][1] + v[i][2] * v[i][2];
+    hi[2] = std::max(hi[2], v2);
+    if (!(radius[i] > 0.0) || !(rmass[i] > 0.0))
+      error->one(FLERR, "fix hardsphere: atom " + std::to_string(atom->tag[i]) + " has radius " + num(radius[i]) +
+                            " and mass " + num(rmass[i]) + "; both must be positive (set them in the data file)");
+  }
+  double glo[2], ghi[3];
+  MPI_Allreduce(lo, glo, 2, MPI_DOUBLE, MPI_MIN, world);
+  MPI_Allreduce(hi, ghi, 3, MPI_DOUBLE, MPI_MAX, world);
+  mono = glo[0] == ghi[0] && glo[1] == ghi[1];
+  mono_sigma = 2.0 * glo[0];
+  mono_mass = glo[1];
+
+  // The pair style's contact distance per type pair must cover the per-atom diameters.
+  auto *pair = dynamic_cast<PairHardSphere *>(force->pair_match("hardsphere", 1));
+  const int nt = atom->ntypes;
+  std::vector<double> rmax(nt + 1, 0.0), grmax(nt + 1, 0.0);
+  for (int i = 0; i < nlocal; i++) rmax[atom->type[i]] = std::max(rmax[atom->type[i]], radius[i]);
+  MPI_Allreduce(rmax.data(), grmax.data(), nt + 1, MPI_DOUBLE, MPI_MAX, world);
+  for (int a = 1; a <= nt; a++)
+    for (int b = a; b <= nt; b++)
+      if (grmax[a] > 0 && grmax[b] > 0 && grmax[a] + grmax[b] > pair->contact(a, b) * (1 + 1e-12))
+        error->all(FLERR, "fix hardsphere: atoms of types " + std::to_string(a) + " and " + std::to_string(b) +
+                              " reach contact at " + num(grmax[a] + grmax[b]) + " but pair_coeff gives " +
+                              num(pair->contact(a, b)) + "; raise that pair_coeff diameter or use 'pair_coeff * *'");
+
+  // Time step against the skin: within one step an atom moves at most ~2 v_max dt.
+  const double vmax = std::sqrt(ghi[2]);
+  if (4.0 * vmax * dt >= neighbor->skin)
+    error->all(FLERR, "fix hardsphere: timestep too large for the neighbour skin: 4 * v_max * dt = " +
+                          num(4.0 * vmax * dt) + " >= skin " + num(neighbor->skin) +
+                          "; reduce 'timestep' or raise the skin ('neighbor <skin> bin')");
+
+  // No overlapping pairs at the start (a collision cannot be rewound from inside a sphere).
+  if (!list) error->all(FLERR, "fix hardsphere: neighbour list missing");
+  long long overlaps = 0;
+  std::string example;
+  for (int ii = 0; ii < list->inum; ii++) {
+    const int i = list->ilist[ii];
+    const int *jl = list->firstneigh[i];
+    for (int k = 0; k < list->numneigh[i]; k++) {
+      const int j = jl[k] & NEIGHMASK;
+      const double dx = atom->x[i][0] - atom->x[j][0], dy = atom->x[i][1] - atom->x[j][1],
+                   dz = atom->x[i][2] - atom->x[j][2];
+      const double s = radius[i] + radius[j];
+      const double d = std::sqrt(dx * dx + dy * dy + dz * dz);
+      if (d < s * (1.0 - 1e-9)) {
+        if (overlaps++ == 0)
+          example = "atoms " + std::to_string(atom->tag[i]) + " and " + std::to_string(atom->tag[j]) +
+                    " are at distance " + num(d) + " < contact distance " + num(s);
+      }
+    }
+  }
+  long long all = 0;
+  MPI_Allreduce(&overlaps, &all, 1, MPI_LONG_LONG, MPI_SUM, world);
+  if (all > 0) {
+    const std::string msg = "fix hardsphere: " + std::to_string(all) + " overlapping pair(s) at setup";
+    if (overlaps > 0) error->one(FLERR, msg + ", e.g. " + example + "; start from a non-overlapping state");
+    error->all(FLERR, msg + "; start from a non-overlapping state");
+  }
+}
+
+void FixHardSphere::initial_integrate(int)
+{
+  double **x = atom->x, **v = atom->v;
+  const int nlocal = atom->nlocal;
+  for (int i = 0; i < nlocal; i++) {
+    x[i][0] += dt * v[i][0];
+    x[i][1] += dt * v[i][1];
+    x[i][2] += dt * v[i][2];
+    wall_back[i] = dt;
+  }
+  if (domain->xperiodic && domain->yperiodic && domain->zperiodic) return;
+  for (int i = 0; i < nlocal; i++) {
+    for (int d = 0; d < 3; d++) {
+      if (domain->periodicity[d]) continue;
+      const double before = x[i][d], vb = v[i][d];
+      const double dp = hardsphere::kernel::reflect_from_walls(x[i][d], v[i][d], domain->boxlo[d], domain->boxhi[d],
+                                                               atom->radius[i]);
+      if (dp != 0.0) {
+        n_wall += 1;
+        wall_back[i] = std::min(wall_back[i], std::abs(x[i][d] - before) / (2.0 * std::abs(vb)));
+      }
+    }
+  }
+}
+
+void FixHardSphere::build_adjacency()
+{
+  // Both directions, CSR over owned + ghost atoms, from the half ghost list (ghost
+  // coordinates are image-shifted already: every pair has image code kNoImage).
+  const int nall = atom->nlocal + atom->nghost;
+  adj_start.assign(nall + 1, 0);
+  const int nlisted = list->inum + list->gnum;
+  for (int ii = 0; ii < nlisted; ii++) {
+    const int i = list->ilist[ii];
+    const int *jl = list->firstneigh[i];
+    adj_start[i + 1] += list->numneigh[i];
+    for (int k = 0; k < list->numneigh[i]; k++) adj_start[(jl[k] & NEIGHMASK) + 1]++;
+  }
+  for (int i = 0; i < nall; i++) adj_start[i + 1] += adj_start[i];
+  adj_partner.resize(adj_start[nall]);
+  std::vector<std::uint32_t> cursor(adj_start.begin(), adj_start.end() - 1);
+  for (int ii = 0; ii < nlisted; ii++) {
+    const int i = list->ilist[ii];
+    const int *jl = list->firstneigh[i];
+    for (int k = 0; k < list->numneigh[i]; k++) {
+      const int j = jl[k] & NEIGHMASK;
+      adj_partner[cursor[i]++] = std::uint32_t(j);
+      adj_partner[cursor[j]++] = std::uint32_t(i);
+    }
+  }
+  adj_image.assign(adj_partner.size(), kNoImage);
+
+  // A ghost's list is complete only if all atoms within the neighbour cutoff of it are
+  // present, i.e. it lies within cutghost - cutneighmax of this sub-domain.
+  incomplete.assign(nall, 0);
+  const double reach = std::min({comm->cutghost[0], comm->cutghost[1], comm->cutghost[2]}) - neighbor->cutneighmax;
+  double **x = atom->x;
+  for (int i = atom->nlocal; i < nall; i++) {
+    double d2 = 0;
+    for (int d = 0; d < 3; d++) {
+      const double out = std::max({domain->sublo[d] - x[i][d], x[i][d] - domain->subhi[d], 0.0});
+      d2 += out * out;
+    }
+    incomplete[i] = reach <= 0 || d2 > reach * reach;
+  }
+  adjacency_dirty = false;
+}
+
+void FixHardSphere::note_disp(int k, const V3 &p)
+{
+  const V3 d = p - xbuild[k];
+  max_disp2 = std::max(max_disp2, hardsphere::dot(d, d));
+}
+
+void FixHardSphere::reflect(int k)
+{
+  if (domain->xperiodic && domain->yperiodic && domain->zperiodic) return;
+  for (int d = 0; d < 3; d++) {
+    if (domain->periodicity[d]) continue;
+    const double before = pos[k][d], vb = vel[k][d];
+    const double dp =
+        hardsphere::kernel::reflect_from_walls(pos[k][d], vel[k][d], domain->boxlo[d], domain->boxhi[d], rad[k]);
+    if (dp != 0.0) {
+      if (k < atom->nlocal) n_wall += 1;
+      note_disp(k, pos[k]);
+      const double back = std::abs(pos[k][d] - before) / (2.0 * std::abs(vb));
+      if (mono) res_mono.mark_changed(k, std::min(res_mono.window(k), back));
+      else res_poly.mark_changed(k, std::min(res_poly.window(k), back));
+    }
+  }
+  vprev[k] = vel[k];
+}
+
+void FixHardSphere::on_collision(int i, int j, double back)
+{
+  // The resolver has moved i and j to their end-of-step positions with the new velocities:
+  // rewind both by `back` to get the separation at contact; the impulse is m dv.
+  const V3 ci = pos[i] - back * vel[i], cj = pos[j] - back * vel[j];
+  const V3 r = ci - cj;
+  const V3 dp = mass[i] * (vel[i] - vprev[i]);
+  const int nlocal = atom->nlocal;
+  const int lower = tags[i] < tags[j] ? i : j;
+  if (lower < nlocal) {  // counted once over all ranks and periodic images
+    n_coll_step += 1;
+    step_virial[0] += r.x * dp.x;
+    step_virial[1] += r.y * dp.y;
+    step_virial[2] += r.z * dp.z;
+    step_virial[3] += r.x * dp.y;
+    step_virial[4] += r.x * dp.z;
+    step_virial[5] += r.y * dp.z;
+    if (incomplete[i] || incomplete[j]) n_edge += 1;
+  }
+  vprev[i] = vel[i];
+  vprev[j] = vel[j];
+  note_disp(i, ci), note_disp(j, cj), note_disp(i, pos[i]), note_disp(j, pos[j]);
+  reflect(i);
+  reflect(j);
+}
+
+template <bool Mono>
+struct FixHardSphere::Hooks {
+  FixHardSphere &f;
+  int first = -1;
+  // The resolver reports the two spheres of a collision one after the other.
+  void after_collision(std::uint32_t k, double back)
+  {
+    if (first < 0) {
+      first = int(k);
+      return;
+    }
+    const int i = first;
+    first = -1;
+    f.on_collision(i, int(k), back);
+  }
+  bool must_rescan() const { return false; }  // lists cannot be rebuilt inside a LAMMPS step
+  void rescan() {}
+};
+
+void FixHardSphere::post_force(int vflag)
+{
+  // Ghosts need the owners' current velocities and wall-bounce times.
+  comm->forward_comm_fix(this);
+  if (adjacency_dirty) build_adjacency();
+
+  const int nlocal = atom->nlocal, nall = nlocal + atom->nghost;
+  double **x = atom->x, **v = atom->v;
+  pos.resize(nall), vel.resize(nall), rad.resize(nall), mass.resize(nall), tags.resize(nall);
+  for (int i = 0; i < nall; i++) {
+    pos[i] = V3{x[i][0], x[i][1], x[i][2]};
+    vel[i] = V3{v[i][0], v[i][1], v[i][2]};
+    rad[i] = atom->radius[i];
+    mass[i] = atom->rmass[i];
+    tags[i] = std::int64_t(atom->tag[i]);
+  }
+  vprev = vel;
+  for (int i = 0; i < nlocal; i++) note_disp(i, pos[i]);
+  n_coll_step = 0;
+  std::fill(step_virial, step_virial + 6, 0.0);
+
+  if (mono) {
+    res_mono.set_uniform(mono_sigma, mono_mass);
+    resolve_step(res_mono);
+  } else {
+    resolve_step(res_poly);
+  }
+  for (int i = 0; i < nlocal; i++) {
+    x[i][0] = pos[i].x, x[i][1] = pos[i].y, x[i][2] = pos[i].z;
+    v[i][0] = vel[i].x, v[i][1] = vel[i].y, v[i][2] = vel[i].z;
+  }
+  n_coll += n_coll_step;
+  for (int k = 0; k < 3; k++) virial_sum += step_virial[k];
+  sim_time += dt;
+
+  // Safety of the neighbour list. Every position visited in this step (ends of drift,
+  // contacts, ends of step) was checked against the list's build positions: more than half
+  // the skin means a pair could have been missed. Otherwise force a rebuild before the next
+  // step if it could get there (an atom moves <= ~2 v_max dt per step, collisions included).
+  double loc[2] = {max_disp2, 0.0}, glob[2];
+  for (int i = 0; i < nlocal; i++) loc[1] = std::max(loc[1], hardsphere::dot(vel[i], vel[i]));
+  MPI_Allreduce(loc, glob, 2, MPI_DOUBLE, MPI_MAX, world);
+  const double dmax = std::sqrt(glob[0]), vmax = std::sqrt(glob[1]), skin = neighbor->skin;
+  if (2.0 * dmax > skin)
+    error->all(FLERR, "fix hardsphere: an atom moved " + num(dmax) + " since the last neighbour list build, more than "
+                      "half the skin " + num(skin) + ", so a collision may have been missed; reduce 'timestep' or "
+                      "raise the skin ('neighbor <skin> bin')");
+  if (2.0 * (dmax + 2.0 * vmax * dt) > skin && next_reneighbor != update->ntimestep + 1) {
+    next_reneighbor = update->ntimestep + 1;
+    n_forced += 1;
+  }
+
+  v_init(vflag);
+  if (vflag_global)
+    for (int k = 0; k < 6; k++) virial[k] = step_virial[k] / dt;
+}
+
+template <bool Mono>
+void FixHardSphere::resolve_step(hardsphere::ContactResolver<double, Mono> &res)
+{
+  const int nall = atom->nlocal + atom->nghost;
+  res.reset(std::size_t(nall), dt);
+  res.set_event_limit(max_events);
+  res.bind({pos.data(), vel.data(), rad.data(), mass.data(), tags.data(), adj_start.data(), adj_partner.data(),
+            adj_image.data(), zero_shift});
+  double v2max = 0;
+  for (int i = 0; i < nall; i++) v2max = std::max(v2max, hardsphere::dot(vel[i], vel[i]));
+  res.set_speed_bound(std::sqrt(v2max));
+  for (int i = 0; i < nall; i++)
+    if (wall_back[i] < dt) res.mark_changed(std::uint32_t(i), wall_back[i]);
+
+  // Scan: each pair once (j > i) of the both-direction adjacency.
+  res.clear_candidates();
+  const double reach = sweep ? 2.0 * std::sqrt(v2max) * dt : 0.0;
+  for (int i = 0; i < nall; i++) {
+    const V3 pi = pos[i];
+    for (std::uint32_t k = adj_start[i]; k < adj_start[i + 1]; k++) {
+      const std::uint32_t j = adj_partner[k];
+      if (j <= std::uint32_t(i)) continue;
+      const V3 dr = pi - pos[j];
+      const double sg = Mono ? mono_sigma : rad[i] + rad[j];
+      const double lim = sg + reach;
+      if (hardsphere::dot(dr, dr) < lim * lim) res.consider(std::uint32_t(i), j, kNoImage, dr, sg, !sweep);
+    }
+  }
+  if (res.has_candidates()) {
+    if (!sweep) res.expand_candidates();
+    Hooks<Mono> hooks{*this};
+    hardsphere::ContactTally tally;
+    res.resolve(hooks, tally);
+    n_unresolved += double(tally.unresolved_steps);
+  }
+  res.end_step();
+}
+
+double FixHardSphere::compute_vector(int n)
+{
+  double loc[kVectorSize] = {n_coll, n_coll_step, virial_sum, sim_time, n_wall, n_edge, n_forced, n_unresolved};
+  if (n == 3 || n == 6) return loc[n];  // identical on every rank
+  double all = 0;
+  MPI_Allreduce(&loc[n], &all, 1, MPI_DOUBLE, MPI_SUM, world);
+  return all;
+}
+
+int FixHardSphere::pack_forward_comm(int n, int *list_, double *buf, int, int *)
+{
+  double **v = atom->v;
+  int m = 0;
+  for (int k = 0; k < n; k++) {
+    const int j = list_[k];
+    buf[m++] = v[j][0];
+    buf[m++] = v[j][1];
+    buf[m++] = v[j][2];
+    buf[m++] = wall_back[j];
+  }
+  return m;
+}
+
+void FixHardSphere::unpack_forward_comm(int n, int first, double *buf)
+{
+  double **v = atom->v;
+  int m = 0;
+  for (int i = first; i < first + n; i++) {
+    v[i][0] = buf[m++];
+    v[i][1] = buf[m++];
+    v[i][2] = buf[m++];
+    wall_back[i] = buf[m++];
+  }
+}
+
+void FixHardSphere::grow_arrays(int nmax) { memory->grow(wall_back, nmax, "hardsphere:wall_back"); }
+
+void FixHardSphere::copy_arrays(int i, int j, int) { wall_back[j] = wall_back[i]; }
+
+int FixHardSphere::pack_exchange(int i, double *buf)
+{
+  buf[0] = wall_back[i];
+  return 1;
+}
+
+int FixHardSphere::unpack_exchange(int nlocal, double *buf)
+{
+  wall_back[nlocal] = buf[0];
+  return 1;
+}
+
+double FixHardSphere::memory_usage()
+{
+  const double n = double(pos.size());
+  return double(atom->nmax) * sizeof(double) + n * (4 * sizeof(V3) + 2 * sizeof(double) + 9) +
+         double(adj_partner.size()) * 5;
+}

@@ -1,0 +1,83 @@
+#pragma once
+//! fix ID all hardsphere [detect overlap|sweep] [max_events N] [ghost auto|user]
+//!
+//! Time integrator for hard spheres (instead of fix nve/sphere): drifts the owned atoms by
+//! v dt, reflects them at fixed (f) box faces, then resolves the step's collisions in time
+//! order with hardsphere::ContactResolver (the standalone stepper's implementation) over
+//! owned + ghost atoms. Needs atom_style sphere and pair_style hardsphere (neighbour cutoff).
+//! Global vector (f_ID[1..8]): collisions (cumulative), collisions in the last step, sum of
+//! r_ij.dp_i over collisions, simulated time, wall bounces, collisions with a ghost whose
+//! neighbour list is incomplete, forced reneighbourings, steps that hit max_events.
+#include <cstdint>
+#include <vector>
+
+#include "fix.h"
+#include "hardsphere/contact_resolver.hpp"
+
+namespace LAMMPS_NS {
+
+class FixHardSphere : public Fix {
+ public:
+  FixHardSphere(class LAMMPS *, int, char **);
+  ~FixHardSphere() override;
+  int setmask() override;
+  void init() override;
+  void init_list(int, class NeighList *) override;
+  void setup(int) override;
+  void setup_pre_neighbor() override;
+  void pre_neighbor() override;
+  void initial_integrate(int) override;
+  void post_force(int) override;
+  void reset_dt() override;
+  double compute_vector(int) override;
+
+  int pack_forward_comm(int, int *, double *, int, int *) override;
+  void unpack_forward_comm(int, int, double *) override;
+  void grow_arrays(int) override;
+  void copy_arrays(int, int, int) override;
+  int pack_exchange(int, double *) override;
+  int unpack_exchange(int, double *) override;
+  double memory_usage() override;
+
+ private:
+  using V3 = hardsphere::Vec3<double>;
+  template <bool Mono> struct Hooks;
+  template <bool Mono> void resolve_step(hardsphere::ContactResolver<double, Mono> &res);
+  void record_build();
+  void build_adjacency();
+  void check_setup();
+  void on_collision(int i, int j, double back);
+  void reflect(int k);
+  void note_disp(int k, const V3 &p);
+
+  class NeighList *list = nullptr;
+  double dt = 0.0;
+  bool sweep = false;
+  bool ghost_auto = true;
+  double ghost_factor = 2.0;
+  bool mono = false;
+  double mono_sigma = 0.0, mono_mass = 0.0;
+  std::int64_t max_events = 100000000;
+
+  double *wall_back = nullptr;  //!< per atom: time back from step end of this step's wall bounce (dt: none)
+  bool adjacency_dirty = true;
+
+  // Local (owned + ghost) arrays for the resolver.
+  std::vector<V3> pos, vel, vprev, xbuild;
+  std::vector<double> rad, mass;
+  std::vector<std::int64_t> tags;
+  std::vector<std::uint32_t> adj_start, adj_partner;
+  std::vector<std::uint8_t> adj_image, incomplete;
+  V3 zero_shift[27];
+  hardsphere::ContactResolver<double, true> res_mono;
+  hardsphere::ContactResolver<double, false> res_poly;
+
+  // Per-step and cumulative tallies (local: each collision is counted on the rank owning the
+  // atom with the smaller tag; compute_vector sums over ranks).
+  double step_virial[6] = {0, 0, 0, 0, 0, 0};
+  double max_disp2 = 0.0;
+  double n_coll = 0, n_coll_step = 0, virial_sum = 0, n_wall = 0, n_edge = 0, n_forced = 0, n_unresolved = 0;
+  double sim_time = 0.0;
+};
+
+}  // namespace LAMMPS_NS

@@ -1,0 +1,33 @@
+// Plugin entry for LAMMPS builds with the PLUGIN package: `plugin load hardsphereplugin.so`.
+#include "fix_hardsphere.h"
+#include "lammpsplugin.h"
+#include "pair_hardsphere.h"
+#include "version.h"
+
+using namespace LAMMPS_NS;
+
+namespace {
+void *make_pair(void *lmp) { return new PairHardSphere(static_cast<LAMMPS *>(lmp)); }
+void *make_fix(void *lmp, int narg, char **arg) { return new FixHardSphere(static_cast<LAMMPS *>(lmp), narg, arg); }
+}  // namespace
+
+extern "C" void lammpsplugin_init(void *lmp, void *handle, void *regfunc)
+{
+  auto reg = (lammpsplugin_regfunc) regfunc;
+  lammpsplugin_t p;
+  p.version = LAMMPS_VERSION;
+  p.author = "hardsphere project";
+  p.handle = handle;
+
+  p.style = "pair";
+  p.name = "hardsphere";
+  p.info = "hard-sphere contact distances and neighbour cutoff (use with fix hardsphere)";
+  p.creator.v1 = (lammpsplugin_factory1 *) &make_pair;
+  (*reg)(&p, lmp);
+
+  p.style = "fix";
+  p.name = "hardsphere";
+  p.info = "hard-sphere time stepper: drift and time-ordered elastic collisions";
+  p.creator.v2 = (lammpsplugin_factory2 *) &make_fix;
+  (*reg)(&p, lmp);
+}

@@ -1,0 +1,39 @@
+#pragma once
+//! pair_style hardsphere: contact distances per type pair and the neighbour/ghost cutoff for
+//! fix hardsphere, which does all the dynamics. Forces and potential energy are zero.
+//!   pair_style hardsphere
+//!   pair_coeff I J [diameter]   diameter: contact distance of types I and J (mixed with the
+//!                               pair_modify mix rule when I != J is not given); without it,
+//!                               the largest per-atom diameter 2*max(radius) is used.
+#include "pair.h"
+
+namespace LAMMPS_NS {
+
+class PairHardSphere : public Pair {
+ public:
+  explicit PairHardSphere(class LAMMPS *);
+  ~PairHardSphere() override;
+  void compute(int, int) override;
+  void settings(int, char **) override;
+  void coeff(int, char **) override;
+  void init_style() override;
+  double init_one(int, int) override;
+  void write_restart(FILE *) override;
+  void read_restart(FILE *) override;
+  void write_data(FILE *) override;
+  void write_data_all(FILE *) override;
+  double single(int, int, int, int, double, double, double, double &fforce) override
+  {
+    fforce = 0.0;
+    return 0.0;
+  }
+  //! Contact distance of types i, j (<0: from per-atom radii). Valid after init().
+  double contact(int i, int j) const { return cut[i][j]; }
+
+ protected:
+  double **cut = nullptr;  //!< contact distance per type pair; < 0 means per-atom radii
+  void allocate();
+  double auto_cut();
+};
+
+}  // namespace LAMMPS_NS
