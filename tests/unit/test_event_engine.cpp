@@ -15,6 +15,8 @@
 #include "hardsphere/rng.hpp"
 #include "hardsphere/stepper.hpp"
 
+#include "scenes.hpp"
+
 using namespace hardsphere;
 
 namespace {
@@ -165,15 +167,7 @@ TEST(EventConservation, MillionCollisionsDenseGas) {
 
 TEST(EventConservation, PolydisperseMixtureWithWalls) {
   // Two sizes and masses, walls on z: momentum along x, y to round-off, energy to round-off.
-  InitSpec spec;
-  spec.n = 400;
-  spec.box = Box::from_lengths({9, 9, 9}, {true, true, false});
-  spec.seed = 3;
-  auto s = make_initial_state(spec);
-  for (std::size_t i = 0; i < s.size(); i += 3) {
-    s.radius[i] = 0.3;
-    s.mass[i] = 0.25;
-  }
+  const auto s = test::binary_mixture_with_walls(400);
   for (int reach = 1; reach <= 2; ++reach) {
   EventConfig cfg;
   cfg.reach = reach;

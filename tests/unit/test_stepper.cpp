@@ -9,6 +9,8 @@
 #include "hardsphere/observables.hpp"
 #include "hardsphere/stepper.hpp"
 
+#include "scenes.hpp"
+
 using namespace hardsphere;
 
 namespace {
@@ -116,15 +118,7 @@ TEST(StepperConservation, GasOf1000Over10000Steps) {
 
 TEST(StepperConservation, PolydisperseMixtureWithWalls) {
   // Two sizes and masses, walls on z: momentum along x, y conserved, energy to round-off.
-  InitSpec spec;
-  spec.n = 300;
-  spec.box = Box::from_lengths({9, 9, 9}, {true, true, false});
-  spec.seed = 3;
-  auto s = make_initial_state(spec);
-  for (std::size_t i = 0; i < s.size(); i += 3) {
-    s.radius[i] = 0.3;
-    s.mass[i] = 0.25;
-  }
+  const auto s = test::binary_mixture_with_walls(300);
   StepCounters c;
   const auto out = run(s, 0.01, 3000, StepperConfig{}, Precision::Double, &c);
   EXPECT_GT(c.collisions, 5000);
