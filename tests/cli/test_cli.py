@@ -3,12 +3,12 @@
 Bad input must end with exit status 2, a message naming the offending value (and the data
 file line where there is one), and no output file left behind, not even a partial one.
 """
-import json
 import math
-import subprocess
 from pathlib import Path
 
 import pytest
+
+from hs_run import run, run_json
 
 JSON_KEYS = [
     "n", "packing_fraction", "box", "steps", "dt", "sim_time", "cells_per_dim", "loop_cpu_seconds",
@@ -16,16 +16,6 @@ JSON_KEYS = [
     "energy_rel_drift", "momentum_initial", "momentum_final", "temperature", "compressibility_factor",
     "max_overlap", "wall_collisions", "speed_histogram", "speed_ks_distance", "seed", "scene_kernel",
 ]
-
-
-def run(hs, *args, cwd=None):
-    return subprocess.run([hs, "run", *map(str, args)], capture_output=True, text=True, cwd=cwd, timeout=120)
-
-
-def run_json(hs, *args):
-    p = run(hs, *args, "--json", "-")
-    assert p.returncode == 0, p.stderr
-    return json.loads(p.stdout)
 
 
 def write_state(hs, path, *args):

@@ -1,11 +1,9 @@
 """`hardsphere run --engine event`: JSON contract, agreement of the keys with the stepper, bad input.
-
-(Lives here with the compare tests because tests/cli belongs to the stepper's owner; it can move.)
 """
-import json
-import subprocess
 
 import pytest
+
+from hs_run import run, run_json
 
 EVENT_KEYS = [
     "engine", "n", "packing_fraction", "box", "sim_time", "cells_per_dim", "scene_kernel", "precision",
@@ -15,16 +13,6 @@ EVENT_KEYS = [
     "pressure", "wall_pressure", "max_overlap", "speed_ks_distance", "speed_histogram", "seed",
     "collisions_per_second", "events_per_second", "events", "cell_crossings", "stale_events",
 ]
-
-
-def run(hs, *args, cwd=None):
-    return subprocess.run([hs, "run", *map(str, args)], capture_output=True, text=True, cwd=cwd, timeout=120)
-
-
-def run_json(hs, *args):
-    p = run(hs, *args, "--json", "-")
-    assert p.returncode == 0, p.stderr
-    return json.loads(p.stdout)
 
 
 def test_event_json_keys_and_physics(hs):
