@@ -21,22 +21,18 @@ using namespace hardsphere;
 
 namespace {
 
-ParticleSystem gas(std::int64_t n, double phi, std::uint64_t seed, std::array<bool, 3> periodic = {true, true, true}) {
-  InitSpec spec;
-  spec.n = n;
-  const double l = std::cbrt(double(n) * M_PI / 6.0 / phi);
-  spec.box = Box::from_lengths({l, l, l}, periodic);
-  spec.seed = seed;
-  return make_initial_state(spec);
-}
+using test::gas;
+using test::two;
 
-ParticleSystem two(Vec3d r1, Vec3d v1, Vec3d r2, Vec3d v2, double rad1 = 0.5, double rad2 = 0.5, double m1 = 1,
-                   double m2 = 1, double length = 10, std::array<bool, 3> periodic = {true, true, true}) {
-  ParticleSystem s;
-  s.box = Box::from_lengths({length, length, length}, periodic);
-  s.push_back(1, 1, rad1, m1, r1, v1);
-  s.push_back(2, 1, rad2, m2, r2, v2);
-  return s;
+//! The engine's next collision happens at exactly `t` from now: none just before, one just after.
+testing::AssertionResult collides_exactly_at(EventEngine& e, double t) {
+  const std::int64_t before = e.counters().collisions;
+  e.advance(t - 1e-12);
+  if (e.counters().collisions != before) return testing::AssertionFailure() << "collided before t = " << t;
+  e.advance(2e-12);
+  if (e.counters().collisions != before + 1)
+    return testing::AssertionFailure() << (e.counters().collisions - before) << " collisions across t = " << t;
+  return testing::AssertionSuccess();
 }
 
 // Kolafa's correction to Carnahan-Starling (T. Boublik and I. Nezbeda, Collect. Czech. Chem.
@@ -56,10 +52,7 @@ TEST(EventTwoBody, HeadOnCollidesAtTheExactTime) {
   const auto s = two({2, 5, 5}, {1, 0, 0}, {4, 5, 5}, {-1, 0, 0});
   for (int order = 0; order < 2; ++order) {
     EventEngine e(order ? two({4, 5, 5}, {-1, 0, 0}, {2, 5, 5}, {1, 0, 0}) : s);
-    e.advance(0.5 - 1e-12);
-    EXPECT_EQ(e.counters().collisions, 0);
-    e.advance(2e-12);
-    EXPECT_EQ(e.counters().collisions, 1);
+    ASSERT_TRUE(collides_exactly_at(e, 0.5));
     e.advance(0.25 - 1e-12);
     const auto out = e.state();
     const int a = order ? 1 : 0, b = 1 - a;  // a is the sphere that started at x = 2
@@ -80,10 +73,7 @@ TEST(EventTwoBody, ObliqueUnequalSizesAndMasses) {
     const Vec3d r1{2, 3, 5}, r2{5, 3.9, 5};
     const auto s = order ? two(r2, {0, 0, 0}, r1, {1, 0, 0}, 1.0, 0.5, 3, 1) : two(r1, {1, 0, 0}, r2, {0, 0, 0}, 0.5, 1.0, 1, 3);
     EventEngine e(s);
-    e.advance(1.8 - 1e-12);
-    EXPECT_EQ(e.counters().collisions, 0);
-    e.advance(2e-12);
-    ASSERT_EQ(e.counters().collisions, 1);
+    ASSERT_TRUE(collides_exactly_at(e, 1.8));
     const auto out = e.state();
     const std::size_t a = order ? 1 : 0, b = 1 - a;
     EXPECT_NEAR(out.vel[a].x, 0.04, 1e-14);
@@ -100,10 +90,7 @@ TEST(EventTwoBody, EqualMassObliqueAndAcrossThePeriodicBoundary) {
   // contact at x2 - x1 = 0.8 -> x1 = 10.2 (0.2 after the wrap), t = 0.7.
   const auto s = two({9.5, 5, 5}, {1, 0, 0}, {1.0, 5.6, 5}, {0, 0, 0});
   EventEngine e(s);
-  e.advance(0.7 - 1e-12);
-  EXPECT_EQ(e.counters().collisions, 0);
-  e.advance(2e-12);
-  ASSERT_EQ(e.counters().collisions, 1);
+  ASSERT_TRUE(collides_exactly_at(e, 0.7));
   const auto out = e.state();
   EXPECT_NEAR(out.vel[0].x, 0.36, 1e-14);
   EXPECT_NEAR(out.vel[0].y, -0.48, 1e-14);
@@ -217,7 +204,7 @@ TEST(EventCells, AgreesWithBruteForceEventDriven) {
   // Reference: the simplest possible EDMD (all pairs and walls examined after every event, all
   // spheres advanced together), with the same kernel. 80 spheres in a walled box, ~250
   // collisions: the same collisions, and states equal up to round-off amplified by the chaos.
-  const auto s = gas(80, 0.25, 9, {false, false, false});
+  const auto s = gas(80, 0.25, 9, std::nullopt, {false, false, false});
   std::vector<Vec3d> r = s.pos, v = s.vel;
   const std::size_t n = s.size();
   const double t_end = 2.0;

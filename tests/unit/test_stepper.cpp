@@ -15,16 +15,8 @@ using namespace hardsphere;
 
 namespace {
 
-ParticleSystem gas(std::int64_t n, double phi, std::uint64_t seed, std::optional<double> speed = std::nullopt,
-                   std::array<bool, 3> periodic = {true, true, true}) {
-  InitSpec spec;
-  spec.n = n;
-  const double l = std::cbrt(double(n) * M_PI / 6.0 / phi);
-  spec.box = Box::from_lengths({l, l, l}, periodic);
-  spec.seed = seed;
-  spec.speed = speed;
-  return make_initial_state(spec);
-}
+using test::gas;
+using test::two;
 
 ParticleSystem run(const ParticleSystem& sys, double dt, std::int64_t steps, StepperConfig cfg = {},
                    Precision p = Precision::Double, StepCounters* counters = nullptr) {
@@ -35,20 +27,12 @@ ParticleSystem run(const ParticleSystem& sys, double dt, std::int64_t steps, Ste
   return st->state();
 }
 
-ParticleSystem pair(Vec3d r1, Vec3d v1, Vec3d r2, Vec3d v2, double length = 10, std::array<bool, 3> periodic = {true, true, true}) {
-  ParticleSystem s;
-  s.box = Box::from_lengths({length, length, length}, periodic);
-  s.push_back(1, 1, 0.5, 1.0, r1, v1);
-  s.push_back(2, 1, 0.5, 1.0, r2, v2);
-  return s;
-}
-
 }  // namespace
 
 TEST(StepperTwoBody, HeadOnPairIsRewoundToExactContact) {
   // Gap 1 closing at speed 2: contact at t = 0.5, inside the second step of 0.3. After the
   // rewind, swap and re-advance by 0.1 the spheres sit 0.1 back from where they touched.
-  const auto s = pair({2, 5, 5}, {1, 0, 0}, {4, 5, 5}, {-1, 0, 0});
+  const auto s = two({2, 5, 5}, {1, 0, 0}, {4, 5, 5}, {-1, 0, 0});
   StepCounters c;
   const auto out = run(s, 0.3, 2, StepperConfig{}, Precision::Double, &c);
   EXPECT_EQ(c.collisions, 1);
@@ -62,7 +46,7 @@ TEST(StepperTwoBody, HeadOnPairIsRewoundToExactContact) {
 
 TEST(StepperTwoBody, PairAcrossThePeriodicBoundaryCollides) {
   // Same collision through the x faces: the minimum image is used.
-  const auto s = pair({0.5, 5, 5}, {-1, 0, 0}, {8.5, 5, 5}, {1, 0, 0});
+  const auto s = two({0.5, 5, 5}, {-1, 0, 0}, {8.5, 5, 5}, {1, 0, 0});
   StepCounters c;
   const auto out = run(s, 0.3, 2, StepperConfig{}, Precision::Double, &c);
   EXPECT_EQ(c.collisions, 1);
@@ -73,7 +57,7 @@ TEST(StepperTwoBody, PairAcrossThePeriodicBoundaryCollides) {
 
 TEST(StepperTwoBody, WallBounceMirrorsAtTheContactTime) {
   // Radius 0.5 at x = 1 moving at -1 toward the wall at 0: contact after 0.5, then 0.2 back.
-  auto s = pair({1, 5, 5}, {-1, 0, 0}, {7, 5, 5}, {0, 0, 0}, 10, {false, true, true});
+  auto s = two({1, 5, 5}, {-1, 0, 0}, {7, 5, 5}, {0, 0, 0}, 0.5, 0.5, 1, 1, 10, {false, true, true});
   StepCounters c;
   const auto out = run(s, 0.7, 1, StepperConfig{}, Precision::Double, &c);
   EXPECT_EQ(c.wall_collisions, 1);
