@@ -450,7 +450,6 @@ void FixHardSphere::resolve_step(hardsphere::ContactResolver<double, Mono> &res)
     }
   }
   if (res.has_candidates()) {
-    if (!sweep) res.expand_candidates();
     Hooks<Mono> hooks{*this};
     hardsphere::ContactTally tally;
     res.resolve(hooks, tally);

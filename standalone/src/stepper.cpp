@@ -478,7 +478,6 @@ void Stepper<Real, Mono>::step() {
   if (list_expired()) rebuild();
   scan_pair_list<Sweep>();
   if (resolver_.has_candidates()) {
-    if constexpr (!Sweep) resolver_.expand_candidates();
     Hooks<AllPeriodic> hooks{*this};
     resolver_.resolve(hooks, tally_);
   }

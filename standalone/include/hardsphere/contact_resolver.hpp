@@ -76,7 +76,6 @@ class ContactResolver {
     dt_ = dt;
     change_.assign(n, Change{dt, 0});
     changed_.clear();
-    swept_stamp_.assign(n, 0);
   }
   void set_uniform(Real sigma, Real mass) {
     sigma_ = sigma;
@@ -98,7 +97,6 @@ class ContactResolver {
     changed_.clear();
     for (std::uint32_t k = 0; k < change_.size(); ++k)
       if (change_[k].back != dt_) changed_.push_back(k);
-    std::fill(swept_stamp_.begin(), swept_stamp_.end(), 0);
   }
 
   //! Records a velocity change of sphere i that happened `back` before the end of the step.
@@ -124,10 +122,8 @@ class ContactResolver {
       candidates_.push_back({i, j, image, std::min(kernel::rewind_time(dr, dv, sigma), w), ci.count, cj.count});
   }
 
-  //! Predicts every contact of sphere s with its list partners over its window; with
-  //! `skip_swept`, partners already swept in this expansion are skipped (their pair with s
-  //! was considered then, from the same state).
-  void sweep_neighbours(std::uint32_t s, bool skip_swept = false) {
+  //! Predicts every contact of sphere s with its list partners over its window.
+  void sweep_neighbours(std::uint32_t s) {
     const Vec3<Real> ps = a_.pos[s];
     // A partner can have touched s within s's window only if their gap is below the closing
     // distance |v_s - v_q| w <= (|v_s| + v_max) w: that test needs q's position only, so most
@@ -136,7 +132,6 @@ class ContactResolver {
     const Real reach = Real(1.001) * (norm(a_.vel[s]) + speed_bound_) * change_[s].back;
     for (std::uint32_t k = a_.adj_start[s]; k < a_.adj_start[s + 1]; ++k) {
       const std::uint32_t q = a_.adj_partner[k];
-      if (skip_swept && swept_stamp_[q] == sweep_no_) continue;
       const std::uint8_t img = a_.adj_image[k];
       const Vec3<Real> dr = ps - a_.pos[q] - a_.image_shift[img];
       const Real far = sigma(s, q) + reach;
@@ -144,26 +139,6 @@ class ContactResolver {
       // Candidates keep the lower index first so their order matches a full scan.
       if (s < q) consider(s, q, img, dr, sigma(s, q), false);
       else consider(q, s, std::uint8_t(26 - img), -dr, sigma(s, q), false);
-    }
-  }
-
-  //! The end-of-step overlap test cannot see a graze earlier in the step by a sphere that
-  //! also collides later: sweep the neighbours of every sphere in a contact (transitively).
-  //! The sweeps find the scanned contacts again, so those are replaced by the sweeps'
-  //! results, and each pair is considered once.
-  void expand_candidates() {
-    ++sweep_no_;
-    to_sweep_.clear();
-    for (const Candidate& c : candidates_) to_sweep_.push_back(c.i), to_sweep_.push_back(c.j);
-    candidates_.clear();
-    for (std::size_t k = 0; k < to_sweep_.size(); ++k) {
-      const std::uint32_t s = to_sweep_[k];
-      if (swept_stamp_[s] == sweep_no_) continue;
-      swept_stamp_[s] = sweep_no_;
-      const std::size_t found = candidates_.size();
-      sweep_neighbours(s, true);
-      for (std::size_t n = found; n < candidates_.size(); ++n)
-        to_sweep_.push_back(candidates_[n].i == s ? candidates_[n].j : candidates_[n].i);
     }
   }
 
@@ -271,9 +246,6 @@ class ContactResolver {
   std::vector<Change> change_, moved_;  // moved_: scratch for permute()
   std::vector<std::uint32_t> changed_;
   std::vector<Candidate> candidates_, sorted_, heap_;
-  std::uint64_t sweep_no_ = 1;
-  std::vector<std::uint64_t> swept_stamp_;
-  std::vector<std::uint32_t> to_sweep_;  // expansion queue  // which expansion last swept each sphere
 };
 
 }  // namespace hardsphere
