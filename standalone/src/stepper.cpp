@@ -464,7 +464,27 @@ void Stepper<Real, Mono>::scan_pair_list() {
     const Real lim = Sweep ? sg + reach : sg;
     if (dot(d, d) < lim * lim) resolver_.consider(i, j, image, d, sg, !Sweep);
   };
-  for (const Pair& p : near_) test(p.i, p.j, kNoImage, pos[p.i] - pos[p.j]);
+  // Branch-free distance test over a chunk of the list, then consider() for the few hits:
+  // a rejected pair costs no branch and the position loads of a chunk overlap.
+  constexpr std::size_t kChunk = 256;
+  std::uint32_t hits[kChunk];
+  const Pair* __restrict pairs = near_.data();
+  for (std::size_t c0 = 0; c0 < near_.size(); c0 += kChunk) {
+    const std::size_t len = std::min(kChunk, near_.size() - c0);
+    std::uint32_t n = 0;
+    for (std::size_t k = 0; k < len; ++k) {
+      const Pair p = pairs[c0 + k];
+      const V3<Real> d = pos[p.i] - pos[p.j];
+      const Real sg = Mono ? sigma_ : r_[p.i] + r_[p.j];
+      const Real lim = Sweep ? sg + reach : sg;
+      hits[n] = std::uint32_t(k);
+      n += dot(d, d) < lim * lim;
+    }
+    for (std::uint32_t h = 0; h < n; ++h) {
+      const Pair p = pairs[c0 + hits[h]];
+      test(p.i, p.j, kNoImage, pos[p.i] - pos[p.j]);
+    }
+  }
   for (std::size_t k = 0; k < wrap_.size(); ++k) {
     const Pair p = wrap_[k];
     test(p.i, p.j, wrap_image_[k], pos[p.i] - pos[p.j] - image_shift_[wrap_image_[k]]);
