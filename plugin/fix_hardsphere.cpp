@@ -21,6 +21,9 @@
 #include "update.h"
 #include "utils.h"
 
+#include "hardsphere/errors.hpp"
+#include "hardsphere/stepper.hpp"
+
 using namespace LAMMPS_NS;
 using namespace FixConst;
 using hardsphere::kNoImage;
@@ -64,6 +67,7 @@ FixHardSphere::FixHardSphere(LAMMPS *lmp, int narg, char **arg) : Fix(lmp, narg,
   comm_forward = 4;  // velocity and wall-bounce time of ghosts
   virial_global_flag = 1;
   thermo_virial = 1;
+  maxexchange = 7;  // wall_back and start travel with their atom
   force_reneighbor = 1;
   next_reneighbor = -1;
   for (auto &s : zero_shift) s = V3{0, 0, 0};
@@ -77,6 +81,7 @@ FixHardSphere::~FixHardSphere()
 {
   atom->delete_callback(id, Atom::GROW);
   memory->destroy(wall_back);
+  memory->destroy(start);
 }
 
 int FixHardSphere::setmask() { return INITIAL_INTEGRATE | POST_FORCE | PRE_NEIGHBOR; }
@@ -230,7 +235,12 @@ void FixHardSphere::initial_integrate(int)
 {
   double **x = atom->x, **v = atom->v;
   const int nlocal = atom->nlocal;
+  n_wall_start = n_wall;
   for (int i = 0; i < nlocal; i++) {
+    // The step may have to be re-run from its start (resolve_globally): keep the velocity and
+    // the displacement, which unlike the position survive LAMMPS's re-wrapping and sorting.
+    start[i][0] = dt * v[i][0], start[i][1] = dt * v[i][1], start[i][2] = dt * v[i][2];
+    start[i][3] = v[i][0], start[i][4] = v[i][1], start[i][5] = v[i][2];
     x[i][0] += dt * v[i][0];
     x[i][1] += dt * v[i][1];
     x[i][2] += dt * v[i][2];
@@ -246,6 +256,7 @@ void FixHardSphere::initial_integrate(int)
       if (dp != 0.0) {
         n_wall += 1;
         wall_back[i] = std::min(wall_back[i], std::abs(x[i][d] - before) / (2.0 * std::abs(vb)));
+        start[i][d] += x[i][d] - before;  // the mirror is part of this step's move
       }
     }
   }
@@ -278,19 +289,6 @@ void FixHardSphere::build_adjacency()
   }
   adj_image.assign(adj_partner.size(), kNoImage);
 
-  // A ghost's list is complete only if all atoms within the neighbour cutoff of it are
-  // present, i.e. it lies within cutghost - cutneighmax of this sub-domain.
-  incomplete.assign(nall, 0);
-  const double reach = std::min({comm->cutghost[0], comm->cutghost[1], comm->cutghost[2]}) - neighbor->cutneighmax;
-  double **x = atom->x;
-  for (int i = atom->nlocal; i < nall; i++) {
-    double d2 = 0;
-    for (int d = 0; d < 3; d++) {
-      const double out = std::max({domain->sublo[d] - x[i][d], x[i][d] - domain->subhi[d], 0.0});
-      d2 += out * out;
-    }
-    incomplete[i] = reach <= 0 || d2 > reach * reach;
-  }
   adjacency_dirty = false;
 }
 
@@ -336,13 +334,118 @@ void FixHardSphere::on_collision(int i, int j, double back)
     step_virial[3] += r.x * dp.y;
     step_virial[4] += r.x * dp.z;
     step_virial[5] += r.y * dp.z;
-    if (incomplete[i] || incomplete[j]) n_edge += 1;
   }
+  if ((i < nlocal) != (j < nlocal)) met_owned[i < nlocal ? j : i] = 1;
   vprev[i] = vel[i];
   vprev[j] = vel[j];
   note_disp(i, ci), note_disp(j, cj), note_disp(i, pos[i]), note_disp(j, pos[j]);
   reflect(i);
   reflect(j);
+}
+
+bool FixHardSphere::ghosts_agree_with_owners()
+{
+  // A ghost copy evolves from what this rank sees around it. A collision chain that runs out
+  // past the ghost shell (ghosts near its outer edge miss partners) can give a ghost another
+  // history than its owner, and an owned atom that met that ghost a wrong result. Every such
+  // case shows as a ghost that met an owned atom and ended the step with another velocity
+  // than its owner (if the owned atom should have met the ghost but did not, its own ghost on
+  // the owner's side met that owner and disagrees there). Owners' final velocities are sent
+  // to the ghosts and compared; rounding differs between copies by ~1e-15.
+  const int nlocal = atom->nlocal, nall = nlocal + atom->nghost;
+  v_owner.resize(nall);
+  comm_mode = 1;
+  comm->forward_comm_fix(this, 3);
+  comm_mode = 0;
+  int bad = 0;
+  for (int g = nlocal; g < nall; g++) {
+    if (!met_owned[g]) continue;
+    const V3 d = vel[g] - v_owner[g];
+    const double scale = 1.0 + std::sqrt(hardsphere::dot(v_owner[g], v_owner[g]));
+    if (!(std::sqrt(hardsphere::dot(d, d)) <= 1e-9 * scale)) bad = 1;
+  }
+  int any = 0;
+  MPI_Allreduce(&bad, &any, 1, MPI_INT, MPI_MAX, world);
+  return any == 0;
+}
+
+void FixHardSphere::resolve_globally()
+{
+  // Re-run this step for all atoms at once with the standalone stepper (the same algorithm,
+  // so the same result a consistent ghost shell gives), on every rank from the same gathered
+  // start state; each rank keeps its own atoms. Rare: counted in f_ID[6].
+  const int nlocal = atom->nlocal;
+  constexpr int kFields = 10;  // tag, type, radius, mass, x[3], v[3]
+  std::vector<double> mine(std::size_t(nlocal) * kFields);
+  for (int i = 0; i < nlocal; i++) {
+    double *o = &mine[std::size_t(i) * kFields];
+    o[0] = double(atom->tag[i]), o[1] = atom->type[i], o[2] = atom->radius[i], o[3] = atom->rmass[i];
+    o[4] = x_start[i].x, o[5] = x_start[i].y, o[6] = x_start[i].z;
+    o[7] = start[i][3], o[8] = start[i][4], o[9] = start[i][5];
+  }
+  const int nprocs = comm->nprocs;
+  int count = nlocal * kFields;
+  std::vector<int> counts(nprocs), displs(nprocs, 0);
+  MPI_Allgather(&count, 1, MPI_INT, counts.data(), 1, MPI_INT, world);
+  for (int r = 1; r < nprocs; r++) displs[r] = displs[r - 1] + counts[r - 1];
+  std::vector<double> all(std::size_t(displs[nprocs - 1] + counts[nprocs - 1]));
+  MPI_Allgatherv(mine.data(), count, MPI_DOUBLE, all.data(), counts.data(), displs.data(), MPI_DOUBLE, world);
+
+  hardsphere::ParticleSystem sys;
+  for (int d = 0; d < 3; d++) {
+    sys.box.lo[d] = domain->boxlo[d], sys.box.hi[d] = domain->boxhi[d];
+    sys.box.periodic[d] = domain->periodicity[d] != 0;
+  }
+  auto wrap = [&](hardsphere::Vec3d p) {
+    for (int d = 0; d < 3; d++)
+      if (sys.box.periodic[d]) p[d] -= sys.box.length(d) * std::floor((p[d] - sys.box.lo[d]) / sys.box.length(d));
+    return p;
+  };
+  for (std::size_t k = 0; k < all.size(); k += kFields) {
+    const double *o = &all[k];
+    sys.push_back(std::int64_t(o[0]), int(o[1]), o[2], o[3], wrap({o[4], o[5], o[6]}), {o[7], o[8], o[9]});
+  }
+  hardsphere::ParticleSystem out;
+  hardsphere::StepCounters c;
+  try {
+    hardsphere::StepperConfig cfg;
+    cfg.dt = dt;
+    cfg.detect = sweep ? hardsphere::Detect::Sweep : hardsphere::Detect::Overlap;
+    cfg.max_events_per_step = max_events;
+    auto stepper = hardsphere::make_stepper(sys, cfg);
+    stepper->run(1);
+    out = stepper->state();
+    c = stepper->counters();
+  } catch (const std::exception &e) {
+    error->all(FLERR, std::string("fix hardsphere: re-running a step for all atoms failed: ") + e.what());
+  }
+
+  // Owned atoms move by the stepper's displacement from where they started (LAMMPS keeps its
+  // own periodic wrapping and image flags).
+  double **x = atom->x, **v = atom->v;
+  for (int i = 0; i < nlocal; i++) {
+    const std::int64_t tag = std::int64_t(atom->tag[i]);
+    const auto it = std::lower_bound(out.id.begin(), out.id.end(), tag);
+    const std::size_t k = std::size_t(it - out.id.begin());
+    hardsphere::Vec3d d = out.pos[k] - wrap(x_start[i]);
+    for (int a = 0; a < 3; a++)
+      if (sys.box.periodic[a]) d[a] -= sys.box.length(a) * std::nearbyint(d[a] / sys.box.length(a));
+    const V3 p = x_start[i] + d;
+    x[i][0] = p.x, x[i][1] = p.y, x[i][2] = p.z;
+    v[i][0] = out.vel[k].x, v[i][1] = out.vel[k].y, v[i][2] = out.vel[k].z;
+    note_disp(i, p);
+  }
+  // Totals of the step: the stepper counted every atom, so rank 0 reports them.
+  n_wall = n_wall_start;
+  n_coll_step = 0;
+  std::fill(step_virial, step_virial + 6, 0.0);
+  if (comm->me == 0) {
+    n_wall += double(c.wall_collisions);
+    n_coll_step = double(c.collisions);
+    for (int k = 0; k < 6; k++) step_virial[k] = c.pair_virial_tensor[k];
+    n_unresolved += double(c.unresolved_steps);
+  }
+  n_global += 1;
 }
 
 template <bool Mono>
@@ -381,6 +484,9 @@ void FixHardSphere::post_force(int vflag)
     tags[i] = std::int64_t(atom->tag[i]);
   }
   vprev = vel;
+  met_owned.assign(nall, 0);
+  x_start.resize(nlocal);  // where the owned atoms started this step, in LAMMPS's current wrapping
+  for (int i = 0; i < nlocal; i++) x_start[i] = pos[i] - V3{start[i][0], start[i][1], start[i][2]};
   for (int i = 0; i < nlocal; i++) note_disp(i, pos[i]);
   n_coll_step = 0;
   std::fill(step_virial, step_virial + 6, 0.0);
@@ -395,6 +501,7 @@ void FixHardSphere::post_force(int vflag)
     x[i][0] = pos[i].x, x[i][1] = pos[i].y, x[i][2] = pos[i].z;
     v[i][0] = vel[i].x, v[i][1] = vel[i].y, v[i][2] = vel[i].z;
   }
+  if (!ghosts_agree_with_owners()) resolve_globally();
   n_coll += n_coll_step;
   for (int k = 0; k < 3; k++) virial_sum += step_virial[k];
   sim_time += dt;
@@ -460,8 +567,8 @@ void FixHardSphere::resolve_step(hardsphere::ContactResolver<double, Mono> &res)
 
 double FixHardSphere::compute_vector(int n)
 {
-  double loc[kVectorSize] = {n_coll, n_coll_step, virial_sum, sim_time, n_wall, n_edge, n_forced, n_unresolved};
-  if (n == 3 || n == 6) return loc[n];  // identical on every rank
+  double loc[kVectorSize] = {n_coll, n_coll_step, virial_sum, sim_time, n_wall, n_global, n_forced, n_unresolved};
+  if (n == 3 || n == 5 || n == 6) return loc[n];  // identical on every rank
   double all = 0;
   MPI_Allreduce(&loc[n], &all, 1, MPI_DOUBLE, MPI_SUM, world);
   return all;
@@ -473,10 +580,16 @@ int FixHardSphere::pack_forward_comm(int n, int *list_, double *buf, int, int *)
   int m = 0;
   for (int k = 0; k < n; k++) {
     const int j = list_[k];
+    if (comm_mode == 1 && j >= atom->nlocal) {  // a ghost passed on: its owner's value
+      buf[m++] = v_owner[j].x;
+      buf[m++] = v_owner[j].y;
+      buf[m++] = v_owner[j].z;
+      continue;
+    }
     buf[m++] = v[j][0];
     buf[m++] = v[j][1];
     buf[m++] = v[j][2];
-    buf[m++] = wall_back[j];
+    if (comm_mode == 0) buf[m++] = wall_back[j];
   }
   return m;
 }
@@ -486,6 +599,11 @@ void FixHardSphere::unpack_forward_comm(int n, int first, double *buf)
   double **v = atom->v;
   int m = 0;
   for (int i = first; i < first + n; i++) {
+    if (comm_mode == 1) {  // owners' final velocities, kept apart from the ghosts' own results
+      v_owner[i] = V3{buf[m], buf[m + 1], buf[m + 2]};
+      m += 3;
+      continue;
+    }
     v[i][0] = buf[m++];
     v[i][1] = buf[m++];
     v[i][2] = buf[m++];
@@ -493,25 +611,35 @@ void FixHardSphere::unpack_forward_comm(int n, int first, double *buf)
   }
 }
 
-void FixHardSphere::grow_arrays(int nmax) { memory->grow(wall_back, nmax, "hardsphere:wall_back"); }
+void FixHardSphere::grow_arrays(int nmax)
+{
+  memory->grow(wall_back, nmax, "hardsphere:wall_back");
+  memory->grow(start, nmax, 6, "hardsphere:start");
+}
 
-void FixHardSphere::copy_arrays(int i, int j, int) { wall_back[j] = wall_back[i]; }
+void FixHardSphere::copy_arrays(int i, int j, int)
+{
+  wall_back[j] = wall_back[i];
+  for (int k = 0; k < 6; k++) start[j][k] = start[i][k];
+}
 
 int FixHardSphere::pack_exchange(int i, double *buf)
 {
   buf[0] = wall_back[i];
-  return 1;
+  for (int k = 0; k < 6; k++) buf[1 + k] = start[i][k];
+  return 7;
 }
 
 int FixHardSphere::unpack_exchange(int nlocal, double *buf)
 {
   wall_back[nlocal] = buf[0];
-  return 1;
+  for (int k = 0; k < 6; k++) start[nlocal][k] = buf[1 + k];
+  return 7;
 }
 
 double FixHardSphere::memory_usage()
 {
   const double n = double(pos.size());
-  return double(atom->nmax) * sizeof(double) + n * (4 * sizeof(V3) + 2 * sizeof(double) + 9) +
+  return double(atom->nmax) * 7 * sizeof(double) + n * (4 * sizeof(V3) + 2 * sizeof(double) + 9) +
          double(adj_partner.size()) * 5;
 }

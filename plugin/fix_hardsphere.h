@@ -6,8 +6,9 @@
 //! order with hardsphere::ContactResolver (the standalone stepper's implementation) over
 //! owned + ghost atoms. Needs atom_style sphere and pair_style hardsphere (neighbour cutoff).
 //! Global vector (f_ID[1..8]): collisions (cumulative), collisions in the last step, sum of
-//! r_ij.dp_i over collisions, simulated time, wall bounces, collisions with a ghost whose
-//! neighbour list is incomplete, forced reneighbourings, steps that hit max_events.
+//! r_ij.dp_i over collisions, simulated time, wall bounces, steps re-run for all atoms at once
+//! because a ghost copy disagreed with its owner, forced reneighbourings, steps that hit
+//! max_events.
 #include <cstdint>
 #include <vector>
 
@@ -47,6 +48,8 @@ class FixHardSphere : public Fix {
   void build_adjacency();
   void check_setup();
   void on_collision(int i, int j, double back);
+  bool ghosts_agree_with_owners();
+  void resolve_globally();
   void reflect(int k);
   void note_disp(int k, const V3 &p);
 
@@ -60,6 +63,14 @@ class FixHardSphere : public Fix {
   std::int64_t max_events = 100000000;
 
   double *wall_back = nullptr;  //!< per atom: time back from step end of this step's wall bounce (dt: none)
+
+  // Cross-check of ghost copies against their owners (see ghosts_agree_with_owners).
+  int comm_mode = 0;                    //!< forward comm: 0 velocity + bounce time, 1 owners' final velocity
+  std::vector<std::uint8_t> met_owned;  //!< per ghost: collided with an owned atom in this step
+  std::vector<V3> v_owner;              //!< per ghost: its owner's velocity at the end of the step
+  double **start = nullptr;             //!< per atom: this step's drift displacement, velocity before it
+  std::vector<V3> x_start;              //!< scratch: owned positions at the start of the step
+  double n_wall_start = 0;
   bool adjacency_dirty = true;
 
   // Local (owned + ghost) arrays for the resolver.
@@ -67,7 +78,7 @@ class FixHardSphere : public Fix {
   std::vector<double> rad, mass;
   std::vector<std::int64_t> tags;
   std::vector<std::uint32_t> adj_start, adj_partner;
-  std::vector<std::uint8_t> adj_image, incomplete;
+  std::vector<std::uint8_t> adj_image;
   V3 zero_shift[27];
   hardsphere::ContactResolver<double, true> res_mono;
   hardsphere::ContactResolver<double, false> res_poly;
@@ -76,7 +87,7 @@ class FixHardSphere : public Fix {
   // atom with the smaller tag; compute_vector sums over ranks).
   double step_virial[6] = {0, 0, 0, 0, 0, 0};
   double max_disp2 = 0.0;
-  double n_coll = 0, n_coll_step = 0, virial_sum = 0, n_wall = 0, n_edge = 0, n_forced = 0, n_unresolved = 0;
+  double n_coll = 0, n_coll_step = 0, virial_sum = 0, n_wall = 0, n_global = 0, n_forced = 0, n_unresolved = 0;
   double sim_time = 0.0;
 };
 

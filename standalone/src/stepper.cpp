@@ -64,6 +64,7 @@ class Stepper final : public StepperBase {
   const StepCounters& counters() const override {
     counters_.collisions = tally_.collisions;
     counters_.pair_virial = tally_.virial;
+    counters_.pair_virial_tensor = tally_.virial_tensor;
     counters_.unresolved_steps = tally_.unresolved_steps;
     return counters_;
   }

@@ -40,8 +40,28 @@ TEST(StepperTwoBody, HeadOnPairIsRewoundToExactContact) {
   EXPECT_NEAR(out.pos[1].x, 3.6, 1e-12);
   EXPECT_DOUBLE_EQ(out.vel[0].x, -1.0);
   EXPECT_DOUBLE_EQ(out.vel[1].x, 1.0);
-  // Virial r_ij . dp_i = |r| * J = 1 * 2 for unit masses.
+  // Virial r_ij . dp_i = |r| * J = 1 * 2 for unit masses, all of it in the xx component.
   EXPECT_NEAR(c.pair_virial, 2.0, 1e-12);
+  EXPECT_NEAR(c.pair_virial_tensor[0], 2.0, 1e-12);
+  for (int k = 1; k < 6; ++k) EXPECT_NEAR(c.pair_virial_tensor[k], 0.0, 1e-15) << "component " << k;
+}
+
+TEST(StepperTwoBody, ObliqueImpactVirialTensor) {
+  // Contact normal (1, 1, 0)/sqrt(2) at unit distance, sphere 1 moving along +x into sphere 2
+  // at rest: J = |dv.n| = 1/sqrt(2) along n, so r (x) dp = J n (x) n with n (x) n = 1/2 in
+  // xx, yy and xy: each component 1/(2 sqrt(2)), trace = r.dp = J.
+  const double h = 1 / std::sqrt(2.0);
+  // Sphere 1 reaches the contact point 0.05 into a step of 0.2.
+  const auto s = two({5 - 0.5 * h - 0.05, 5 - 0.5 * h, 5}, {1, 0, 0}, {5 + 0.5 * h, 5 + 0.5 * h, 5}, {0, 0, 0});
+  StepCounters c;
+  run(s, 0.2, 1, StepperConfig{}, Precision::Double, &c);
+  ASSERT_EQ(c.collisions, 1);
+  const double q = 0.5 * h;
+  EXPECT_NEAR(c.pair_virial_tensor[0], q, 1e-12);
+  EXPECT_NEAR(c.pair_virial_tensor[1], q, 1e-12);
+  EXPECT_NEAR(c.pair_virial_tensor[3], q, 1e-12);
+  EXPECT_NEAR(c.pair_virial_tensor[2], 0.0, 1e-15);
+  EXPECT_NEAR(c.pair_virial, h, 1e-12);
 }
 
 TEST(StepperTwoBody, PairAcrossThePeriodicBoundaryCollides) {

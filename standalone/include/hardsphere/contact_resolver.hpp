@@ -11,6 +11,7 @@
 //! Indices are the engine's local ones (cell order in the stepper, owned + ghost atoms in
 //! LAMMPS). Engines own the arrays; the resolver keeps per-sphere windows and counters.
 #include <algorithm>
+#include <array>
 #include <cstdint>
 #include <limits>
 #include <vector>
@@ -52,6 +53,8 @@ struct ContactTally {
   std::int64_t collisions = 0;
   std::int64_t unresolved_steps = 0;  //!< steps that hit the event limit with contacts left
   double virial = 0;                  //!< sum over collisions of r_ij . dp_i at contact
+  //! The same sum as a tensor, r_ij (x) dp_i: xx, yy, zz, xy, xz, yz (LAMMPS's virial order).
+  std::array<double, 6> virial_tensor{0, 0, 0, 0, 0, 0};
 };
 
 //! Mono: every sphere has the diameter `sigma` and mass `mass` given to set_uniform().
@@ -236,10 +239,21 @@ class ContactResolver {
     ri -= back * vi;
     rj -= back * vj;
     const Vec3<Real> contact = ri - rj - shift;
+    const Vec3<Real> vi_before = vi;
     double virial;
     if constexpr (Mono) virial = double(mass_) * double(kernel::collide_equal_mass(contact, vi, vj));
     else virial = double(kernel::collide(contact, vi, vj, a_.mass[i], a_.mass[j]));
     if (virial == 0.0) return false;  // receding at the rewound contact: nothing to resolve
+    const double mi = Mono ? double(mass_) : double(a_.mass[i]);
+    const Vec3<Real> dvi = vi - vi_before;
+    const double dp[3] = {mi * double(dvi.x), mi * double(dvi.y), mi * double(dvi.z)};
+    const double r[3] = {double(contact.x), double(contact.y), double(contact.z)};
+    tally.virial_tensor[0] += r[0] * dp[0];
+    tally.virial_tensor[1] += r[1] * dp[1];
+    tally.virial_tensor[2] += r[2] * dp[2];
+    tally.virial_tensor[3] += r[0] * dp[1];
+    tally.virial_tensor[4] += r[0] * dp[2];
+    tally.virial_tensor[5] += r[1] * dp[2];
     a_.pos[i] = ri + back * vi;
     a_.pos[j] = rj + back * vj;
     a_.vel[i] = vi;

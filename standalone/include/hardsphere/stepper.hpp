@@ -53,6 +53,7 @@ struct StepCounters {
   std::int64_t rebuilds = 0;          //!< cell sorts + pair-list builds
   std::int64_t unresolved_steps = 0;  //!< steps that hit max_events_per_step with contacts left
   double pair_virial = 0;             //!< sum over collisions of r_ij . dp_i (>= 0)
+  std::array<double, 6> pair_virial_tensor{0, 0, 0, 0, 0, 0};  //!< r_ij (x) dp_i: xx yy zz xy xz yz
   std::array<double, 3> wall_impulse{0, 0, 0};  //!< momentum given to the walls of each axis
 };
 
