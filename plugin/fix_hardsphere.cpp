@@ -55,8 +55,12 @@ FixHardSphere::FixHardSphere(LAMMPS *lmp, int narg, char **arg) : Fix(lmp, narg,
       if (val == "auto") ghost_auto = true;
       else if (val == "user") ghost_auto = false;
       else error->all(FLERR, "fix hardsphere: ghost must be 'auto' or 'user', got '" + val + "'");
+    } else if (key == "path") {
+      if (val == "auto") ghost_path_only = false;
+      else if (val == "ghosts") ghost_path_only = true;
+      else error->all(FLERR, "fix hardsphere: path must be 'auto' or 'ghosts', got '" + val + "'");
     } else {
-      error->all(FLERR, "fix hardsphere: unknown keyword '" + key + "' (known: detect, max_events, ghost)");
+      error->all(FLERR, "fix hardsphere: unknown keyword '" + key + "' (known: detect, max_events, ghost, path)");
     }
   }
   time_integrate = 1;
@@ -107,6 +111,11 @@ void FixHardSphere::init()
       error->all(FLERR, std::string("fix hardsphere is the time integrator: remove fix ") + modify->fix[f]->id + " (" +
                             modify->fix[f]->style + ")");
   dt = update->dt;
+  serial = comm->nprocs == 1 && !ghost_path_only;
+  if (serial) {
+    list = nullptr;
+    return;  // the stepper needs no ghost shell and no LAMMPS neighbour list
+  }
 
   // Chains of collisions reach across the ghost boundary: with ghosts out to twice the
   // neighbour cutoff, every ghost within one cutoff of this sub-domain has a complete list.
@@ -145,13 +154,22 @@ void FixHardSphere::record_build()
   adjacency_dirty = true;
 }
 
-void FixHardSphere::setup_pre_neighbor() { record_build(); }
+void FixHardSphere::setup_pre_neighbor()
+{
+  if (serial) slots_dirty = true;
+  else record_build();
+}
 
-void FixHardSphere::pre_neighbor() { record_build(); }
+void FixHardSphere::pre_neighbor()
+{
+  if (serial) slots_dirty = true;  // LAMMPS has wrapped and may have sorted its atoms
+  else record_build();
+}
 
 void FixHardSphere::setup(int vflag)
 {
   check_setup();
+  if (serial) serial_setup();
   for (int i = 0; i < atom->nlocal; i++) wall_back[i] = dt;
   // Thermo at a run's first step reports the last resolved step's collision virial (zero
   // before any step): setup resolves no collisions itself.
@@ -202,7 +220,9 @@ void FixHardSphere::check_setup()
                           num(4.0 * vmax * dt) + " >= skin " + num(neighbor->skin) +
                           "; reduce 'timestep' or raise the skin ('neighbor <skin> bin')");
 
-  // No overlapping pairs at the start (a collision cannot be rewound from inside a sphere).
+  // No overlapping pairs at the start (a collision cannot be rewound from inside a sphere);
+  // the serial path checks that when it hands the atoms to the stepper.
+  if (serial) return;
   if (!list) error->all(FLERR, "fix hardsphere: neighbour list missing");
   long long overlaps = 0;
   std::string example;
@@ -233,6 +253,10 @@ void FixHardSphere::check_setup()
 
 void FixHardSphere::initial_integrate(int)
 {
+  if (serial) {
+    serial_step();
+    return;
+  }
   double **x = atom->x, **v = atom->v;
   const int nlocal = atom->nlocal;
   n_wall_start = n_wall;
@@ -469,6 +493,12 @@ struct FixHardSphere::Hooks {
 
 void FixHardSphere::post_force(int vflag)
 {
+  if (serial) {  // the step was taken in initial_integrate; report its collision virial
+    v_init(vflag);
+    if (vflag_global)
+      for (int k = 0; k < 6; k++) virial[k] = step_virial[k] / dt;
+    return;
+  }
   // Ghosts need the owners' current velocities and wall-bounce times.
   comm->forward_comm_fix(this);
   if (adjacency_dirty) build_adjacency();

@@ -10,10 +10,12 @@
 //! because a ghost copy disagreed with its owner, forced reneighbourings, steps that hit
 //! max_events.
 #include <cstdint>
+#include <memory>
 #include <vector>
 
 #include "fix.h"
 #include "hardsphere/contact_resolver.hpp"
+#include "hardsphere/stepper.hpp"
 
 namespace LAMMPS_NS {
 
@@ -50,6 +52,10 @@ class FixHardSphere : public Fix {
   void on_collision(int i, int j, double back);
   bool ghosts_agree_with_owners();
   void resolve_globally();
+  // Serial path (fix_hardsphere_serial.cpp): the standalone stepper on the owned atoms.
+  void serial_setup();
+  void serial_step();
+  void serial_map();
   void reflect(int k);
   void note_disp(int k, const V3 &p);
 
@@ -61,6 +67,22 @@ class FixHardSphere : public Fix {
   bool mono = false;
   double mono_sigma = 0.0, mono_mass = 0.0;
   std::int64_t max_events = 100000000;
+
+  // Serial runs (one rank) hand the owned atoms to the standalone stepper, which handles
+  // periodic images itself: no ghosts, no neighbour list, the standalone result by construction.
+  // 'path ghosts' forces the owned + ghost path (the MPI one) in serial too.
+  bool ghost_path_only = false;
+  bool serial = false;
+  std::unique_ptr<hardsphere::StepperBase> stepper;
+  std::vector<std::int64_t> slot_id;
+  std::vector<int> slot_local;             //!< stepper slot -> LAMMPS local index
+  std::vector<int> tag_local;              //!< scratch: atom tag -> LAMMPS local index
+  std::vector<std::uint32_t> local_slot;   //!< LAMMPS local index -> stepper slot
+  std::vector<V3> slot_shift;              //!< LAMMPS position - stepper position (box multiples)
+  std::vector<V3> slot_pos, slot_vel;      //!< the stepper's state as last written to LAMMPS
+  std::vector<double> v_written;           //!< the velocities written, in LAMMPS's atom order
+  std::int64_t slot_rebuilds = -1;         //!< stepper rebuilds when the slots were mapped
+  bool slots_dirty = true;                 //!< LAMMPS re-wrapped or re-ordered its atoms
 
   double *wall_back = nullptr;  //!< per atom: time back from step end of this step's wall bounce (dt: none)
 

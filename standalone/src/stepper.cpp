@@ -74,6 +74,17 @@ class Stepper final : public StepperBase {
   }
   std::array<int, 3> cells_per_dim() const override { return grid_.counts(); }
   double skin() const override { return double(skin_); }
+  std::size_t size() const override { return pos_.size(); }
+  void copy_ids(std::int64_t* out) const override { std::copy(id_.begin(), id_.end(), out); }
+  void copy_state(Vec3d* pos, Vec3d* vel) const override {
+    for (std::size_t k = 0; k < pos_.size(); ++k) {
+      pos[k] = {double(pos_[k].x), double(pos_[k].y), double(pos_[k].z)};
+      vel[k] = {double(vel_[k].x), double(vel_[k].y), double(vel_[k].z)};
+    }
+  }
+  void set_velocities(const Vec3d* vel) override {
+    for (std::size_t k = 0; k < vel_.size(); ++k) vel_[k] = {Real(vel[k].x), Real(vel[k].y), Real(vel[k].z)};
+  }
   std::string scene_kernel() const override {
     return std::string(all_periodic_ ? "periodic" : "walls") + (Mono ? ",mono" : ",poly") +
            (sizeof(Real) == sizeof(float) ? ",float" : ",double") + (sweep_ ? ",sweep" : ",overlap");

@@ -134,11 +134,12 @@ write_data lmp.data
         # Thermo pressure averaged over every step = n T + W/(3 V t): the standalone's pressure.
         ok &= check(abs(last["f_pav"] / ref["pressure"] - 1) < 1e-6, tag + f"<press> {last['f_pav']:.10g} vs standalone {ref['pressure']:.10g}")
 
-        # A ghost shell only one neighbour cutoff deep ('ghost user' keeps LAMMPS's default):
-        # collision chains run past it, ghost copies disagree with their owners, and those steps
-        # must be re-run for all atoms; the result is still the stepper's, energy exact.
+        # The owned + ghost path (MPI's; 'path ghosts' forces it in serial) with a ghost shell
+        # only one neighbour cutoff deep ('ghost user' keeps LAMMPS's default): collision chains
+        # run past it, ghost copies disagree with their owners, and those steps must be re-run
+        # for all atoms; the result is still the stepper's, energy exact.
         script_g = HEADER.format(data="init.data", skin=0.5, dt=0.01).replace(
-            "fix hs all hardsphere", "fix hs all hardsphere ghost user") + """
+            "fix hs all hardsphere", "fix hs all hardsphere ghost user path ghosts") + """
 thermo_style custom step ke f_hs[1] f_hs[6]
 thermo_modify format float %.17g
 thermo 200
@@ -252,7 +253,7 @@ def errors(args):
             "fix without pair": (base.replace("pair_style hardsphere\npair_coeff * *\n", "") + "run 1\n",
                                  "needs 'pair_style hardsphere'"),
             "overlapping atoms": (base + "set atom 1 x 0.0 y 0.0 z 0.0\nset atom 2 x 0.3 y 0.0 z 0.0\nrun 1\n",
-                                  "overlapping pair"),
+                                  "overlap"),
             "dt too large": (HEADER.format(data="init.data", skin=0.5, dt=0.2) + "run 1\n", "timestep too large"),
             "neigh_modify delay": (base + "neigh_modify every 1 delay 5\nrun 1\n", "neigh_modify every 1 delay 0"),
             "diameter too small": (base + "pair_coeff * * 0.5\nrun 1\n", "raise that pair_coeff diameter"),
@@ -305,6 +306,21 @@ run 100
                     and abs(r3[0]["Temp"] - 1.2) < 1e-12,
                     f"np={args.np}: velocity scale (T = 1.2) + displace_atoms between runs: T {r3[0]['Temp']:.12f}, "
                     f"{r3[-1]['f_hs[1]']:.0f} collisions, energy kept")
+        # Another fix changing velocities during a run (a Berendsen thermostat to T = 2): the
+        # hard-sphere step takes them up, the gas heats, energy changes only by the rescaling.
+        script = """read_restart r.restart
+neigh_modify every 1 delay 0 check yes
+fix hs all hardsphere
+fix tb all temp/berendsen 2.0 2.0 0.05
+thermo_style custom step temp f_hs[1]
+thermo 300
+run 300
+"""
+        rc, out4 = run_lmp(args, script, d, np_=args.np)
+        r4 = thermo(out4)
+        ok &= check(abs(r4[-1]["Temp"] - 2.0) < 0.05 and r4[-1]["f_hs[1]"] > 1000,
+                    f"np={args.np}: fix temp/berendsen during the run: T {r4[0]['Temp']:.3f} -> {r4[-1]['Temp']:.3f} "
+                    f"(target 2), {r4[-1]['f_hs[1]']:.0f} collisions")
         blocks, cur = [], None
         for line in (out1 + out2).splitlines():
             s = line.split()

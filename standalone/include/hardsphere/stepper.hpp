@@ -68,6 +68,15 @@ class StepperBase {
   virtual std::array<int, 3> cells_per_dim() const = 0;
   virtual double skin() const = 0;
   virtual std::string scene_kernel() const = 0;  //!< which specialisation runs, e.g. "periodic,mono"
+
+  //! For adapters that keep their own copy of the spheres (the LAMMPS fix): the spheres in the
+  //! engine's internal order, which changes only when counters().rebuilds does. Positions are
+  //! the engine's (periodic coordinates may be re-wrapped at a rebuild).
+  virtual std::size_t size() const = 0;
+  virtual void copy_ids(std::int64_t* out) const = 0;
+  virtual void copy_state(Vec3d* pos, Vec3d* vel) const = 0;
+  //! Replaces every velocity (internal order), e.g. after a thermostat changed them.
+  virtual void set_velocities(const Vec3d* vel) = 0;
 };
 
 //! Validates the configuration against the system (throws InputError) and builds the engine.

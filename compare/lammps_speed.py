@@ -1,0 +1,89 @@
+#!/usr/bin/env python3
+"""Atom-steps per second of `lmp_hs` + `fix hardsphere` against the standalone stepper on the
+same state (a data file written by `hardsphere run`), serial and on 2 MPI ranks; prints a
+markdown table with the adapter overhead. Speed is reported, never asserted.
+
+  compare/lammps_speed.py --hs build/standalone/hardsphere --lmp build/plugin/lmp_hs [--n 8000 64000]
+"""
+import argparse
+import json
+import re
+import subprocess
+import tempfile
+from pathlib import Path
+
+INPUT = """units lj
+atom_style sphere
+boundary p p p
+read_data {data}
+pair_style hardsphere
+pair_coeff * *
+neighbor {skin} bin
+neigh_modify every 1 delay 0 check yes
+timestep {dt}
+fix hs all hardsphere{extra}
+thermo_style custom step temp press f_hs[1]
+thermo {thermo}
+run {steps}
+"""
+
+
+def standalone(hs, d, *opts):
+    p = subprocess.run([hs, "run", *opts, "--json", "-"], cwd=d, capture_output=True, text=True, check=True)
+    return json.loads(p.stdout)
+
+
+def lammps(lmp, d, script, np_, mpirun):
+    (Path(d) / "in.speed").write_text(script)
+    cmd = [lmp, "-in", "in.speed", "-log", "none", "-echo", "none"]
+    if np_ > 1:
+        cmd = [mpirun, "--allow-run-as-root", "--oversubscribe", "-np", str(np_)] + cmd
+    out = subprocess.run(cmd, cwd=d, capture_output=True, text=True, check=True).stdout
+    m = re.search(r"Loop time of ([0-9.eE+-]+) on (\d+) procs for (\d+) steps with (\d+) atoms", out)
+    coll = float([ln.split() for ln in out.splitlines() if ln.split()[:1] and ln.split()[0].isdigit()][-1][3])
+    return float(m.group(1)), coll
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--hs", required=True)
+    ap.add_argument("--lmp", required=True)
+    ap.add_argument("--mpirun", default="mpirun")
+    ap.add_argument("--n", type=int, nargs="+", default=[8000, 64000])
+    ap.add_argument("--phi", type=float, default=0.3)
+    ap.add_argument("--dt", type=float, default=0.01)
+    ap.add_argument("--steps", type=int, default=500)
+    ap.add_argument("--repeat", type=int, default=3, help="best of this many runs per engine")
+    a = ap.parse_args()
+    a.hs, a.lmp = str(Path(a.hs).resolve()), str(Path(a.lmp).resolve())
+    rows = []
+    with tempfile.TemporaryDirectory() as d:
+        for n in a.n:
+            standalone(a.hs, d, "--n", str(n), "--phi", str(a.phi), "--steps", "200", "--dt", str(a.dt),
+                       "--write-data", "state.data")
+            sa = [standalone(a.hs, d, "--read-data", "state.data", "--steps", str(a.steps), "--dt", str(a.dt))
+                  for _ in range(a.repeat)]
+            t_sa = min(j["loop_cpu_seconds"] for j in sa)
+            rate_sa = n * a.steps / t_sa
+            row = {"n": n, "standalone": rate_sa, "collisions": sa[0]["collisions"]}
+            for label, np_, extra in (("lmp_hs serial", 1, ""), ("lmp_hs serial, path ghosts", 1, " path ghosts"),
+                                      ("lmp_hs 2 ranks", 2, "")):
+                script = INPUT.format(data="state.data", skin=0.5, dt=a.dt, extra=extra, thermo=100, steps=a.steps)
+                runs = [lammps(a.lmp, d, script, np_, a.mpirun) for _ in range(a.repeat)]
+                t = min(r[0] for r in runs)
+                row[label] = n * a.steps / t
+                row[label + " collisions"] = runs[0][1]
+            rows.append(row)
+    print(f"phi {a.phi}, dt {a.dt}, {a.steps} steps, best of {a.repeat}; atom-steps/s "
+          "(standalone: CPU time of the step loop; LAMMPS: its loop time)\n")
+    print("| N | standalone | lmp_hs serial | overhead | lmp_hs serial, `path ghosts` | lmp_hs 2 ranks | collisions (standalone / serial) |")
+    print("|---|---|---|---|---|---|---|")
+    for r in rows:
+        over = r["standalone"] / r["lmp_hs serial"] - 1
+        print(f"| {r['n']} | {r['standalone']:.3g} | {r['lmp_hs serial']:.3g} | {100 * over:+.0f}% | "
+              f"{r['lmp_hs serial, path ghosts']:.3g} | {r['lmp_hs 2 ranks']:.3g} | "
+              f"{r['collisions']} / {r['lmp_hs serial collisions']:.0f} |")
+
+
+if __name__ == "__main__":
+    main()
