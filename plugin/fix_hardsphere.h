@@ -81,6 +81,10 @@ class FixHardSphere : public Fix {
   std::vector<V3> slot_shift;              //!< LAMMPS position - stepper position (box multiples)
   std::vector<V3> slot_pos, slot_vel;      //!< the stepper's state as last written to LAMMPS
   std::vector<double> v_written;           //!< the velocities written, in LAMMPS's atom order
+  struct SlotState {
+    V3 x, v;
+  };
+  std::vector<SlotState> slot_out;         //!< scratch: what each slot writes to LAMMPS
   std::int64_t slot_rebuilds = -1;         //!< stepper rebuilds when the slots were mapped
   bool slots_dirty = true;                 //!< LAMMPS re-wrapped or re-ordered its atoms
 
