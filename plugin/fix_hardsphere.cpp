@@ -415,31 +415,19 @@ void FixHardSphere::resolve_globally()
   std::vector<double> all(std::size_t(displs[nprocs - 1] + counts[nprocs - 1]));
   MPI_Allgatherv(mine.data(), count, MPI_DOUBLE, all.data(), counts.data(), displs.data(), MPI_DOUBLE, world);
 
-  hardsphere::ParticleSystem sys;
-  for (int d = 0; d < 3; d++) {
-    sys.box.lo[d] = domain->boxlo[d], sys.box.hi[d] = domain->boxhi[d];
-    sys.box.periodic[d] = domain->periodicity[d] != 0;
-  }
-  auto wrap = [&](hardsphere::Vec3d p) {
-    for (int d = 0; d < 3; d++)
-      if (sys.box.periodic[d]) p[d] -= sys.box.length(d) * std::floor((p[d] - sys.box.lo[d]) / sys.box.length(d));
-    return p;
-  };
+  hardsphere::ParticleSystem sys = empty_system();
   for (std::size_t k = 0; k < all.size(); k += kFields) {
     const double *o = &all[k];
-    sys.push_back(std::int64_t(o[0]), int(o[1]), o[2], o[3], wrap({o[4], o[5], o[6]}), {o[7], o[8], o[9]});
+    sys.push_back(std::int64_t(o[0]), int(o[1]), o[2], o[3], {o[4], o[5], o[6]}, {o[7], o[8], o[9]});
   }
+  hardsphere::wrap_periodic(sys);
   hardsphere::ParticleSystem out;
   hardsphere::StepCounters c;
   try {
-    hardsphere::StepperConfig cfg;
-    cfg.dt = dt;
-    cfg.detect = sweep ? hardsphere::Detect::Sweep : hardsphere::Detect::Overlap;
-    cfg.max_events_per_step = max_events;
-    auto stepper = hardsphere::make_stepper(sys, cfg);
-    stepper->run(1);
-    out = stepper->state();
-    c = stepper->counters();
+    auto global = new_stepper(sys);
+    global->run(1);
+    out = global->state();
+    c = global->counters();
   } catch (const std::exception &e) {
     error->all(FLERR, std::string("fix hardsphere: re-running a step for all atoms failed: ") + e.what());
   }
@@ -451,7 +439,7 @@ void FixHardSphere::resolve_globally()
     const std::int64_t tag = std::int64_t(atom->tag[i]);
     const auto it = std::lower_bound(out.id.begin(), out.id.end(), tag);
     const std::size_t k = std::size_t(it - out.id.begin());
-    hardsphere::Vec3d d = out.pos[k] - wrap(x_start[i]);
+    hardsphere::Vec3d d = out.pos[k] - x_start[i];
     for (int a = 0; a < 3; a++)
       if (sys.box.periodic[a]) d[a] -= sys.box.length(a) * std::nearbyint(d[a] / sys.box.length(a));
     const V3 p = x_start[i] + d;

@@ -1,10 +1,12 @@
 #pragma once
-//! fix ID all hardsphere [detect overlap|sweep] [max_events N] [ghost auto|user]
+//! fix ID all hardsphere [detect overlap|sweep] [max_events N] [ghost auto|user] [path auto|ghosts]
 //!
-//! Time integrator for hard spheres (instead of fix nve/sphere): drifts the owned atoms by
-//! v dt, reflects them at fixed (f) box faces, then resolves the step's collisions in time
-//! order with hardsphere::ContactResolver (the standalone stepper's implementation) over
-//! owned + ghost atoms. Needs atom_style sphere and pair_style hardsphere (neighbour cutoff).
+//! Time integrator for hard spheres (instead of fix nve/sphere). On one rank it hands the atoms
+//! to the standalone stepper (fix_hardsphere_serial.cpp). Under MPI (or 'path ghosts') it drifts
+//! the owned atoms by v dt, reflects them at fixed (f) box faces, then resolves the step's
+//! collisions in time order with hardsphere::ContactResolver (the standalone stepper's
+//! implementation) over owned + ghost atoms, checks the ghosts against their owners and re-runs
+//! the step for all atoms if they disagree. Needs atom_style sphere and pair_style hardsphere.
 //! Global vector (f_ID[1..8]): collisions (cumulative), collisions in the last step, sum of
 //! r_ij.dp_i over collisions, simulated time, wall bounces, steps re-run for all atoms at once
 //! because a ghost copy disagreed with its owner, forced reneighbourings, steps that hit
@@ -56,6 +58,10 @@ class FixHardSphere : public Fix {
   void serial_setup();
   void serial_step();
   void serial_map();
+  //! The LAMMPS box as a hardsphere::Box, no spheres yet.
+  hardsphere::ParticleSystem empty_system() const;
+  //! A standalone stepper for `sys` with this fix's dt, detection mode and event limit.
+  std::unique_ptr<hardsphere::StepperBase> new_stepper(const hardsphere::ParticleSystem &sys) const;
   void reflect(int k);
   void note_disp(int k, const V3 &p);
 

@@ -22,26 +22,37 @@ void FixHardSphere::serial_setup()
   // A fresh stepper at every run: velocity, displace_atoms, set or read_restart may have
   // changed anything between runs.
   const int nlocal = atom->nlocal;
-  hardsphere::ParticleSystem sys;
-  for (int d = 0; d < 3; d++) {
-    sys.box.lo[d] = domain->boxlo[d], sys.box.hi[d] = domain->boxhi[d];
-    sys.box.periodic[d] = domain->periodicity[d] != 0;
-  }
+  hardsphere::ParticleSystem sys = empty_system();
   sys.reserve(std::size_t(nlocal));
   for (int i = 0; i < nlocal; i++)
     sys.push_back(std::int64_t(atom->tag[i]), atom->type[i], atom->radius[i], atom->rmass[i],
                   {atom->x[i][0], atom->x[i][1], atom->x[i][2]}, {atom->v[i][0], atom->v[i][1], atom->v[i][2]});
   try {
     hardsphere::validate_and_wrap(sys, "fix hardsphere");  // overlaps, out-of-box atoms
-    hardsphere::StepperConfig cfg;
-    cfg.dt = dt;
-    cfg.detect = sweep ? hardsphere::Detect::Sweep : hardsphere::Detect::Overlap;
-    cfg.max_events_per_step = max_events;
-    stepper = hardsphere::make_stepper(sys, cfg);
+    stepper = new_stepper(sys);
   } catch (const std::exception &e) {
     error->all(FLERR, std::string(e.what()) + "; start from a valid non-overlapping state");
   }
   slots_dirty = true;
+}
+
+hardsphere::ParticleSystem FixHardSphere::empty_system() const
+{
+  hardsphere::ParticleSystem sys;
+  for (int d = 0; d < 3; d++) {
+    sys.box.lo[d] = domain->boxlo[d], sys.box.hi[d] = domain->boxhi[d];
+    sys.box.periodic[d] = domain->periodicity[d] != 0;
+  }
+  return sys;
+}
+
+std::unique_ptr<hardsphere::StepperBase> FixHardSphere::new_stepper(const hardsphere::ParticleSystem &sys) const
+{
+  hardsphere::StepperConfig cfg;
+  cfg.dt = dt;
+  cfg.detect = sweep ? hardsphere::Detect::Sweep : hardsphere::Detect::Overlap;
+  cfg.max_events_per_step = max_events;
+  return hardsphere::make_stepper(sys, cfg);
 }
 
 void FixHardSphere::serial_map()
