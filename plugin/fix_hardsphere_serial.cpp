@@ -11,6 +11,7 @@
 #include "domain.h"
 #include "error.h"
 #include "fix_hardsphere.h"
+#include "modify.h"
 #include "hardsphere/errors.hpp"
 #include "hardsphere/particles.hpp"
 #include "update.h"
@@ -98,10 +99,11 @@ void FixHardSphere::serial_step()
   double **x = atom->x, **v = atom->v;
 
   // Other fixes may have changed velocities since the last step (a thermostat): take them.
-  // v_written holds what this fix wrote, in LAMMPS's order, so the test is one linear pass.
+  // v_written holds what this fix wrote, in LAMMPS's order, so the test is one linear pass;
+  // with no other fix defined nothing else can have changed them during the run.
   const int nlocal = atom->nlocal;
   bool v_changed = v_written.size() != std::size_t(3 * nlocal);
-  for (int i = 0; i < nlocal && !v_changed; i++)
+  for (int i = 0; i < nlocal && !v_changed && modify->nfix > 1; i++)
     v_changed = (v[i][0] != v_written[3 * i]) | (v[i][1] != v_written[3 * i + 1]) | (v[i][2] != v_written[3 * i + 2]);
   if (v_changed) {
     for (std::size_t k = 0; k < n; k++) {
