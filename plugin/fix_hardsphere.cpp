@@ -99,6 +99,9 @@ void FixHardSphere::init()
     error->all(FLERR, "fix hardsphere needs 'pair_style hardsphere' and 'pair_coeff * *' (contact distances and the "
                       "neighbour cutoff); pair hybrid is not supported");
   if (domain->triclinic) error->all(FLERR, "fix hardsphere supports orthogonal boxes only");
+  if (domain->box_change)  // the cell grid, walls and periodic images are set up for one box
+    error->all(FLERR, "fix hardsphere needs a fixed box: remove fix deform/npt/box-changing fixes (compress hard "
+                      "spheres by growing their radii between runs instead)");
   for (int d = 0; d < 3; d++)
     for (int s = 0; s < 2; s++)
       if (domain->boundary[d][s] >= 2)
@@ -162,7 +165,7 @@ void FixHardSphere::setup_pre_neighbor()
 
 void FixHardSphere::pre_neighbor()
 {
-  if (serial) slots_dirty = true;  // LAMMPS has wrapped and may have sorted its atoms
+  if (serial) lammps_resorted = true;  // LAMMPS may have sorted its atoms
   else record_build();
 }
 
@@ -478,6 +481,11 @@ struct FixHardSphere::Hooks {
   bool must_rescan() const { return false; }  // lists cannot be rebuilt inside a LAMMPS step
   void rescan() {}
 };
+
+void FixHardSphere::post_run()
+{
+  if (serial && stepper && !state_written) serial_write();  // a run cut short (timer timeout)
+}
 
 void FixHardSphere::post_force(int vflag)
 {

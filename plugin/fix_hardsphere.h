@@ -11,6 +11,7 @@
 //! r_ij.dp_i over collisions, simulated time, wall bounces, steps re-run for all atoms at once
 //! because a ghost copy disagreed with its owner, forced reneighbourings, steps that hit
 //! max_events.
+#include <array>
 #include <cstdint>
 #include <memory>
 #include <vector>
@@ -32,6 +33,7 @@ class FixHardSphere : public Fix {
   void setup_pre_neighbor() override;
   void pre_neighbor() override;
   void initial_integrate(int) override;
+  void post_run() override;
   void post_force(int) override;
   void reset_dt() override;
   double compute_vector(int) override;
@@ -58,6 +60,9 @@ class FixHardSphere : public Fix {
   void serial_setup();
   void serial_step();
   void serial_map();
+  void map_tags();
+  void serial_follow_lammps();
+  void serial_write();
   //! The LAMMPS box as a hardsphere::Box, no spheres yet.
   hardsphere::ParticleSystem empty_system() const;
   //! A standalone stepper for `sys` with this fix's dt, detection mode and event limit.
@@ -80,19 +85,18 @@ class FixHardSphere : public Fix {
   bool ghost_path_only = false;
   bool serial = false;
   std::unique_ptr<hardsphere::StepperBase> stepper;
-  std::vector<std::int64_t> slot_id;
-  std::vector<int> slot_local;             //!< stepper slot -> LAMMPS local index
-  std::vector<int> tag_local;              //!< scratch: atom tag -> LAMMPS local index
-  std::vector<std::uint32_t> local_slot;   //!< LAMMPS local index -> stepper slot
-  std::vector<V3> slot_shift;              //!< LAMMPS position - stepper position (box multiples)
-  std::vector<V3> slot_pos, slot_vel;      //!< the stepper's state as last written to LAMMPS
-  std::vector<double> v_written;           //!< the velocities written, in LAMMPS's atom order
-  struct SlotState {
-    V3 x, v;
-  };
-  std::vector<SlotState> slot_out;         //!< scratch: what each slot writes to LAMMPS
+  std::vector<std::int64_t> slot_id;       //!< scratch: the stepper's atom tags, slot order
+  std::vector<std::int32_t> slot_image;    //!< scratch: the stepper's wrap counts, 3 per slot
+  std::vector<std::uint32_t> slot_local;   //!< stepper slot -> LAMMPS local index
+  std::vector<imageint> slot_flags;        //!< LAMMPS image flags of each slot's atom
+  std::vector<int> tag_local;              //!< atom tag -> LAMMPS local index, as of mapped_tags
+  std::vector<tagint> mapped_tags;         //!< LAMMPS's tags in local order when tag_local was made
+  std::vector<std::array<int, 3>> tag_image0;  //!< per tag: LAMMPS image = stepper image + this
+  std::vector<double> v_written;           //!< the velocities written, in LAMMPS's order (other fixes only)
   std::int64_t slot_rebuilds = -1;         //!< stepper rebuilds when the slots were mapped
-  bool slots_dirty = true;                 //!< LAMMPS re-wrapped or re-ordered its atoms
+  bool slots_dirty = true;                 //!< slot_local/slot_shift need serial_map()
+  bool lammps_resorted = false;            //!< LAMMPS re-neighboured: it may have sorted its atoms
+  bool state_written = true;               //!< LAMMPS's x and v hold the stepper's current state
 
   double *wall_back = nullptr;  //!< per atom: time back from step end of this step's wall bounce (dt: none)
 

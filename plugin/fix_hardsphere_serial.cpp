@@ -14,6 +14,7 @@
 #include "modify.h"
 #include "hardsphere/errors.hpp"
 #include "hardsphere/particles.hpp"
+#include "output.h"
 #include "update.h"
 
 using namespace LAMMPS_NS;
@@ -34,7 +35,24 @@ void FixHardSphere::serial_setup()
   } catch (const std::exception &e) {
     error->all(FLERR, std::string(e.what()) + "; start from a valid non-overlapping state");
   }
+  // Both copies hold the same trajectory: LAMMPS's unwrapped position (x + image L) is the
+  // stepper's (position + its wrap count L) plus a whole number of box lengths per axis,
+  // fixed now and kept by tag so LAMMPS may re-order its atoms.
+  map_tags();
+  tag_image0.assign(tag_local.size(), {0, 0, 0});
+  for (std::size_t k = 0; k < sys.size(); k++) {
+    const int i = tag_local[std::size_t(sys.id[k])];
+    const imageint img = atom->image[i];
+    const int flags[3] = {int(img & IMGMASK) - IMGMAX, int((img >> IMGBITS) & IMGMASK) - IMGMAX,
+                          int(img >> IMG2BITS) - IMGMAX};
+    for (int d = 0; d < 3; d++)
+      tag_image0[std::size_t(sys.id[k])][std::size_t(d)] =
+          flags[d] + (domain->periodicity[d] ? int(std::nearbyint((atom->x[i][d] - sys.pos[k][d]) / domain->prd[d])) : 0);
+  }
   slots_dirty = true;
+  lammps_resorted = false;
+  v_written.clear();
+  state_written = true;
 }
 
 hardsphere::ParticleSystem FixHardSphere::empty_system() const
@@ -56,82 +74,87 @@ std::unique_ptr<hardsphere::StepperBase> FixHardSphere::new_stepper(const hardsp
   return hardsphere::make_stepper(sys, cfg);
 }
 
+void FixHardSphere::map_tags()
+{
+  // Atomic styles keep no tag -> index map by default (atom_modify map): make one.
+  const int nlocal = atom->nlocal;
+  mapped_tags.assign(atom->tag, atom->tag + nlocal);
+  const tagint max_tag = nlocal ? *std::max_element(mapped_tags.begin(), mapped_tags.end()) : 0;
+  tag_local.assign(std::size_t(max_tag) + 1, -1);
+  for (int i = 0; i < nlocal; i++) tag_local[std::size_t(atom->tag[i])] = i;
+}
+
 void FixHardSphere::serial_map()
 {
-  // Which LAMMPS atom each stepper slot is, and the periodic shift between the two copies
-  // (LAMMPS and the stepper wrap at different times; a step moves an atom far less than L/2).
+  // Which LAMMPS atom each stepper slot is, and its image flags (the stepper's wrap count plus
+  // the atom's fixed difference): LAMMPS receives the stepper's own position with them, so the
+  // unwrapped trajectory is continuous however far atoms travel between writes. Needed after
+  // the stepper or LAMMPS re-ordered its atoms, and only before a write.
   const std::size_t n = stepper->size();
-  slot_id.resize(n), slot_local.resize(n), slot_shift.resize(n), slot_pos.resize(n), slot_vel.resize(n);
+  slot_id.resize(n), slot_image.resize(3 * n), slot_local.resize(n), slot_flags.resize(n);
   stepper->copy_ids(slot_id.data());
-  stepper->copy_state(slot_pos.data(), slot_vel.data());
-  double **x = atom->x;
-  if (n != std::size_t(atom->nlocal))
-    error->all(FLERR, "fix hardsphere: atoms were added or removed during a run (" + std::to_string(atom->nlocal) +
-                          " now, " + std::to_string(n) + " at its start)");
-  // Atomic styles keep no tag -> index map by default (atom_modify map): make one.
-  tagint max_tag = 0;
-  for (int i = 0; i < atom->nlocal; i++) max_tag = std::max(max_tag, atom->tag[i]);
-  tag_local.assign(std::size_t(max_tag) + 1, -1);
-  local_slot.resize(std::size_t(atom->nlocal));
-  for (int i = 0; i < atom->nlocal; i++) tag_local[std::size_t(atom->tag[i])] = i;
+  stepper->copy_images(slot_image.data());
   for (std::size_t k = 0; k < n; k++) {
-    const int i = slot_id[k] <= max_tag ? tag_local[std::size_t(slot_id[k])] : -1;
-    if (i < 0)
-      error->one(FLERR, "fix hardsphere: atom " + std::to_string(slot_id[k]) + " is no longer on this rank");
-    slot_local[k] = i;
-    local_slot[i] = std::uint32_t(k);
-    V3 shift{0, 0, 0};
-    for (int d = 0; d < 3; d++)
-      if (domain->periodicity[d]) {
-        const double len = domain->prd[d];
-        shift[d] = len * std::nearbyint((x[i][d] - slot_pos[k][d]) / len);
-      }
-    slot_shift[k] = shift;
+    const std::size_t tag = std::size_t(slot_id[k]);
+    const int i = tag < tag_local.size() ? tag_local[tag] : -1;
+    if (i < 0) error->one(FLERR, "fix hardsphere: atom " + std::to_string(slot_id[k]) + " is no longer on this rank");
+    slot_local[k] = std::uint32_t(i);
+    const auto &i0 = tag_image0[tag];
+    slot_flags[k] = (imageint(slot_image[3 * k] + i0[0] + IMGMAX) & IMGMASK) |
+                    ((imageint(slot_image[3 * k + 1] + i0[1] + IMGMAX) & IMGMASK) << IMGBITS) |
+                    ((imageint(slot_image[3 * k + 2] + i0[2] + IMGMAX) & IMGMASK) << IMG2BITS);
   }
   slot_rebuilds = stepper->counters().rebuilds;
   slots_dirty = false;
 }
 
+void FixHardSphere::serial_follow_lammps()
+{
+  // LAMMPS re-neighboured: it may have sorted its atoms (then the tag map is made anew). Its
+  // periodic wraps need nothing: they keep x + image L, and a write replaces both.
+  lammps_resorted = false;
+  const int nlocal = atom->nlocal;
+  if (std::size_t(nlocal) != stepper->size())
+    error->all(FLERR, "fix hardsphere: atoms were added or removed during a run (" + std::to_string(nlocal) +
+                          " now, " + std::to_string(stepper->size()) + " at its start)");
+  if (!std::equal(atom->tag, atom->tag + nlocal, mapped_tags.begin())) {
+    map_tags();
+    slots_dirty = true;
+  }
+}
+
+void FixHardSphere::serial_write()
+{
+  if (slots_dirty || stepper->counters().rebuilds != slot_rebuilds) serial_map();
+  const std::size_t n = slot_local.size();
+  if (n > 0) stepper->scatter_state(slot_local.data(), atom->x[0], atom->v[0]);
+  imageint *image = atom->image;
+  for (std::size_t k = 0; k < n; k++) image[slot_local[k]] = slot_flags[k];
+  state_written = true;
+}
+
 void FixHardSphere::serial_step()
 {
-  if (slots_dirty) serial_map();
-  const std::size_t n = slot_local.size();
-  double **x = atom->x, **v = atom->v;
-
-  // Other fixes may have changed velocities since the last step (a thermostat): take them.
-  // v_written holds what this fix wrote, in LAMMPS's order, so the test is one linear pass;
-  // with no other fix defined nothing else can have changed them during the run.
+  if (lammps_resorted) serial_follow_lammps();
   const int nlocal = atom->nlocal;
-  bool v_changed = v_written.size() != std::size_t(3 * nlocal);
-  for (int i = 0; i < nlocal && !v_changed && modify->nfix > 1; i++)
-    v_changed = (v[i][0] != v_written[3 * i]) | (v[i][1] != v_written[3 * i + 1]) | (v[i][2] != v_written[3 * i + 2]);
-  if (v_changed) {
-    for (std::size_t k = 0; k < n; k++) {
-      const double *vi = v[slot_local[k]];
-      slot_vel[k] = V3{vi[0], vi[1], vi[2]};
-    }
-    stepper->set_velocities(slot_vel.data());
+  double *v = nlocal ? atom->v[0] : nullptr;  // LAMMPS's per-atom rows are one contiguous block
+
+  // Other fixes read and may change x and v at any point of a step (a thermostat): with any,
+  // the state is written back every step and velocities they changed are taken up. Alone,
+  // this fix writes LAMMPS's copy only when something will look at it: on output steps
+  // (thermo, dump, restart), at the run's last step and when the run ends.
+  const bool others = modify->nfix > 1;
+  if (others && (v_written.size() != std::size_t(3 * nlocal) || !std::equal(v, v + 3 * nlocal, v_written.begin()))) {
+    if (slots_dirty || stepper->counters().rebuilds != slot_rebuilds) serial_map();
+    stepper->gather_velocities(slot_local.data(), v);
   }
 
   const hardsphere::StepCounters before = stepper->counters();
   stepper->run(1);
   const hardsphere::StepCounters &after = stepper->counters();
-  if (after.rebuilds != slot_rebuilds) serial_map();  // new slot order and wrapping
-  else stepper->copy_state(slot_pos.data(), slot_vel.data());
-
-  // Position (with its shift) and velocity of a slot side by side, then written in LAMMPS's
-  // order: LAMMPS's arrays in sequence, one random read per atom (the two orders are unrelated
-  // at short range, and beyond ~10^4 atoms each random access misses the cache).
-  slot_out.resize(n);
-  for (std::size_t k = 0; k < n; k++) slot_out[k] = {slot_pos[k] + slot_shift[k], slot_vel[k]};
-  v_written.resize(std::size_t(3 * nlocal));
-  for (int i = 0; i < nlocal; i++) {
-    const SlotState &o = slot_out[local_slot[i]];
-    x[i][0] = o.x.x, x[i][1] = o.x.y, x[i][2] = o.x.z;
-    v[i][0] = v_written[3 * i] = o.v.x;
-    v[i][1] = v_written[3 * i + 1] = o.v.y;
-    v[i][2] = v_written[3 * i + 2] = o.v.z;
-  }
+  state_written = false;
+  if (others || update->ntimestep == output->next || update->ntimestep >= update->laststep) serial_write();
+  if (others) v_written.assign(v, v + 3 * nlocal);
 
   n_coll_step = double(after.collisions - before.collisions);
   n_coll += n_coll_step;

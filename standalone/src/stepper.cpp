@@ -76,14 +76,37 @@ class Stepper final : public StepperBase {
   double skin() const override { return double(skin_); }
   std::size_t size() const override { return pos_.size(); }
   void copy_ids(std::int64_t* out) const override { std::copy(id_.begin(), id_.end(), out); }
+  void copy_images(std::int32_t* out) const override {
+    for (std::size_t k = 0; k < image_.size(); ++k)
+      for (std::size_t d = 0; d < 3; ++d) out[3 * k + d] = image_[k][d];
+  }
   void copy_state(Vec3d* pos, Vec3d* vel) const override {
     for (std::size_t k = 0; k < pos_.size(); ++k) {
       pos[k] = {double(pos_[k].x), double(pos_[k].y), double(pos_[k].z)};
       vel[k] = {double(vel_[k].x), double(vel_[k].y), double(vel_[k].z)};
     }
   }
+  void scatter_state(const std::uint32_t* dest, double* x, double* v) const override {
+    const std::size_t n = pos_.size(), ahead = 16;  // rows are scattered: request them early
+    for (std::size_t k = 0; k < n; ++k) {
+      if (k + ahead < n) {
+        __builtin_prefetch(x + 3 * std::size_t(dest[k + ahead]), 1);
+        __builtin_prefetch(v + 3 * std::size_t(dest[k + ahead]), 1);
+      }
+      double* xo = x + 3 * std::size_t(dest[k]);
+      double* vo = v + 3 * std::size_t(dest[k]);
+      xo[0] = double(pos_[k].x), xo[1] = double(pos_[k].y), xo[2] = double(pos_[k].z);
+      vo[0] = double(vel_[k].x), vo[1] = double(vel_[k].y), vo[2] = double(vel_[k].z);
+    }
+  }
   void set_velocities(const Vec3d* vel) override {
     for (std::size_t k = 0; k < vel_.size(); ++k) vel_[k] = {Real(vel[k].x), Real(vel[k].y), Real(vel[k].z)};
+  }
+  void gather_velocities(const std::uint32_t* src, const double* v) override {
+    for (std::size_t k = 0; k < vel_.size(); ++k) {
+      const double* vi = v + 3 * std::size_t(src[k]);
+      vel_[k] = {Real(vi[0]), Real(vi[1]), Real(vi[2])};
+    }
   }
   std::string scene_kernel() const override {
     return std::string(all_periodic_ ? "periodic" : "walls") + (Mono ? ",mono" : ",poly") +
@@ -147,6 +170,7 @@ class Stepper final : public StepperBase {
   std::vector<V3<Real>> pos_, vel_, pos0_;  // pos0_: positions at the last rebuild
   std::vector<Real> r_, m_;
   std::vector<std::int64_t> id_;
+  std::vector<std::array<std::int32_t, 3>> image_;  // box lengths removed by wrapping, per axis
   std::vector<int> type_, cell_;
   std::vector<std::uint32_t> cell_start_, order_;
   // Candidate pairs within r_i + r_j + skin at the last rebuild: those inside the box (most)
@@ -168,6 +192,7 @@ class Stepper final : public StepperBase {
   std::vector<V3<Real>> scratch_v3_;
   std::vector<Real> scratch_real_;
   std::vector<std::int64_t> scratch_id_;
+  std::vector<std::array<std::int32_t, 3>> scratch_image_;
   std::vector<int> scratch_int_;
   // For each sphere s, its list partners q and the image of r_s - r_q (CSR), for local sweeps.
   std::vector<std::uint32_t> adj_start_, adj_partner_, adj_cursor_;
@@ -218,13 +243,23 @@ Stepper<Real, Mono>::Stepper(const ParticleSystem& sys, const StepperConfig& cfg
   vel_.resize(n);
   r_.resize(n);
   m_.resize(n);
-  id_ = sys.id;
-  type_ = sys.type;
+  id_.resize(n);
+  type_.resize(n);
+  image_.assign(n, {0, 0, 0});
+  // Internal order starts from the ids, not the input order: the cell sorts are stable, so the
+  // same spheres give the same run bit for bit in whatever order an adapter hands them over.
+  std::vector<std::size_t> by_id(n);
+  std::iota(by_id.begin(), by_id.end(), std::size_t(0));
+  if (!std::is_sorted(sys.id.begin(), sys.id.end()))
+    std::stable_sort(by_id.begin(), by_id.end(), [&](std::size_t a, std::size_t b) { return sys.id[a] < sys.id[b]; });
   for (std::size_t i = 0; i < n; ++i) {
-    pos_[i] = {Real(sys.pos[i].x), Real(sys.pos[i].y), Real(sys.pos[i].z)};
-    vel_[i] = {Real(sys.vel[i].x), Real(sys.vel[i].y), Real(sys.vel[i].z)};
-    r_[i] = Real(sys.radius[i]);
-    m_[i] = Real(sys.mass[i]);
+    const std::size_t s = by_id[i];
+    id_[i] = sys.id[s];
+    type_[i] = sys.type[s];
+    pos_[i] = {Real(sys.pos[s].x), Real(sys.pos[s].y), Real(sys.pos[s].z)};
+    vel_[i] = {Real(sys.vel[s].x), Real(sys.vel[s].y), Real(sys.vel[s].z)};
+    r_[i] = Real(sys.radius[s]);
+    m_[i] = Real(sys.mass[s]);
   }
   if (n) sigma_ = Real(2) * r_[0];
   resolver_.reset(n, dt_);
@@ -359,10 +394,13 @@ void Stepper<Real, Mono>::rebuild() {
   for (int d = 0; d < 3; ++d) {
     if (!box_.periodic[d]) continue;
     const Real lo = Real(box_.lo[d]), len = length_[d];
-    for (auto& p : pos_) {
-      if (p[d] >= lo && p[d] < lo + len) continue;
-      p[d] -= len * std::floor((p[d] - lo) / len);
-      if (p[d] >= lo + len) p[d] -= len;  // floor rounding at the top edge
+    for (std::size_t i = 0; i < n; ++i) {
+      Real& p = pos_[i][d];
+      if (p >= lo && p < lo + len) continue;
+      const Real wraps = std::floor((p - lo) / len);
+      p -= len * wraps;
+      image_[i][std::size_t(d)] += std::int32_t(wraps);
+      if (p >= lo + len) p -= len, ++image_[i][std::size_t(d)];  // floor rounding at the top edge
     }
   }
   grid_.sort(n, [this](std::size_t i) { return pos_[i]; }, cell_, cell_start_, order_);
@@ -378,6 +416,7 @@ void Stepper<Real, Mono>::rebuild() {
     permute(m_, scratch_real_);
   }
   permute(id_, scratch_id_);
+  permute(image_, scratch_image_);
   permute(type_, scratch_int_);
   resolver_.permute(order_);
   pos0_ = pos_;

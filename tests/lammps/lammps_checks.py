@@ -257,6 +257,7 @@ def errors(args):
             "dt too large": (HEADER.format(data="init.data", skin=0.5, dt=0.2) + "run 1\n", "timestep too large"),
             "neigh_modify delay": (base + "neigh_modify every 1 delay 5\nrun 1\n", "neigh_modify every 1 delay 0"),
             "diameter too small": (base + "pair_coeff * * 0.5\nrun 1\n", "raise that pair_coeff diameter"),
+            "changing box": (base + "fix d all deform 1 x scale 1.1\nrun 1\n", "needs a fixed box"),
         }
         for name, (script, phrase) in cases.items():
             rc, out = run_lmp(args, script, d, expect_ok=False)
@@ -321,6 +322,31 @@ run 300
         ok &= check(abs(r4[-1]["Temp"] - 2.0) < 0.05 and r4[-1]["f_hs[1]"] > 1000,
                     f"np={args.np}: fix temp/berendsen during the run: T {r4[0]['Temp']:.3f} -> {r4[-1]['Temp']:.3f} "
                     f"(target 2), {r4[-1]['f_hs[1]']:.0f} collisions")
+        # Unwrapped coordinates stay continuous: on one rank the fix writes LAMMPS's copy only on
+        # output steps (here every 20), with image flags from its own wrap counts, through
+        # LAMMPS's periodic wraps and atom sorts (every 7 steps here). A wrong image shows as a
+        # jump of a box length; 20 steps move an atom by ~0.3 at most.
+        script = """read_restart r.restart
+neigh_modify every 1 delay 0 check yes
+atom_modify sort 7 1.0
+fix hs all hardsphere
+dump tr all custom 20 traj.dump id xu yu zu
+dump_modify tr sort id format float %.17g
+run 400
+"""
+        run_lmp(args, script, d, np_=args.np)
+        frames = []
+        with open(os.path.join(d, "traj.dump")) as f:
+            lines = f.read().splitlines()
+        for k, line in enumerate(lines):
+            if line.startswith("ITEM: ATOMS"):
+                n_at = int(lines[k - 5])
+                frames.append(np.array([[float(t) for t in ln.split()] for ln in lines[k + 1:k + 1 + n_at]]))
+        box, _, _ = read_data(os.path.join(d, "init.data"))
+        jump = np.abs(np.diff(np.array([f[:, 1:4] for f in frames]), axis=0)).max()
+        ok &= check(len(frames) == 21 and jump < box.min() / 4,
+                    f"np={args.np}: unwrapped coordinates continuous over 400 steps with sorting: largest move "
+                    f"in 20 steps {jump:.3f} < L/4 = {box.min() / 4:.3f}")
         blocks, cur = [], None
         for line in (out1 + out2).splitlines():
             s = line.split()

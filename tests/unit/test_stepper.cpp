@@ -75,6 +75,35 @@ TEST(StepperTwoBody, PairAcrossThePeriodicBoundaryCollides) {
   EXPECT_DOUBLE_EQ(out.vel[0].x, 1.0);
 }
 
+TEST(StepperAdapterApi, WrapCountsKeepTheUnwrappedTrajectoryContinuous) {
+  // Two spheres on parallel lines (never touching) cross the periodic faces many times, one
+  // forwards in x and backwards in z, the other backwards in y. What an adapter reads back
+  // (position + image * L, copy_ids/copy_images/scatter_state in the engine's slot order) must
+  // be the straight line x0 + v t.
+  const Vec3d x1{1, 2, 3}, v1{3.7, 0, -2.3}, x2{5, 6, 7}, v2{0, -4.1, 0};
+  const auto s = two(x1, v1, x2, v2);
+  StepperConfig cfg;
+  cfg.dt = 0.01;
+  auto st = make_stepper(s, cfg);
+  st->run(1000);  // t = 10: 37, 23 and 41 box lengths of 10 travelled
+  const std::size_t n = st->size();
+  std::vector<std::int64_t> ids(n);
+  std::vector<std::int32_t> img(3 * n);
+  std::vector<std::uint32_t> dest{1, 0};  // written in reverse slot order
+  std::vector<double> x(3 * n), v(3 * n);
+  st->copy_ids(ids.data());
+  st->copy_images(img.data());
+  st->scatter_state(dest.data(), x.data(), v.data());
+  EXPECT_EQ(st->counters().collisions, 0);
+  for (std::size_t k = 0; k < n; ++k) {
+    const Vec3d x0 = ids[k] == 1 ? x1 : x2, v0 = ids[k] == 1 ? v1 : v2;
+    for (int d = 0; d < 3; ++d) {
+      EXPECT_NEAR(x[3 * dest[k] + d] + 10.0 * img[3 * k + d], x0[d] + 10.0 * v0[d], 1e-9) << "id " << ids[k] << " axis " << d;
+      EXPECT_EQ(v[3 * dest[k] + d], v0[d]);
+    }
+  }
+}
+
 TEST(StepperTwoBody, WallBounceMirrorsAtTheContactTime) {
   // Radius 0.5 at x = 1 moving at -1 toward the wall at 0: contact after 0.5, then 0.2 back.
   auto s = two({1, 5, 5}, {-1, 0, 0}, {7, 5, 5}, {0, 0, 0}, 0.5, 0.5, 1, 1, 10, {false, true, true});

@@ -74,9 +74,17 @@ class StepperBase {
   //! the engine's (periodic coordinates may be re-wrapped at a rebuild).
   virtual std::size_t size() const = 0;
   virtual void copy_ids(std::int64_t* out) const = 0;
+  //! Per sphere and axis (3 per sphere), how many box lengths the engine has taken off its
+  //! position by wrapping since construction: position + image * L is continuous in time.
+  virtual void copy_images(std::int32_t* out) const = 0;
   virtual void copy_state(Vec3d* pos, Vec3d* vel) const = 0;
+  //! Writes the state straight into an adapter's flat arrays (3 doubles per sphere): sphere k
+  //! goes to row dest[k]. One pass, no intermediate copy.
+  virtual void scatter_state(const std::uint32_t* dest, double* x, double* v) const = 0;
   //! Replaces every velocity (internal order), e.g. after a thermostat changed them.
   virtual void set_velocities(const Vec3d* vel) = 0;
+  //! The same from an adapter's flat array: sphere k takes row src[k] of v.
+  virtual void gather_velocities(const std::uint32_t* src, const double* v) = 0;
 };
 
 //! Validates the configuration against the system (throws InputError) and builds the engine.
