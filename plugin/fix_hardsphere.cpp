@@ -116,6 +116,7 @@ void FixHardSphere::init()
   dt = update->dt;
   serial = comm->nprocs == 1 && !ghost_path_only;
   if (serial) {
+    serial_schedule();
     list = nullptr;
     return;  // the stepper needs no ghost shell and no LAMMPS neighbour list
   }

@@ -63,6 +63,8 @@ class FixHardSphere : public Fix {
   void map_tags();
   void serial_follow_lammps();
   void serial_write();
+  void serial_schedule();
+  bool serial_must_write() const;
   //! The LAMMPS box as a hardsphere::Box, no spheres yet.
   hardsphere::ParticleSystem empty_system() const;
   //! A standalone stepper for `sys` with this fix's dt, detection mode and event limit.
@@ -92,7 +94,9 @@ class FixHardSphere : public Fix {
   std::vector<int> tag_local;              //!< atom tag -> LAMMPS local index, as of mapped_tags
   std::vector<tagint> mapped_tags;         //!< LAMMPS's tags in local order when tag_local was made
   std::vector<std::array<int, 3>> tag_image0;  //!< per tag: LAMMPS image = stepper image + this
-  std::vector<double> v_written;           //!< the velocities written, in LAMMPS's order (other fixes only)
+  std::vector<double> v_written;           //!< velocities last written, while other fixes may change them
+  bool others_every_step = false;          //!< another fix acts inside every step
+  std::vector<int> others_every;           //!< nevery of other fixes acting only at end_of_step
   std::int64_t slot_rebuilds = -1;         //!< stepper rebuilds when the slots were mapped
   bool slots_dirty = true;                 //!< slot_local/slot_shift need serial_map()
   bool lammps_resorted = false;            //!< LAMMPS re-neighboured: it may have sorted its atoms

@@ -18,6 +18,7 @@
 #include "update.h"
 
 using namespace LAMMPS_NS;
+using namespace FixConst;
 
 void FixHardSphere::serial_setup()
 {
@@ -51,8 +52,34 @@ void FixHardSphere::serial_setup()
   }
   slots_dirty = true;
   lammps_resorted = false;
-  v_written.clear();
+  // Other fixes' setup may still change velocities: compare at the first step.
+  if (others_every_step || !others_every.empty()) v_written.assign(atom->v[0], atom->v[0] + 3 * nlocal);
+  else v_written.clear();
   state_written = true;
+}
+
+void FixHardSphere::serial_schedule()
+{
+  // When do other fixes look at or change x and v? A fix hooked into the step's stages reads
+  // them every step; one that only acts at end_of_step does so every nevery steps.
+  others_every_step = false;
+  others_every.clear();
+  const int per_step = INITIAL_INTEGRATE | POST_INTEGRATE | PRE_EXCHANGE | PRE_NEIGHBOR | POST_NEIGHBOR | PRE_FORCE |
+                       PRE_REVERSE | POST_FORCE | FINAL_INTEGRATE;
+  for (int f = 0; f < modify->nfix; f++) {
+    if (modify->fix[f] == this) continue;
+    if (modify->fmask[f] & per_step) others_every_step = true;
+    else if (modify->fmask[f] & END_OF_STEP) others_every.push_back(std::max(1, modify->fix[f]->nevery));
+  }
+}
+
+bool FixHardSphere::serial_must_write() const
+{
+  const bigint t = update->ntimestep;
+  if (others_every_step || t == output->next || t >= update->laststep) return true;
+  for (const int every : others_every)
+    if (t % every == 0) return true;
+  return false;
 }
 
 hardsphere::ParticleSystem FixHardSphere::empty_system() const
@@ -139,22 +166,26 @@ void FixHardSphere::serial_step()
   const int nlocal = atom->nlocal;
   double *v = nlocal ? atom->v[0] : nullptr;  // LAMMPS's per-atom rows are one contiguous block
 
-  // Other fixes read and may change x and v at any point of a step (a thermostat): with any,
-  // the state is written back every step and velocities they changed are taken up. Alone,
-  // this fix writes LAMMPS's copy only when something will look at it: on output steps
-  // (thermo, dump, restart), at the run's last step and when the run ends.
-  const bool others = modify->nfix > 1;
-  if (others && (v_written.size() != std::size_t(3 * nlocal) || !std::equal(v, v + 3 * nlocal, v_written.begin()))) {
-    if (slots_dirty || stepper->counters().rebuilds != slot_rebuilds) serial_map();
-    stepper->gather_velocities(slot_local.data(), v);
+  // LAMMPS's copy of x and v is written only when something will look at it: on output steps
+  // (thermo, dump, restart), at the run's last step, when the run ends, and whenever another
+  // fix acts (every step for fixes hooked into the step, every nevery for end_of_step ones).
+  // After such a write a fix may have changed velocities (a thermostat): take them up.
+  if (!v_written.empty()) {
+    if (v_written.size() != std::size_t(3 * nlocal) || !std::equal(v, v + 3 * nlocal, v_written.begin())) {
+      if (slots_dirty || stepper->counters().rebuilds != slot_rebuilds) serial_map();
+      stepper->gather_velocities(slot_local.data(), v);
+    }
+    v_written.clear();
   }
 
   const hardsphere::StepCounters before = stepper->counters();
   stepper->run(1);
   const hardsphere::StepCounters &after = stepper->counters();
   state_written = false;
-  if (others || update->ntimestep == output->next || update->ntimestep >= update->laststep) serial_write();
-  if (others) v_written.assign(v, v + 3 * nlocal);
+  if (serial_must_write()) {
+    serial_write();
+    if (others_every_step || !others_every.empty()) v_written.assign(v, v + 3 * nlocal);
+  }
 
   n_coll_step = double(after.collisions - before.collisions);
   n_coll += n_coll_step;

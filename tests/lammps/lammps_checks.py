@@ -347,6 +347,23 @@ run 400
         ok &= check(len(frames) == 21 and jump < box.min() / 4,
                     f"np={args.np}: unwrapped coordinates continuous over 400 steps with sorting: largest move "
                     f"in 20 steps {jump:.3f} < L/4 = {box.min() / 4:.3f}")
+        # A fix acting only every 10 steps (temp/rescale at end_of_step): in serial the state
+        # is written for it on those steps and the rescaled velocities are taken up after.
+        script = """read_restart r.restart
+neigh_modify every 1 delay 0 check yes
+fix hs all hardsphere
+fix tr all temp/rescale 10 0.5 0.5 0.0 1.0
+thermo_style custom step temp f_hs[1]
+thermo_modify format float %.17g
+thermo 25
+run 200
+"""
+        rc, out5 = run_lmp(args, script, d, np_=args.np)
+        r5 = thermo(out5)
+        t5 = [r["Temp"] for r in r5[1:]]  # steps 125 ... 300: the first rescale is at step 110
+        ok &= check(len(t5) == 8 and max(abs(t - 0.5) for t in t5) < 1e-12 and r5[-1]["f_hs[1]"] > 500,
+                    f"np={args.np}: fix temp/rescale every 10 steps: T {r5[0]['Temp']:.3f} -> "
+                    f"{min(t5):.15f}..{max(t5):.15f} at every thermo step after (target 0.5, elastic steps keep it)")
         blocks, cur = [], None
         for line in (out1 + out2).splitlines():
             s = line.split()
