@@ -166,7 +166,7 @@ void FixHardSphere::setup_pre_neighbor()
 
 void FixHardSphere::pre_neighbor()
 {
-  if (serial) lammps_resorted = true;  // LAMMPS may have sorted its atoms
+  if (serial) lammps_moved = true;  // LAMMPS has wrapped and may have sorted its atoms
   else record_build();
 }
 

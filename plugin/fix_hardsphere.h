@@ -90,16 +90,17 @@ class FixHardSphere : public Fix {
   std::vector<std::int64_t> slot_id;       //!< scratch: the stepper's atom tags, slot order
   std::vector<std::int32_t> slot_image;    //!< scratch: the stepper's wrap counts, 3 per slot
   std::vector<std::uint32_t> slot_local;   //!< stepper slot -> LAMMPS local index
-  std::vector<imageint> slot_flags;        //!< LAMMPS image flags of each slot's atom
+  std::vector<V3> slot_shift;              //!< LAMMPS position - stepper position, per slot
+  std::vector<V3> slot_pos, slot_vel;      //!< scratch: the stepper's state while mapping
   std::vector<int> tag_local;              //!< atom tag -> LAMMPS local index, as of mapped_tags
   std::vector<tagint> mapped_tags;         //!< LAMMPS's tags in local order when tag_local was made
-  std::vector<std::array<int, 3>> tag_image0;  //!< per tag: LAMMPS image = stepper image + this
+  std::vector<std::array<int, 3>> tag_image0;  //!< per tag: LAMMPS unwrapped = stepper unwrapped + this * L
   std::vector<double> v_written;           //!< velocities last written, while other fixes may change them
   bool others_every_step = false;          //!< another fix acts inside every step
   std::vector<int> others_every;           //!< nevery of other fixes acting only at end_of_step
   std::int64_t slot_rebuilds = -1;         //!< stepper rebuilds when the slots were mapped
   bool slots_dirty = true;                 //!< slot_local/slot_shift need serial_map()
-  bool lammps_resorted = false;            //!< LAMMPS re-neighboured: it may have sorted its atoms
+  bool lammps_moved = false;               //!< LAMMPS re-neighboured: it may have wrapped or sorted atoms
   bool state_written = true;               //!< LAMMPS's x and v hold the stepper's current state
 
   double *wall_back = nullptr;  //!< per atom: time back from step end of this step's wall bounce (dt: none)

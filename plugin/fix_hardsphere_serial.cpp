@@ -4,6 +4,7 @@
 // (for output, other fixes, restarts): after each step the stepper's state is written back
 // through a slot -> local-atom map that is rebuilt only when either side re-orders its atoms.
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <string>
 
@@ -19,6 +20,22 @@
 
 using namespace LAMMPS_NS;
 using namespace FixConst;
+
+namespace {
+
+// LAMMPS's image flags: three signed counts packed into one integer (IMGBITS each).
+std::array<int, 3> unpack_image(imageint img)
+{
+  return {int(img & IMGMASK) - IMGMAX, int((img >> IMGBITS) & IMGMASK) - IMGMAX, int(img >> IMG2BITS) - IMGMAX};
+}
+
+imageint pack_image(const std::array<int, 3> &f)
+{
+  return (imageint(f[0] + IMGMAX) & IMGMASK) | ((imageint(f[1] + IMGMAX) & IMGMASK) << IMGBITS) |
+         ((imageint(f[2] + IMGMAX) & IMGMASK) << IMG2BITS);
+}
+
+}  // namespace
 
 void FixHardSphere::serial_setup()
 {
@@ -43,17 +60,15 @@ void FixHardSphere::serial_setup()
   tag_image0.assign(tag_local.size(), {0, 0, 0});
   for (std::size_t k = 0; k < sys.size(); k++) {
     const int i = tag_local[std::size_t(sys.id[k])];
-    const imageint img = atom->image[i];
-    const int flags[3] = {int(img & IMGMASK) - IMGMAX, int((img >> IMGBITS) & IMGMASK) - IMGMAX,
-                          int(img >> IMG2BITS) - IMGMAX};
+    const std::array<int, 3> flags = unpack_image(atom->image[i]);
     for (int d = 0; d < 3; d++)
       tag_image0[std::size_t(sys.id[k])][std::size_t(d)] =
-          flags[d] + (domain->periodicity[d] ? int(std::nearbyint((atom->x[i][d] - sys.pos[k][d]) / domain->prd[d])) : 0);
+          flags[std::size_t(d)] + (domain->periodicity[d] ? int(std::nearbyint((atom->x[i][d] - sys.pos[k][d]) / domain->prd[d])) : 0);
   }
   slots_dirty = true;
-  lammps_resorted = false;
+  lammps_moved = false;
   // Other fixes' setup may still change velocities: compare at the first step.
-  if (others_every_step || !others_every.empty()) v_written.assign(atom->v[0], atom->v[0] + 3 * nlocal);
+  if ((others_every_step || !others_every.empty()) && nlocal > 0) v_written.assign(atom->v[0], atom->v[0] + 3 * nlocal);
   else v_written.clear();
   state_written = true;
 }
@@ -113,23 +128,41 @@ void FixHardSphere::map_tags()
 
 void FixHardSphere::serial_map()
 {
-  // Which LAMMPS atom each stepper slot is, and its image flags (the stepper's wrap count plus
-  // the atom's fixed difference): LAMMPS receives the stepper's own position with them, so the
-  // unwrapped trajectory is continuous however far atoms travel between writes. Needed after
-  // the stepper or LAMMPS re-ordered its atoms, and only before a write.
+  // Which LAMMPS atom each stepper slot is, and the shift from the stepper's position to
+  // LAMMPS's: the atom's unwrapped position is the same in both, so LAMMPS's x = stepper
+  // position + (stepper wraps + the atom's fixed offset - LAMMPS's image flags) L. LAMMPS's
+  // x then moves continuously and LAMMPS wraps it itself when it re-neighbours. Only an atom
+  // that has travelled far while nothing was written (sparse writes) is re-imaged here, so
+  // that x stays within half a box of the box. Needed after the stepper re-sorted its cells or
+  // LAMMPS re-neighboured, and only before a write.
   const std::size_t n = stepper->size();
-  slot_id.resize(n), slot_image.resize(3 * n), slot_local.resize(n), slot_flags.resize(n);
+  slot_id.resize(n), slot_image.resize(3 * n), slot_local.resize(n), slot_shift.resize(n);
+  slot_pos.resize(n), slot_vel.resize(n);
   stepper->copy_ids(slot_id.data());
   stepper->copy_images(slot_image.data());
+  stepper->copy_state(slot_pos.data(), slot_vel.data());
+  imageint *image = atom->image;
   for (std::size_t k = 0; k < n; k++) {
     const std::size_t tag = std::size_t(slot_id[k]);
     const int i = tag < tag_local.size() ? tag_local[tag] : -1;
     if (i < 0) error->one(FLERR, "fix hardsphere: atom " + std::to_string(slot_id[k]) + " is no longer on this rank");
     slot_local[k] = std::uint32_t(i);
-    const auto &i0 = tag_image0[tag];
-    slot_flags[k] = (imageint(slot_image[3 * k] + i0[0] + IMGMAX) & IMGMASK) |
-                    ((imageint(slot_image[3 * k + 1] + i0[1] + IMGMAX) & IMGMASK) << IMGBITS) |
-                    ((imageint(slot_image[3 * k + 2] + i0[2] + IMGMAX) & IMGMASK) << IMG2BITS);
+    std::array<int, 3> flags = unpack_image(image[i]);
+    bool reimaged = false;
+    for (int d = 0; d < 3; d++) {
+      slot_shift[k][d] = 0.0;
+      if (!domain->periodicity[d]) continue;
+      const double len = domain->prd[d];
+      int m = slot_image[3 * k + d] + tag_image0[tag][std::size_t(d)] - flags[std::size_t(d)];
+      const double x = slot_pos[k][d] + m * len;
+      if (x < domain->boxlo[d] - 0.5 * len || x >= domain->boxhi[d] + 0.5 * len) {
+        const int w = int(std::floor((x - domain->boxlo[d]) / len));
+        flags[std::size_t(d)] += w, m -= w;
+        reimaged = true;
+      }
+      slot_shift[k][d] = m * len;
+    }
+    if (reimaged) image[i] = pack_image(flags);
   }
   slot_rebuilds = stepper->counters().rebuilds;
   slots_dirty = false;
@@ -137,32 +170,27 @@ void FixHardSphere::serial_map()
 
 void FixHardSphere::serial_follow_lammps()
 {
-  // LAMMPS re-neighboured: it may have sorted its atoms (then the tag map is made anew). Its
-  // periodic wraps need nothing: they keep x + image L, and a write replaces both.
-  lammps_resorted = false;
+  // LAMMPS re-neighboured: it wrapped atoms (their image flags changed: the shifts must be
+  // made anew) and may have sorted them (then the tag map too).
+  lammps_moved = false;
+  slots_dirty = true;
   const int nlocal = atom->nlocal;
   if (std::size_t(nlocal) != stepper->size())
     error->all(FLERR, "fix hardsphere: atoms were added or removed during a run (" + std::to_string(nlocal) +
                           " now, " + std::to_string(stepper->size()) + " at its start)");
-  if (!std::equal(atom->tag, atom->tag + nlocal, mapped_tags.begin())) {
-    map_tags();
-    slots_dirty = true;
-  }
+  if (!std::equal(atom->tag, atom->tag + nlocal, mapped_tags.begin())) map_tags();
 }
 
 void FixHardSphere::serial_write()
 {
   if (slots_dirty || stepper->counters().rebuilds != slot_rebuilds) serial_map();
-  const std::size_t n = slot_local.size();
-  if (n > 0) stepper->scatter_state(slot_local.data(), atom->x[0], atom->v[0]);
-  imageint *image = atom->image;
-  for (std::size_t k = 0; k < n; k++) image[slot_local[k]] = slot_flags[k];
+  if (!slot_local.empty()) stepper->scatter_state(slot_local.data(), slot_shift.data(), atom->x[0], atom->v[0]);
   state_written = true;
 }
 
 void FixHardSphere::serial_step()
 {
-  if (lammps_resorted) serial_follow_lammps();
+  if (lammps_moved) serial_follow_lammps();
   const int nlocal = atom->nlocal;
   double *v = nlocal ? atom->v[0] : nullptr;  // LAMMPS's per-atom rows are one contiguous block
 

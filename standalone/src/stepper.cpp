@@ -86,7 +86,7 @@ class Stepper final : public StepperBase {
       vel[k] = {double(vel_[k].x), double(vel_[k].y), double(vel_[k].z)};
     }
   }
-  void scatter_state(const std::uint32_t* dest, double* x, double* v) const override {
+  void scatter_state(const std::uint32_t* dest, const Vec3d* shift, double* x, double* v) const override {
     const std::size_t n = pos_.size(), ahead = 16;  // rows are scattered: request them early
     for (std::size_t k = 0; k < n; ++k) {
       if (k + ahead < n) {
@@ -95,7 +95,7 @@ class Stepper final : public StepperBase {
       }
       double* xo = x + 3 * std::size_t(dest[k]);
       double* vo = v + 3 * std::size_t(dest[k]);
-      xo[0] = double(pos_[k].x), xo[1] = double(pos_[k].y), xo[2] = double(pos_[k].z);
+      xo[0] = double(pos_[k].x) + shift[k].x, xo[1] = double(pos_[k].y) + shift[k].y, xo[2] = double(pos_[k].z) + shift[k].z;
       vo[0] = double(vel_[k].x), vo[1] = double(vel_[k].y), vo[2] = double(vel_[k].z);
     }
   }

@@ -347,6 +347,27 @@ run 400
         ok &= check(len(frames) == 21 and jump < box.min() / 4,
                     f"np={args.np}: unwrapped coordinates continuous over 400 steps with sorting: largest move "
                     f"in 20 steps {jump:.3f} < L/4 = {box.min() / 4:.3f}")
+        # Far travel between writes: 64 spheres in a box of ~4.4 diameters, 2000 steps with x
+        # written every step (dump every step) or only at the start and the end (dump every
+        # 2000, thermo at the end only): the unwrapped positions at the end must agree.
+        standalone(args, d, "--n", "64", "--phi", "0.3", "--steps", "0", "--write-data", "small.data")
+        ends = []
+        for every in (1, 2000):
+            script = HEADER.format(data="small.data", skin=0.5, dt=0.01) + f"""
+dump tr all custom {every} far{every}.dump id xu yu zu
+dump_modify tr sort id format float %.17g
+thermo 0
+run 2000
+"""
+            run_lmp(args, script, d, np_=args.np)
+            lines = open(os.path.join(d, f"far{every}.dump")).read().splitlines()
+            ends.append(np.array([[float(t) for t in ln.split()[1:4]] for ln in lines[-64:]]))
+        box_s, x0_s, _ = read_data(os.path.join(d, "small.data"))
+        travel = np.abs(ends[0] - x0_s).max()
+        ok &= check(np.abs(ends[0] - ends[1]).max() < 1e-9 and travel > box_s.min(),
+                    f"np={args.np}: unwrapped positions after 2000 steps written every step vs only at the end: "
+                    f"max difference {np.abs(ends[0] - ends[1]).max():.1e} (atoms travelled up to {travel:.1f}, box "
+                    f"{box_s.min():.1f})")
         # A fix acting only every 10 steps (temp/rescale at end_of_step): in serial the state
         # is written for it on those steps and the rescaled velocities are taken up after.
         script = """read_restart r.restart

@@ -91,14 +91,16 @@ TEST(StepperAdapterApi, WrapCountsKeepTheUnwrappedTrajectoryContinuous) {
   std::vector<std::int32_t> img(3 * n);
   std::vector<std::uint32_t> dest{1, 0};  // written in reverse slot order
   std::vector<double> x(3 * n), v(3 * n);
+  const std::vector<Vec3d> shift{{10, 0, 0}, {0, 0, -20}};
   st->copy_ids(ids.data());
   st->copy_images(img.data());
-  st->scatter_state(dest.data(), x.data(), v.data());
+  st->scatter_state(dest.data(), shift.data(), x.data(), v.data());
   EXPECT_EQ(st->counters().collisions, 0);
   for (std::size_t k = 0; k < n; ++k) {
     const Vec3d x0 = ids[k] == 1 ? x1 : x2, v0 = ids[k] == 1 ? v1 : v2;
     for (int d = 0; d < 3; ++d) {
-      EXPECT_NEAR(x[3 * dest[k] + d] + 10.0 * img[3 * k + d], x0[d] + 10.0 * v0[d], 1e-9) << "id " << ids[k] << " axis " << d;
+      EXPECT_NEAR(x[3 * dest[k] + d] - shift[k][d] + 10.0 * img[3 * k + d], x0[d] + 10.0 * v0[d], 1e-9)
+          << "id " << ids[k] << " axis " << d;
       EXPECT_EQ(v[3 * dest[k] + d], v0[d]);
     }
   }

@@ -79,8 +79,8 @@ class StepperBase {
   virtual void copy_images(std::int32_t* out) const = 0;
   virtual void copy_state(Vec3d* pos, Vec3d* vel) const = 0;
   //! Writes the state straight into an adapter's flat arrays (3 doubles per sphere): sphere k
-  //! goes to row dest[k]. One pass, no intermediate copy.
-  virtual void scatter_state(const std::uint32_t* dest, double* x, double* v) const = 0;
+  //! goes to row dest[k], its position shifted by shift[k]. One pass, no intermediate copy.
+  virtual void scatter_state(const std::uint32_t* dest, const Vec3d* shift, double* x, double* v) const = 0;
   //! Replaces every velocity (internal order), e.g. after a thermostat changed them.
   virtual void set_velocities(const Vec3d* vel) = 0;
   //! The same from an adapter's flat array: sphere k takes row src[k] of v.
