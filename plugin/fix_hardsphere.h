@@ -92,6 +92,8 @@ class FixHardSphere : public Fix {
   std::vector<std::uint32_t> slot_local;   //!< stepper slot -> LAMMPS local index
   std::vector<V3> slot_shift;              //!< LAMMPS position - stepper position, per slot
   std::vector<V3> slot_pos, slot_vel;      //!< scratch: the stepper's state while mapping
+  std::vector<std::uint32_t> local_slot;   //!< LAMMPS local index -> stepper slot
+  std::vector<imageint> mapped_image;      //!< LAMMPS's image flags the shifts account for
   std::vector<int> tag_local;              //!< atom tag -> LAMMPS local index, as of mapped_tags
   std::vector<tagint> mapped_tags;         //!< LAMMPS's tags in local order when tag_local was made
   std::vector<std::array<int, 3>> tag_image0;  //!< per tag: LAMMPS unwrapped = stepper unwrapped + this * L

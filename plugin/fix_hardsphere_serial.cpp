@@ -137,7 +137,7 @@ void FixHardSphere::serial_map()
   // LAMMPS re-neighboured, and only before a write.
   const std::size_t n = stepper->size();
   slot_id.resize(n), slot_image.resize(3 * n), slot_local.resize(n), slot_shift.resize(n);
-  slot_pos.resize(n), slot_vel.resize(n);
+  slot_pos.resize(n), slot_vel.resize(n), local_slot.resize(n);
   stepper->copy_ids(slot_id.data());
   stepper->copy_images(slot_image.data());
   stepper->copy_state(slot_pos.data(), slot_vel.data());
@@ -147,6 +147,7 @@ void FixHardSphere::serial_map()
     const int i = tag < tag_local.size() ? tag_local[tag] : -1;
     if (i < 0) error->one(FLERR, "fix hardsphere: atom " + std::to_string(slot_id[k]) + " is no longer on this rank");
     slot_local[k] = std::uint32_t(i);
+    local_slot[std::size_t(i)] = std::uint32_t(k);
     std::array<int, 3> flags = unpack_image(image[i]);
     bool reimaged = false;
     for (int d = 0; d < 3; d++) {
@@ -164,21 +165,33 @@ void FixHardSphere::serial_map()
     }
     if (reimaged) image[i] = pack_image(flags);
   }
+  mapped_image.assign(image, image + n);
   slot_rebuilds = stepper->counters().rebuilds;
   slots_dirty = false;
 }
 
 void FixHardSphere::serial_follow_lammps()
 {
-  // LAMMPS re-neighboured: it wrapped atoms (their image flags changed: the shifts must be
-  // made anew) and may have sorted them (then the tag map too).
+  // LAMMPS re-neighboured. If it sorted its atoms, the tag map and slots are made anew.
+  // Otherwise it only wrapped some atoms, each wrap changing an image flag: shift those.
   lammps_moved = false;
-  slots_dirty = true;
   const int nlocal = atom->nlocal;
   if (std::size_t(nlocal) != stepper->size())
     error->all(FLERR, "fix hardsphere: atoms were added or removed during a run (" + std::to_string(nlocal) +
                           " now, " + std::to_string(stepper->size()) + " at its start)");
-  if (!std::equal(atom->tag, atom->tag + nlocal, mapped_tags.begin())) map_tags();
+  if (!std::equal(atom->tag, atom->tag + nlocal, mapped_tags.begin())) {
+    map_tags();
+    slots_dirty = true;
+  }
+  if (slots_dirty) return;
+  const imageint *image = atom->image;
+  for (int i = 0; i < nlocal; i++) {
+    if (image[i] == mapped_image[std::size_t(i)]) continue;
+    const std::array<int, 3> now = unpack_image(image[i]), before = unpack_image(mapped_image[std::size_t(i)]);
+    for (int d = 0; d < 3; d++)  // x + L comes with image - 1
+      slot_shift[local_slot[std::size_t(i)]][d] -= (now[std::size_t(d)] - before[std::size_t(d)]) * domain->prd[d];
+    mapped_image[std::size_t(i)] = image[i];
+  }
 }
 
 void FixHardSphere::serial_write()
