@@ -28,14 +28,22 @@ struct alignas(64) Body {
   double r;           // radius
 };
 
-//! A pair candidate gathered by a scan: partner and the periodic image shift of its cell.
-struct Candidate {
-  int j;
-  double sx, sy, sz;
+//! A sphere's list centre (its position when its neighbour list was built) and radius: what a
+//! rebuild reads about each sphere of the cells around, two per cache line.
+struct Centre {
+  double x, y, z, r;
 };
 
-//! Boundary event codes: kind * 8 + axis * 2 + (direction > 0).
-enum : std::uint8_t { kCrossing = 0, kWall = 1 };
+//! A neighbour-list entry packs the partner index and the periodic image of the partner as seen
+//! from the list's owner: entry = j << kImageBits | image, image = (sx+1) + 3 (sy+1) + 9 (sz+1)
+//! with s = -1, 0, 1 the box lengths added to the partner's position per axis. The partner's
+//! entry for the owner has image kImages - 1 - image (all shifts negated).
+constexpr int kImageBits = 5;
+constexpr std::uint32_t kImageMask = (1u << kImageBits) - 1;
+constexpr int kImages = 27;
+
+//! Boundary event codes: kind * 8 + axis * 2 + (direction > 0); a rebuild has no axis.
+enum : std::uint8_t { kRebuild = 0, kWall = 1 };
 
 }  // namespace
 
@@ -46,26 +54,35 @@ struct EventEngine::Impl {
   std::array<bool, 3> periodic{};
   bool mono = true;
   double mass0 = 1;
+  double shell = 0;     // neighbour-list shell (length units)
+  double exit_r = 0;    // displacement from the list centre that triggers a rebuild (< shell / 2)
   ParticleSystem proto;  // ids, types, radii, masses in input order (positions unused)
+  std::array<std::array<double, 3>, kImages> image_shift{};  // image code -> shift of the partner
 
   // Spheres in internal (cell-sorted) order
   std::vector<Body> body;
+  std::vector<Centre> centre;
   std::vector<double> mass;
   std::vector<std::uint32_t> count;  // collisions so far (stale-event test)
-  std::vector<std::array<int, 3>> cc;  // cell coordinates
-  // Cell contents: fixed-capacity slot arrays (grown when a cell overflows), so a scan reads
-  // indices sequentially instead of chasing links.
+  std::vector<std::array<int, 3>> cc;  // cell coordinates of the list centre
+  // Cell contents (by list centre): fixed-capacity slot arrays, grown when a cell overflows.
   std::vector<int> slots;               // cell c holds slots[c * cap .. c * cap + fill[c])
   std::vector<int> fill, slot_of;
   int cap = 8;
   int reach = 1;    // stencil half-width in cells
-  int stencil = 27; // (2 reach + 1)^3
-  std::vector<Candidate> scratch;  // candidate buffer of scan() (stencil * cap entries)
-  std::vector<double> soa;         // relative positions/velocities of the candidates
+  // Neighbour lists: sphere i holds nbr[i * ncap .. i * ncap + nfill[i]) (grown on overflow).
+  // Symmetric: j is in i's list iff i is in j's.
+  std::vector<std::uint32_t> nbr;
+  std::vector<int> nfill;
+  int ncap = 16;
+  std::vector<std::uint64_t> mark;  // rebuild bookkeeping: stamp of the last rebuild that saw j
+  std::uint64_t stamp = 0;
+  std::vector<std::uint32_t> old_list, fresh;  // rebuild buffers
+  std::vector<double> soa;         // relative positions/velocities of the candidates of a scan
   std::vector<int> hits;           // candidates passing the contact screen
   std::vector<std::uint32_t> orig;     // internal index -> input index
 
-  // Per-sphere predictions: best pair collision and the boundary (crossing or wall) event.
+  // Per-sphere predictions: best pair collision and the boundary (rebuild or wall) event.
   // The second-best collision is kept too: when the best turns stale (its partner collided
   // elsewhere) the second, if still valid, is the sphere's next collision without a rescan
   // (every partner that changed course since has predicted its own events with this sphere).
@@ -80,6 +97,14 @@ struct EventEngine::Impl {
   EventCounters c;
 
   int cell_index(const std::array<int, 3>& k) const { return (k[2] * nc[1] + k[1]) * nc[0] + k[0]; }
+
+  std::array<int, 3> cell_of(double x, double y, double z) const {
+    const double p[3] = {x, y, z};
+    std::array<int, 3> k{};
+    for (std::size_t d = 0; d < 3; ++d)
+      k[d] = std::clamp(int(std::floor((p[d] - lo[d]) / width[d])), 0, nc[d] - 1);
+    return k;
+  }
 
   void link(int i) {
     const std::size_t h = std::size_t(cell_index(cc[std::size_t(i)]));
@@ -103,6 +128,41 @@ struct EventEngine::Impl {
     slots.swap(s);
   }
 
+  // --- Neighbour lists -------------------------------------------------------------------------
+  std::uint32_t* list(int i) { return &nbr[std::size_t(i) * std::size_t(ncap)]; }
+
+  void add_neighbour(int i, std::uint32_t entry) {
+    if (nfill[std::size_t(i)] == ncap) grow_lists();
+    list(i)[nfill[std::size_t(i)]++] = entry;
+  }
+  //! Removes j from i's list (swap with the last entry; order does not matter).
+  void remove_neighbour(int i, int j) {
+    std::uint32_t* l = list(i);
+    int& f = nfill[std::size_t(i)];
+    for (int u = 0; u < f; ++u)
+      if (int(l[u] >> kImageBits) == j) {
+        l[u] = l[--f];
+        return;
+      }
+  }
+  //! Rewrites the image code of j in i's list (j was wrapped back into the box).
+  void reimage_neighbour(int i, int j, std::uint32_t image) {
+    std::uint32_t* l = list(i);
+    for (int u = 0; u < nfill[std::size_t(i)]; ++u)
+      if (int(l[u] >> kImageBits) == j) {
+        l[u] = (std::uint32_t(j) << kImageBits) | image;
+        return;
+      }
+  }
+  void grow_lists() {
+    const int old = ncap;
+    ncap *= 2;
+    std::vector<std::uint32_t> s(nfill.size() * std::size_t(ncap));
+    for (std::size_t i = 0; i < nfill.size(); ++i)
+      std::copy_n(&nbr[i * std::size_t(old)], nfill[i], &s[i * std::size_t(ncap)]);
+    nbr.swap(s);
+  }
+
   void sync(Body& s) const {
     const double dt = now - s.t;
     s.x += s.vx * dt;
@@ -111,77 +171,74 @@ struct EventEngine::Impl {
     s.t = now;
   }
 
-  //! Cells at offsets lo_off..hi_off from cell c0 along axis d: coordinates and periodic image
-  //! shifts (cells beyond a wall are skipped). Returns the count.
-  int axis_cells(int c0, int d, int lo_off, int hi_off, int* cells, double* shift) const {
+  //! Cells at offsets -reach..reach from cell c0 along axis d: cell coordinates and periodic
+  //! image signs (cells beyond a wall are skipped). Returns the count.
+  int axis_cells(int c0, int d, int* cells, int* sign) const {
     int k = 0;
-    for (int o = lo_off; o <= hi_off; ++o) {
-      int c = c0 + o;
-      double s = 0;
+    for (int o = -reach; o <= reach; ++o) {
+      int c = c0 + o, s = 0;
       if (c < 0) {
         if (!periodic[std::size_t(d)]) continue;
         c += nc[std::size_t(d)];
-        s = -len[std::size_t(d)];
+        s = -1;
       } else if (c >= nc[std::size_t(d)]) {
         if (!periodic[std::size_t(d)]) continue;
         c -= nc[std::size_t(d)];
-        s = len[std::size_t(d)];
+        s = 1;
       }
       cells[k] = c;
-      shift[k] = s;
+      sign[k] = s;
       ++k;
     }
     return k;
   }
 
-  //! Scans the cells at offsets [olo[d], ohi[d]] around sphere i (synced to now) for a pair
-  //! collision earlier than its current candidate.
-  template <bool Mono>
-  void scan(int i, const std::array<int, 3>& olo, const std::array<int, 3>& ohi) {
-    const Body& s = body[std::size_t(i)];
+  //! Calls f(j, image) for every sphere j != i whose list centre is closer than sigma_ij + shell
+  //! to i's: the members of i's neighbour list.
+  template <class F>
+  void for_each_in_range(int i, F&& f) const {
+    const Centre& p = centre[std::size_t(i)];
     const auto& k = cc[std::size_t(i)];
-    int cx[5], cy[5], cz[5];
-    double sx[5], sy[5], sz[5];
-    const int kx = axis_cells(k[0], 0, olo[0], ohi[0], cx, sx);
-    const int ky = axis_cells(k[1], 1, olo[1], ohi[1], cy, sy);
-    const int kz = axis_cells(k[2], 2, olo[2], ohi[2], cz, sz);
+    int cx[5], cy[5], cz[5], sx[5], sy[5], sz[5];
+    const int kx = axis_cells(k[0], 0, cx, sx);
+    const int ky = axis_cells(k[1], 1, cy, sy);
+    const int kz = axis_cells(k[2], 2, cz, sz);
+    for (int a = 0; a < kz; ++a)
+      for (int b = 0; b < ky; ++b) {
+        const int row = (cz[a] * nc[1] + cy[b]) * nc[0];
+        for (int e = 0; e < kx; ++e) {
+          const std::uint32_t image = std::uint32_t((sx[e] + 1) + 3 * (sy[b] + 1) + 9 * (sz[a] + 1));
+          const auto& sh = image_shift[image];
+          const std::size_t h = std::size_t(row + cx[e]);
+          const int* cell = &slots[h * std::size_t(cap)];
+          for (int u = 0; u < fill[h]; ++u) {
+            const int j = cell[u];
+            const Centre& q = centre[std::size_t(j)];
+            const double dx = p.x - (q.x + sh[0]), dy = p.y - (q.y + sh[1]), dz = p.z - (q.z + sh[2]);
+            const double range = p.r + q.r + shell;
+            if (dx * dx + dy * dy + dz * dz < range * range && j != i) f(j, image);
+          }
+        }
+      }
+  }
+
+  //! Scans the m list entries `cand` of sphere i (synced to now) for a pair collision earlier
+  //! than its current best and second-best candidates.
+  template <bool Mono>
+  void scan(int i, const std::uint32_t* cand, int m) {
+    const Body& s = body[std::size_t(i)];
     // Best and second-best candidates (time from now, partner, partner's counter when found).
     double best = col_time[std::size_t(i)] - now, best2 = col2_time[std::size_t(i)] - now;
     int partner = col_partner[std::size_t(i)], partner2 = col2_partner[std::size_t(i)];
     std::uint32_t cnt = col_count[std::size_t(i)], cnt2 = col2_count[std::size_t(i)];
     const bool second_known = partner2 >= 0;
     const double sigma0 = 2 * s.r;
-    // Pass 1: gather the candidates (sequential slot reads) and prefetch their states, so the
-    // cache misses of pass 2 overlap instead of queuing behind each other.
-    if (scratch.size() < std::size_t(stencil * cap)) scratch.resize(std::size_t(stencil * cap));
-    Candidate* cand = scratch.data();
-    for (int a = 0; a < kz; ++a)  // the cell rows' slots and fill counts, all requested at once
-      for (int b = 0; b < ky; ++b) {
-        const int row = (cz[a] * nc[1] + cy[b]) * nc[0];
-        for (int e = 0; e < kx; ++e) {
-          __builtin_prefetch(&slots[std::size_t(row + cx[e]) * std::size_t(cap)]);
-          __builtin_prefetch(&fill[std::size_t(row + cx[e])]);
-        }
-      }
-    int m = 0;
-    for (int a = 0; a < kz; ++a)
-      for (int b = 0; b < ky; ++b) {
-        const int row = (cz[a] * nc[1] + cy[b]) * nc[0];
-        for (int e = 0; e < kx; ++e) {
-          const std::size_t h = std::size_t(row + cx[e]);
-          const int* cell = &slots[h * std::size_t(cap)];
-          const int f = fill[h];
-          for (int u = 0; u < f; ++u) {
-            const int j = cell[u];
-            __builtin_prefetch(&body[std::size_t(j)]);
-            cand[m] = Candidate{j, sx[e], sy[b], sz[a]};
-            m += (j != i);
-          }
-        }
-      }
-    // Pass 2: relative positions and velocities into flat arrays (the loads hit prefetched lines).
-    if (soa.size() < std::size_t(6 * stencil * cap + 8)) soa.resize(std::size_t(6 * stencil * cap + 8));
-    const std::size_t stride = std::size_t(stencil * cap);
+    // Pass 1: request the partners' states at once, so their cache misses overlap.
+    for (int u = 0; u < m; ++u) __builtin_prefetch(&body[cand[u] >> kImageBits]);
+    // Pass 2: relative positions and velocities into flat arrays.
+    const std::size_t stride = std::size_t(m + 8) & ~std::size_t(7);
+    if (soa.size() < 6 * stride) soa.resize(6 * stride);
+    if (hits.size() < stride) hits.resize(stride);
     double* __restrict rx = soa.data();
     double* __restrict ry = rx + stride;
     double* __restrict rz = ry + stride;
@@ -189,25 +246,22 @@ struct EventEngine::Impl {
     double* __restrict uy = ux + stride;
     double* __restrict uz = uy + stride;
     for (int u = 0; u < m; ++u) {
-      const Body& q = body[std::size_t(cand[u].j)];
+      const Body& q = body[cand[u] >> kImageBits];
+      const auto& sh = image_shift[cand[u] & kImageMask];
       const double dtj = now - q.t;
-      rx[u] = s.x - (q.x + q.vx * dtj + cand[u].sx);
-      ry[u] = s.y - (q.y + q.vy * dtj + cand[u].sy);
-      rz[u] = s.z - (q.z + q.vz * dtj + cand[u].sz);
+      rx[u] = s.x - (q.x + q.vx * dtj + sh[0]);
+      ry[u] = s.y - (q.y + q.vy * dtj + sh[1]);
+      rz[u] = s.z - (q.z + q.vz * dtj + sh[2]);
       ux[u] = s.vx - q.vx;
       uy[u] = s.vy - q.vy;
       uz[u] = s.vz - q.vz;
     }
-    // Pass 3: a branch-free (vectorisable) screen of the contact condition: approaching and the
-    // lines pass within sigma. Survivors get their contact time from the kernel in pass 4.
+    // Pass 3: a branch-free screen of the contact condition: approaching and the lines pass
+    // within sigma. Survivors get their contact time from the kernel in pass 4.
     int* __restrict hit = hits.data();
-    if (hits.size() < stride) {
-      hits.resize(stride);
-      hit = hits.data();
-    }
     int nh = 0;
     for (int u = 0; u < m; ++u) {
-      const double sigma = Mono ? sigma0 : s.r + body[std::size_t(cand[u].j)].r;
+      const double sigma = Mono ? sigma0 : s.r + body[cand[u] >> kImageBits].r;
       const double bb = rx[u] * ux[u] + ry[u] * uy[u] + rz[u] * uz[u];
       const double rr = rx[u] * rx[u] + ry[u] * ry[u] + rz[u] * rz[u];
       const double vv = ux[u] * ux[u] + uy[u] * uy[u] + uz[u] * uz[u];
@@ -218,7 +272,7 @@ struct EventEngine::Impl {
     // Pass 4: contact times of the survivors, best and second best.
     for (int h = 0; h < nh; ++h) {
       const int u = hit[h];
-      const int j = cand[u].j;
+      const int j = int(cand[u] >> kImageBits);
       const double sigma = Mono ? sigma0 : s.r + body[std::size_t(j)].r;
       const double t = kernel::contact_time(Vec3d{rx[u], ry[u], rz[u]}, Vec3d{ux[u], uy[u], uz[u]}, sigma);
       if (t < best2) {  // best2 = +inf when the second is unknown
@@ -249,40 +303,40 @@ struct EventEngine::Impl {
       col2_count[std::size_t(i)] = cnt2;
     }
   }
+  void scan_entries(int i, const std::uint32_t* cand, int m) {
+    if (mono) scan<true>(i, cand, m);
+    else scan<false>(i, cand, m);
+  }
 
-  //! Next cell crossing or wall contact of sphere i (synced to now).
+  //! Next boundary event of sphere i (synced to now): leaving the ball of radius exit_r around
+  //! its list centre, or touching a wall that it can reach inside that ball.
   void predict_boundary(int i) {
     const Body& s = body[std::size_t(i)];
-    const double pos[3] = {s.x, s.y, s.z}, vel[3] = {s.vx, s.vy, s.vz};
+    const Centre& p = centre[std::size_t(i)];
+    const double pos[3] = {s.x, s.y, s.z}, vel[3] = {s.vx, s.vy, s.vz}, ctr[3] = {p.x, p.y, p.z};
+    // |d + v t| = exit_r with d = pos - centre: the positive root of a t^2 + 2 b t + c = 0,
+    // c <= 0 inside the ball; each branch is a ratio of same-signed terms (no cancellation).
+    const double dx = s.x - p.x, dy = s.y - p.y, dz = s.z - p.z;
+    const double a = s.vx * s.vx + s.vy * s.vy + s.vz * s.vz;
+    const double b = dx * s.vx + dy * s.vy + dz * s.vz;
+    const double cc0 = dx * dx + dy * dy + dz * dz - exit_r * exit_r;
+    const double root = std::sqrt(std::max(0.0, b * b - a * cc0));
     double best = kInf;
-    std::uint8_t code = 0;
+    if (a > 0) best = b <= 0 ? (root - b) / a : -cc0 / (b + root);
+    std::uint8_t code = kRebuild * 8;
     for (int d = 0; d < 3; ++d) {
+      if (periodic[std::size_t(d)]) continue;
       const double v = vel[d];
-      const int k = cc[std::size_t(i)][std::size_t(d)];
+      const double hi = lo[std::size_t(d)] + len[std::size_t(d)];
       double t;
-      std::uint8_t kind;
-      if (v > 0) {
-        if (!periodic[std::size_t(d)] && k == nc[std::size_t(d)] - 1) {
-          t = (lo[std::size_t(d)] + len[std::size_t(d)] - s.r - pos[d]) / v;
-          kind = kWall;
-        } else {
-          t = (lo[std::size_t(d)] + double(k + 1) * width[std::size_t(d)] - pos[d]) / v;
-          kind = kCrossing;
-        }
-      } else if (v < 0) {
-        if (!periodic[std::size_t(d)] && k == 0) {
-          t = (lo[std::size_t(d)] + s.r - pos[d]) / v;
-          kind = kWall;
-        } else {
-          t = (lo[std::size_t(d)] + double(k) * width[std::size_t(d)] - pos[d]) / v;
-          kind = kCrossing;
-        }
-      } else {
-        continue;
-      }
+      // A wall further than exit_r + radius from the centre cannot be reached before the
+      // rebuild (tested with the whole shell as margin); the rebuild re-predicts.
+      if (v > 0 && ctr[d] + shell + s.r >= hi) t = (hi - s.r - pos[d]) / v;
+      else if (v < 0 && ctr[d] - shell - s.r <= lo[std::size_t(d)]) t = (lo[std::size_t(d)] + s.r - pos[d]) / v;
+      else continue;
       if (t < best) {
         best = t;
-        code = std::uint8_t(kind * 8 + d * 2 + (v > 0 ? 1 : 0));
+        code = std::uint8_t(kWall * 8 + d * 2 + (v > 0 ? 1 : 0));
       }
     }
     bnd_time[std::size_t(i)] = now + std::max(0.0, best);
@@ -294,8 +348,7 @@ struct EventEngine::Impl {
     sync(body[std::size_t(i)]);
     col_time[std::size_t(i)] = col2_time[std::size_t(i)] = kInf;
     col_partner[std::size_t(i)] = col2_partner[std::size_t(i)] = i;  // "none": counts irrelevant at +inf
-    if (mono) scan<true>(i, {-reach, -reach, -reach}, {reach, reach, reach});
-    else scan<false>(i, {-reach, -reach, -reach}, {reach, reach, reach});
+    scan_entries(i, list(i), nfill[std::size_t(i)]);
     predict_boundary(i);
   }
 
@@ -330,7 +383,7 @@ struct EventEngine::Impl {
     sync(a);
     sync(b);
     Vec3d dr{a.x - b.x, a.y - b.y, a.z - b.z};
-    for (int d = 0; d < 3; ++d)  // at contact |dr| <= largest diameter <= L/3: minimum image
+    for (int d = 0; d < 3; ++d)  // at contact |dr| <= largest diameter < L/2: minimum image
       if (periodic[std::size_t(d)]) dr[d] -= len[std::size_t(d)] * std::nearbyint(dr[d] / len[std::size_t(d)]);
     Vec3d va{a.vx, a.vy, a.vz}, vb{b.vx, b.vy, b.vz};
     const double w = mono ? mass0 * kernel::collide_equal_mass(dr, va, vb)
@@ -347,44 +400,67 @@ struct EventEngine::Impl {
     schedule(j);
   }
 
+  //! Sphere i (synced) has left its shell: new list centre at its position (wrapped into the
+  //! box), new list, and the symmetric update of the lists it joins or leaves. Its trajectory
+  //! is unchanged, so its candidates stay valid and only the new members are scanned.
+  void rebuild(int i) {
+    ++c.neighbour_list_rebuilds;
+    Body& s = body[std::size_t(i)];
+    double* pos[3] = {&s.x, &s.y, &s.z};
+    bool wrapped = false;
+    for (std::size_t d = 0; d < 3; ++d) {
+      if (!periodic[d]) continue;
+      if (*pos[d] < lo[d]) *pos[d] += len[d], wrapped = true;
+      else if (*pos[d] >= lo[d] + len[d]) *pos[d] -= len[d], wrapped = true;
+    }
+    centre[std::size_t(i)] = Centre{s.x, s.y, s.z, s.r};
+    const auto k = cell_of(s.x, s.y, s.z);
+    if (k != cc[std::size_t(i)]) {
+      unlink(i);
+      cc[std::size_t(i)] = k;
+      link(i);
+    }
+    // Old members are marked `was`; those found again become `kept`; the rest leave.
+    const std::uint64_t was = ++stamp, kept = ++stamp;
+    old_list.assign(list(i), list(i) + nfill[std::size_t(i)]);
+    for (std::uint32_t e : old_list) mark[e >> kImageBits] = was;
+    nfill[std::size_t(i)] = 0;
+    fresh.clear();
+    for_each_in_range(i, [&](int j, std::uint32_t image) {
+      const std::uint32_t entry = (std::uint32_t(j) << kImageBits) | image;
+      const std::uint32_t back = (std::uint32_t(i) << kImageBits) | (kImages - 1 - image);
+      add_neighbour(i, entry);
+      if (mark[std::size_t(j)] == was) {
+        mark[std::size_t(j)] = kept;
+        if (wrapped) reimage_neighbour(j, i, back & kImageMask);
+      } else {
+        add_neighbour(j, back);
+        fresh.push_back(entry);
+      }
+    });
+    for (std::uint32_t e : old_list)
+      if (mark[e >> kImageBits] == was) remove_neighbour(int(e >> kImageBits), i);
+    if (candidate_stale(i) && !promote_second(i)) {
+      full_predict(i);
+    } else {
+      scan_entries(i, fresh.data(), int(fresh.size()));
+      predict_boundary(i);
+    }
+    schedule(i);
+  }
+
   void boundary_event(int i) {
     Body& s = body[std::size_t(i)];
     sync(s);
     const int code = bnd_code[std::size_t(i)];
-    const int kind = code / 8, d = (code / 2) % 4, up = code % 2;
-    double* pos = d == 0 ? &s.x : (d == 1 ? &s.y : &s.z);
+    const int kind = code / 8, d = (code / 2) % 4;
+    if (kind == kRebuild) return rebuild(i);
     double* vel = d == 0 ? &s.vx : (d == 1 ? &s.vy : &s.vz);
-    if (kind == kWall) {
-      c.wall_impulse[std::size_t(d)] += 2 * mass[std::size_t(i)] * std::abs(*vel);
-      *vel = -*vel;
-      ++c.wall_collisions;
-      ++count[std::size_t(i)];
-      full_predict(i);
-      schedule(i);
-      return;
-    }
-    ++c.cell_crossings;
-    unlink(i);
-    int& k = cc[std::size_t(i)][std::size_t(d)];
-    k += up ? 1 : -1;
-    if (k < 0) {
-      k += nc[std::size_t(d)];
-      *pos += len[std::size_t(d)];
-    } else if (k >= nc[std::size_t(d)]) {
-      k -= nc[std::size_t(d)];
-      *pos -= len[std::size_t(d)];
-    }
-    link(i);
-    if (candidate_stale(i) && !promote_second(i)) {
-      full_predict(i);
-    } else {
-      // The old candidate still holds; only the slab of cells that entered the stencil is new.
-      std::array<int, 3> olo{-reach, -reach, -reach}, ohi{reach, reach, reach};
-      olo[std::size_t(d)] = ohi[std::size_t(d)] = up ? reach : -reach;
-      if (mono) scan<true>(i, olo, ohi);
-      else scan<false>(i, olo, ohi);
-      predict_boundary(i);
-    }
+    c.wall_impulse[std::size_t(d)] += 2 * mass[std::size_t(i)] * std::abs(*vel);
+    *vel = -*vel;
+    ++c.wall_collisions;
+    ++count[std::size_t(i)];
+    full_predict(i);
     schedule(i);
   }
 
@@ -446,8 +522,8 @@ struct EventEngine::Impl {
   }
 
   //! Renumbers the spheres in cell order (Morton order of the cells). Spheres wander away from
-  //! their neighbours in memory as they diffuse; this restores locality. Needs now == 0 or
-  //! any time: only indices change, not the physics.
+  //! their neighbours in memory as they diffuse; this restores locality. Any time will do:
+  //! only indices change, not the physics.
   void renumber() {
     const std::size_t n = body.size();
     std::vector<int> old_of;
@@ -462,6 +538,7 @@ struct EventEngine::Impl {
       v.swap(w);
     };
     permute(body);
+    permute(centre);
     permute(mass);
     permute(count);
     permute(cc);
@@ -475,6 +552,7 @@ struct EventEngine::Impl {
     permute(col2_count);
     permute(bnd_code);
     permute(slot_of);
+    permute(mark);
     for (auto& p : col_partner) p = new_of[std::size_t(p)];
     for (auto& p : col2_partner)
       if (p >= 0) p = new_of[std::size_t(p)];
@@ -483,9 +561,32 @@ struct EventEngine::Impl {
         int& x = slots[h * std::size_t(cap) + std::size_t(k)];
         x = new_of[std::size_t(x)];
       }
+    std::vector<std::uint32_t> lists(nbr.size());
+    std::vector<int> fills(n);
+    for (std::size_t k = 0; k < n; ++k) {
+      const std::size_t o = std::size_t(old_of[k]);
+      fills[k] = nfill[o];
+      for (int u = 0; u < nfill[o]; ++u) {
+        const std::uint32_t e = nbr[o * std::size_t(ncap) + std::size_t(u)];
+        lists[k * std::size_t(ncap) + std::size_t(u)] = (std::uint32_t(new_of[e >> kImageBits]) << kImageBits) | (e & kImageMask);
+      }
+    }
+    nbr.swap(lists);
+    nfill.swap(fills);
     std::vector<double> keys(n);
     for (std::size_t k = 0; k < n; ++k) keys[k] = std::min(col_time[k], bnd_time[k]);
     calendar.build(keys);
+  }
+
+  //! Every sphere's list from scratch (list centres = current positions).
+  void build_lists() {
+    std::fill(nfill.begin(), nfill.end(), 0);
+    for (int i = 0; i < int(body.size()); ++i)
+      for_each_in_range(i, [&](int j, std::uint32_t image) {
+        if (j < i) return;  // each pair once, entered in both lists
+        add_neighbour(i, (std::uint32_t(j) << kImageBits) | image);
+        add_neighbour(j, (std::uint32_t(i) << kImageBits) | (kImages - 1 - image));
+      });
   }
 
   void run_until(double t_end_abs) {
@@ -498,46 +599,65 @@ struct EventEngine::Impl {
 EventEngine::EventEngine(const ParticleSystem& sys, const EventConfig& cfg) : impl_(std::make_unique<Impl>()) {
   Impl& m = *impl_;
   const std::size_t n = sys.size();
-  if (n > std::size_t(std::numeric_limits<int>::max() / 2)) throw InputError("too many spheres for the event engine");
+  if (n >= (std::size_t(1) << (32 - kImageBits))) throw InputError("too many spheres for the event engine");
   if (sys.radius.size() != n || sys.mass.size() != n || sys.vel.size() != n)
     throw InputError("event engine: inconsistent particle arrays");
+  if (!(cfg.shell > 0) || !std::isfinite(cfg.shell))
+    throw InputError("event engine: shell " + std::to_string(cfg.shell) + " must be positive");
   m.proto = sys;
   m.mono = sys.monodisperse();
   m.mass0 = n ? sys.mass[0] : 1.0;
   if (cfg.reach < 1 || cfg.reach > 2) throw InputError("event engine: reach " + std::to_string(cfg.reach) + " must be 1 or 2");
   m.reach = cfg.reach;
-  m.stencil = (2 * m.reach + 1) * (2 * m.reach + 1) * (2 * m.reach + 1);
   const int min_cells = 2 * m.reach + 1;
   const double dmax = 2 * sys.max_radius();
-  const double wmin = dmax / m.reach;
+  // The shell may not make the cells wider than a periodic axis (or a user grid) allows; the
+  // cells themselves must be at least (largest diameter) / reach wide, as before lists.
+  double shell = cfg.shell * dmax;
+  for (std::size_t d = 0; d < 3; ++d) {
+    const double l = sys.box.length(int(d));
+    const double w = cfg.cells[d] > 0 ? l / cfg.cells[d] : (sys.box.periodic[d] ? l / min_cells : kInf);
+    if (cfg.cells[d] > 0 && w < dmax / m.reach * (1 - 1e-12))
+      throw InputError("event engine: " + std::to_string(cfg.cells[d]) + " cells on axis " + std::string(1, char('x' + d)) +
+                       " are narrower than the largest diameter / reach " + std::to_string(dmax / m.reach));
+    if (sys.box.periodic[d] && (l < min_cells * dmax / m.reach || (cfg.cells[d] > 0 && cfg.cells[d] < min_cells)))
+      throw InputError("event engine: periodic axis " + std::string(1, char('x' + d)) + " of length " + std::to_string(l) +
+                       " needs at least " + std::to_string(min_cells) + " cells of width >= the largest diameter / reach " +
+                       std::to_string(dmax / m.reach));
+    shell = std::min(shell, w * m.reach - dmax);
+  }
+  if (n > 0 && !(shell > 1e-6 * dmax))
+    throw InputError("event engine: no room for a neighbour-list shell: periodic axes need at least " +
+                     std::to_string(min_cells) + " cells wider than the largest diameter / reach");
+  m.shell = shell;
+  m.exit_r = 0.5 * shell * (1 - 1e-9);  // strictly inside shell / 2: round-off margin
+  const double wmin = (dmax + shell) / m.reach;
   double cells_total = 1;
   for (std::size_t d = 0; d < 3; ++d) {
     m.lo[d] = sys.box.lo[d];
-    m.len[d] = sys.box.length(d);
+    m.len[d] = sys.box.length(int(d));
     m.periodic[d] = sys.box.periodic[d];
     int k = cfg.cells[d];
     if (k == 0) k = int(std::min(1e6, std::floor(m.len[d] / std::max(wmin, 1e-300))));
-    if (m.periodic[d] && k < min_cells)
-      throw InputError("event engine: periodic axis " + std::string(1, char('x' + d)) + " of length " +
-                       std::to_string(m.len[d]) + " needs at least " + std::to_string(min_cells) +
-                       " cells of width >= the largest diameter / reach " + std::to_string(wmin));
-    k = std::max(k, 1);
-    if (cfg.cells[d] > 0 && m.len[d] / k < wmin * (1 - 1e-12))
-      throw InputError("event engine: " + std::to_string(k) + " cells on axis " + std::string(1, char('x' + d)) +
-                       " are narrower than the largest diameter / reach " + std::to_string(wmin));
+    k = std::max(k, m.periodic[d] ? min_cells : 1);
     m.nc[d] = k;
     cells_total *= k;
   }
   if (cfg.cells == std::array<int, 3>{0, 0, 0}) {
-    const double cap = std::max(double(m.stencil), cfg.max_cells_per_sphere * m.reach * m.reach * m.reach * double(n));
+    const double cap = std::max(double(min_cells * min_cells * min_cells),
+                                cfg.max_cells_per_sphere * m.reach * m.reach * m.reach * double(n));
     if (cells_total > cap) {
       const double f = std::cbrt(cells_total / cap);
       for (std::size_t d = 0; d < 3; ++d) m.nc[d] = std::max(m.periodic[d] ? min_cells : 1, int(double(m.nc[d]) / f));
     }
   }
   for (std::size_t d = 0; d < 3; ++d) m.width[d] = m.len[d] / m.nc[d];
+  for (int z = -1; z <= 1; ++z)
+    for (int y = -1; y <= 1; ++y)
+      for (int x = -1; x <= 1; ++x)
+        m.image_shift[std::size_t((x + 1) + 3 * (y + 1) + 9 * (z + 1))] = {x * m.len[0], y * m.len[1], z * m.len[2]};
   m.fill.assign(std::size_t(m.nc[0]) * std::size_t(m.nc[1]) * std::size_t(m.nc[2]), 0);
-  m.cap = m.reach == 1 ? 8 : 2;  // a cell half a diameter wide holds one sphere of that size
+  m.cap = m.reach == 1 ? 8 : 2;
   m.slots.assign(m.fill.size() * std::size_t(m.cap), -1);
   m.slot_of.assign(n, 0);
 
@@ -548,10 +668,12 @@ EventEngine::EventEngine(const ParticleSystem& sys, const EventConfig& cfg) : im
   for (std::size_t i = 0; i < n; ++i) {
     for (int d = 0; d < 3; ++d) {
       double& x = p0[i][d];
-      if (m.periodic[std::size_t(d)]) x -= m.len[std::size_t(d)] * std::floor((x - m.lo[std::size_t(d)]) / m.len[std::size_t(d)]);
-      int c = int(std::floor((x - m.lo[std::size_t(d)]) / m.width[std::size_t(d)]));
-      k0[i][std::size_t(d)] = std::clamp(c, 0, m.nc[std::size_t(d)] - 1);
+      if (m.periodic[std::size_t(d)]) {
+        x -= m.len[std::size_t(d)] * std::floor((x - m.lo[std::size_t(d)]) / m.len[std::size_t(d)]);
+        if (x >= m.lo[std::size_t(d)] + m.len[std::size_t(d)]) x -= m.len[std::size_t(d)];  // round-off at the top
+      }
     }
+    k0[i] = m.cell_of(p0[i].x, p0[i].y, p0[i].z);
     key[i] = m.cell_index(k0[i]);
   }
   m.orig.resize(n);
@@ -559,6 +681,7 @@ EventEngine::EventEngine(const ParticleSystem& sys, const EventConfig& cfg) : im
   std::stable_sort(m.orig.begin(), m.orig.end(), [&](std::uint32_t a, std::uint32_t b) { return key[a] < key[b]; });
 
   m.body.resize(n);
+  m.centre.resize(n);
   m.mass.resize(n);
   m.cc.resize(n);
   m.count.assign(n, 0);
@@ -570,14 +693,19 @@ EventEngine::EventEngine(const ParticleSystem& sys, const EventConfig& cfg) : im
   m.col2_partner.assign(n, 0);
   m.col2_count.assign(n, 0);
   m.bnd_code.assign(n, 0);
+  m.mark.assign(n, 0);
   for (std::size_t k = 0; k < n; ++k) {
     const std::size_t i = m.orig[k];
     m.body[k] = Body{p0[i].x, p0[i].y, p0[i].z, 0.0, sys.vel[i].x, sys.vel[i].y, sys.vel[i].z, sys.radius[i]};
+    m.centre[k] = Centre{p0[i].x, p0[i].y, p0[i].z, sys.radius[i]};
     m.mass[k] = sys.mass[i];
     m.cc[k] = k0[i];
     m.link(int(k));
   }
+  m.nfill.assign(n, 0);
+  m.nbr.assign(n * std::size_t(m.ncap), 0);
   m.build_cell_order();
+  m.build_lists();
   m.renumber();
   for (std::size_t k = 0; k < n; ++k) m.full_predict(int(k));
   std::vector<double> keys(n);
@@ -626,6 +754,8 @@ void EventEngine::reset_counters() {
 double EventEngine::time() const { return impl_->base + impl_->now; }
 
 std::array<int, 3> EventEngine::cells_per_dim() const { return impl_->nc; }
+
+double EventEngine::shell() const { return impl_->shell; }
 
 std::string EventEngine::scene_kernel() const {
   return std::string(impl_->proto.box.all_periodic() ? "periodic" : "walls") + (impl_->mono ? ",mono" : ",poly");

@@ -2,6 +2,7 @@
 // engine = event): initial state, equilibration in simulated time, a measured run split into
 // blocks (for the error bar of Z and the collision rate), summary with the stepper's JSON keys
 // where they mean the same thing.
+#include <cstdlib>  // TEMP-SWEEP
 #include <cmath>
 #include <optional>
 
@@ -40,7 +41,9 @@ nlohmann::json run_event_simulation(const RunSpec& spec) {
   if (spec.histogram_bins < 1) throw InputError("histogram bins must be >= 1");
 
   ParticleSystem sys = initial_state(spec);
-  EventEngine engine(sys, spec.event);
+  EventConfig ecfg = spec.event;  // TEMP-SWEEP
+  if (const char* e = std::getenv("HS_EVENT_SHELL")) ecfg.shell = std::atof(e);  // TEMP-SWEEP
+  EventEngine engine(sys, ecfg);
   std::optional<DumpWriter> dump;
   if (spec.dump) dump.emplace(*spec.dump);
   std::optional<AtomicFile> json_file;
@@ -96,6 +99,8 @@ nlohmann::json run_event_simulation(const RunSpec& spec) {
   j["precision"] = "double";
   j["loop_cpu_seconds"] = cpu;
   j["cell_crossings"] = c.cell_crossings;
+  j["neighbour_list_rebuilds"] = c.neighbour_list_rebuilds;
+  j["neighbour_shell"] = engine.shell();
   j["stale_events"] = c.stale_events;
   j["events"] = c.events;
   j["full_predictions"] = c.full_predictions;

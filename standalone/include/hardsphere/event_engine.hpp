@@ -25,15 +25,19 @@ enum class Engine { Stepper, Event };
 Engine parse_engine(const std::string& s);  //!< "stepper" or "event"; throws InputError
 
 struct EventConfig {
-  //! Cells per axis; 0 = auto (as many as fit with width >= the largest diameter, at most
-  //! max_cells_per_sphere * N cells). Periodic axes need at least 3 cells.
+  //! Cells per axis of the grid that finds neighbour-list members (spheres are filed by their
+  //! list centre); 0 = auto (as many as fit with width >= (largest diameter + shell) / reach,
+  //! at most max_cells_per_sphere * reach^3 * N cells). Periodic axes need 2 reach + 1 cells.
   std::array<int, 3> cells{0, 0, 0};
   double max_cells_per_sphere = 2.0;
-  //! Stencil half-width in cells: cells are at least (largest diameter / reach) wide and a sphere's
-  //! partners are searched (2 reach + 1)^3 cells around it. 2 halves the volume searched (fewer
-  //! candidates) at the price of twice as many cell crossings and 125 cells per scan; measured
-  //! 20-30% slower at phi = 0.45, so 1 is the default. Periodic axes need 2 reach + 1 cells.
+  //! Stencil half-width in cells for list rebuilds: cells are at least (largest diameter +
+  //! shell) / reach wide and a rebuild searches (2 reach + 1)^3 cells. 2 is kept for tests.
   int reach = 1;
+  //! Neighbour-list shell in units of the largest diameter: a sphere's list holds every sphere
+  //! whose list centre is closer than sigma_ij + shell to its own, and is rebuilt when the
+  //! sphere has moved shell / 2 from its centre. Shrunk automatically when a periodic axis or
+  //! a user-given cell grid is too small for it.
+  double shell = 0.3;
   //! Events per sphere between re-basings of the clock (all spheres brought to the current time,
   //! times shifted to zero).
   std::int64_t rebase_events_per_sphere = 64;
@@ -43,10 +47,11 @@ struct EventCounters {
   double sim_time = 0;                //!< simulated time since the last reset
   std::int64_t collisions = 0;        //!< pair collisions executed
   std::int64_t wall_collisions = 0;   //!< wall reflections executed
-  std::int64_t cell_crossings = 0;    //!< cell crossings executed
+  std::int64_t cell_crossings = 0;    //!< always 0: cells hold list centres, which never cross
+  std::int64_t neighbour_list_rebuilds = 0;  //!< spheres that left their shell and were re-listed
   std::int64_t stale_events = 0;      //!< calendar entries found stale and re-predicted
-  std::int64_t events = 0;            //!< all calendar entries processed (the four above)
-  std::int64_t full_predictions = 0;  //!< predictions that scanned all 27 cells around a sphere
+  std::int64_t events = 0;            //!< all calendar entries processed (collisions, walls, rebuilds, stale)
+  std::int64_t full_predictions = 0;  //!< predictions that scanned a sphere's whole neighbour list
   double pair_virial = 0;             //!< sum over collisions of r_ij . dp_i (>= 0)
   std::array<double, 3> wall_impulse{0, 0, 0};  //!< momentum given to the walls of each axis
 };
@@ -70,6 +75,7 @@ class EventEngine {
   void reset_counters();
   double time() const;  //!< simulated time since construction
   std::array<int, 3> cells_per_dim() const;
+  double shell() const;  //!< neighbour-list shell in use (length units, after any shrinking)
   std::string scene_kernel() const;  //!< e.g. "periodic,mono"
 
  private:
