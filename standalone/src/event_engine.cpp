@@ -34,6 +34,15 @@ struct Centre {
   double x, y, z, r;
 };
 
+//! What an event reads and writes about a sphere besides its motion, in one cache line: the
+//! best and second-best predicted collisions, the next boundary event and the list centre.
+struct alignas(64) Pred {
+  double col_time, col2_time, bnd_time;
+  double cx, cy, cz;  // list centre
+  int col_partner, col2_partner;
+  std::uint32_t col_count, col2_count;  // partners' collision counters when predicted
+};
+
 //! A neighbour-list entry packs the partner index and the periodic image of the partner as seen
 //! from the list's owner: entry = j << kImageBits | image, image = (sx+1) + 3 (sy+1) + 9 (sz+1)
 //! with s = -1, 0, 1 the box lengths added to the partner's position per axis. The partner's
@@ -41,6 +50,9 @@ struct Centre {
 constexpr int kImageBits = 5;
 constexpr std::uint32_t kImageMask = (1u << kImageBits) - 1;
 constexpr int kImages = 27;
+
+//! Neighbour lists start on cache-line boundaries, so a list of up to 16 entries is one line.
+constexpr std::size_t kPerLine = 64 / sizeof(std::uint32_t);
 
 //! Boundary event codes: kind * 8 + axis * 2 + (direction > 0); a rebuild has no axis.
 enum : std::uint8_t { kRebuild = 0, kWall = 1 };
@@ -61,18 +73,21 @@ struct EventEngine::Impl {
 
   // Spheres in internal (cell-sorted) order
   std::vector<Body> body;
-  std::vector<Centre> centre;
   std::vector<double> mass;
   std::vector<std::uint32_t> count;  // collisions so far (stale-event test)
   std::vector<std::array<int, 3>> cc;  // cell coordinates of the list centre
   // Cell contents (by list centre): fixed-capacity slot arrays, grown when a cell overflows.
+  // The centres are stored in the cells too, so a rebuild reads each cell sequentially
+  // instead of chasing one cache line per sphere.
   std::vector<int> slots;               // cell c holds slots[c * cap .. c * cap + fill[c])
+  std::vector<Centre> cell_ctr;         // the centres of those spheres, same layout
   std::vector<int> fill, slot_of;
   int cap = 8;
   int reach = 1;    // stencil half-width in cells
   // Neighbour lists: sphere i holds nbr[i * ncap .. i * ncap + nfill[i]) (grown on overflow).
   // Symmetric: j is in i's list iff i is in j's.
-  std::vector<std::uint32_t> nbr;
+  std::vector<std::uint32_t> nbr;  // list i starts at nbr[nbase + i * ncap], nbase aligns it
+  std::size_t nbase = 0;
   std::vector<int> nfill;
   int ncap = 16;
   std::vector<std::uint64_t> mark;  // rebuild bookkeeping: stamp of the last rebuild that saw j
@@ -86,15 +101,18 @@ struct EventEngine::Impl {
   // The second-best collision is kept too: when the best turns stale (its partner collided
   // elsewhere) the second, if still valid, is the sphere's next collision without a rescan
   // (every partner that changed course since has predicted its own events with this sphere).
-  std::vector<double> col_time, bnd_time, col2_time;
-  std::vector<int> col_partner, col2_partner;
-  std::vector<std::uint32_t> col_count, col2_count;
+  std::vector<Pred> pred;
   std::vector<std::uint8_t> bnd_code;
   EventCalendar calendar;
 
   double now = 0, base = 0, reset_time = 0;
   std::int64_t events_since_rebase = 0, rebase_every = 0;
   EventCounters c;
+
+  Centre ctr_of(int i) const {
+    const Pred& p = pred[std::size_t(i)];
+    return {p.cx, p.cy, p.cz, body[std::size_t(i)].r};
+  }
 
   int cell_index(const std::array<int, 3>& k) const { return (k[2] * nc[1] + k[1]) * nc[0] + k[0]; }
 
@@ -110,26 +128,40 @@ struct EventEngine::Impl {
     const std::size_t h = std::size_t(cell_index(cc[std::size_t(i)]));
     if (fill[h] == cap) grow();
     slots[h * std::size_t(cap) + std::size_t(fill[h])] = i;
+    cell_ctr[h * std::size_t(cap) + std::size_t(fill[h])] = ctr_of(i);
     slot_of[std::size_t(i)] = fill[h]++;
   }
   void unlink(int i) {
     const std::size_t h = std::size_t(cell_index(cc[std::size_t(i)]));
     const int k = slot_of[std::size_t(i)];
-    const int last = slots[h * std::size_t(cap) + std::size_t(--fill[h])];
+    const std::size_t from = h * std::size_t(cap) + std::size_t(--fill[h]);
+    const int last = slots[from];
     slots[h * std::size_t(cap) + std::size_t(k)] = last;
+    cell_ctr[h * std::size_t(cap) + std::size_t(k)] = cell_ctr[from];
     slot_of[std::size_t(last)] = k;
   }
   void grow() {
     const int old = cap;
     cap *= 2;
     std::vector<int> s(fill.size() * std::size_t(cap), -1);
+    std::vector<Centre> p(fill.size() * std::size_t(cap));
     for (std::size_t h = 0; h < fill.size(); ++h)
-      for (int k = 0; k < fill[h]; ++k) s[h * std::size_t(cap) + std::size_t(k)] = slots[h * std::size_t(old) + std::size_t(k)];
+      for (int k = 0; k < fill[h]; ++k) {
+        s[h * std::size_t(cap) + std::size_t(k)] = slots[h * std::size_t(old) + std::size_t(k)];
+        p[h * std::size_t(cap) + std::size_t(k)] = cell_ctr[h * std::size_t(old) + std::size_t(k)];
+      }
     slots.swap(s);
+    cell_ctr.swap(p);
   }
 
   // --- Neighbour lists -------------------------------------------------------------------------
-  std::uint32_t* list(int i) { return &nbr[std::size_t(i) * std::size_t(ncap)]; }
+  std::uint32_t* list(int i) { return &nbr[nbase + std::size_t(i) * std::size_t(ncap)]; }
+  //! Storage for n lists of capacity ncap (a multiple of kPerLine), each on a line boundary.
+  void alloc_lists(std::vector<std::uint32_t>& v, std::size_t& base, std::size_t n) const {
+    v.assign(n * std::size_t(ncap) + kPerLine, 0);
+    const auto addr = reinterpret_cast<std::uintptr_t>(v.data());
+    base = ((64 - addr % 64) % 64) / sizeof(std::uint32_t);
+  }
 
   void add_neighbour(int i, std::uint32_t entry) {
     if (nfill[std::size_t(i)] == ncap) grow_lists();
@@ -157,10 +189,13 @@ struct EventEngine::Impl {
   void grow_lists() {
     const int old = ncap;
     ncap *= 2;
-    std::vector<std::uint32_t> s(nfill.size() * std::size_t(ncap));
+    std::vector<std::uint32_t> s;
+    std::size_t base = 0;
+    alloc_lists(s, base, nfill.size());
     for (std::size_t i = 0; i < nfill.size(); ++i)
-      std::copy_n(&nbr[i * std::size_t(old)], nfill[i], &s[i * std::size_t(ncap)]);
+      std::copy_n(&nbr[nbase + i * std::size_t(old)], nfill[i], &s[base + i * std::size_t(ncap)]);
     nbr.swap(s);
+    nbase = base;
   }
 
   void sync(Body& s) const {
@@ -197,29 +232,45 @@ struct EventEngine::Impl {
   //! to i's: the members of i's neighbour list.
   template <class F>
   void for_each_in_range(int i, F&& f) const {
-    const Centre& p = centre[std::size_t(i)];
+    const Centre p = ctr_of(i);
     const auto& k = cc[std::size_t(i)];
     int cx[5], cy[5], cz[5], sx[5], sy[5], sz[5];
     const int kx = axis_cells(k[0], 0, cx, sx);
     const int ky = axis_cells(k[1], 1, cy, sy);
     const int kz = axis_cells(k[2], 2, cz, sz);
+    // Pass 1: the stencil's cells and image codes; their lines are requested at once so the
+    // cache misses overlap.
+    int cell[125];
+    std::uint32_t img[125];
+    int nc_ = 0;
     for (int a = 0; a < kz; ++a)
       for (int b = 0; b < ky; ++b) {
         const int row = (cz[a] * nc[1] + cy[b]) * nc[0];
         for (int e = 0; e < kx; ++e) {
-          const std::uint32_t image = std::uint32_t((sx[e] + 1) + 3 * (sy[b] + 1) + 9 * (sz[a] + 1));
-          const auto& sh = image_shift[image];
           const std::size_t h = std::size_t(row + cx[e]);
-          const int* cell = &slots[h * std::size_t(cap)];
-          for (int u = 0; u < fill[h]; ++u) {
-            const int j = cell[u];
-            const Centre& q = centre[std::size_t(j)];
-            const double dx = p.x - (q.x + sh[0]), dy = p.y - (q.y + sh[1]), dz = p.z - (q.z + sh[2]);
-            const double range = p.r + q.r + shell;
-            if (dx * dx + dy * dy + dz * dz < range * range && j != i) f(j, image);
-          }
+          __builtin_prefetch(&fill[h]);
+          __builtin_prefetch(&slots[h * std::size_t(cap)]);
+          __builtin_prefetch(&cell_ctr[h * std::size_t(cap)]);
+          cell[nc_] = int(h);
+          img[nc_++] = std::uint32_t((sx[e] + 1) + 3 * (sy[b] + 1) + 9 * (sz[a] + 1));
         }
       }
+    // Pass 2: distance test of the centres, cell by cell.
+    for (int q = 0; q < nc_; ++q) {
+      const std::size_t h0 = std::size_t(cell[q]) * std::size_t(cap);
+      const auto& sh = image_shift[img[q]];
+      const double px = p.x - sh[0], py = p.y - sh[1], pz = p.z - sh[2];
+      const int f_ = fill[std::size_t(cell[q])];
+      for (int u = 0; u < f_; ++u) {
+        const Centre& o = cell_ctr[h0 + std::size_t(u)];
+        const double dx = px - o.x, dy = py - o.y, dz = pz - o.z;
+        const double range = p.r + o.r + shell;
+        if (dx * dx + dy * dy + dz * dz < range * range) {
+          const int j = slots[h0 + std::size_t(u)];
+          if (j != i) f(j, img[q]);
+        }
+      }
+    }
   }
 
   //! Scans the m list entries `cand` of sphere i (synced to now) for a pair collision earlier
@@ -228,9 +279,9 @@ struct EventEngine::Impl {
   void scan(int i, const std::uint32_t* cand, int m) {
     const Body& s = body[std::size_t(i)];
     // Best and second-best candidates (time from now, partner, partner's counter when found).
-    double best = col_time[std::size_t(i)] - now, best2 = col2_time[std::size_t(i)] - now;
-    int partner = col_partner[std::size_t(i)], partner2 = col2_partner[std::size_t(i)];
-    std::uint32_t cnt = col_count[std::size_t(i)], cnt2 = col2_count[std::size_t(i)];
+    double best = pred[std::size_t(i)].col_time - now, best2 = pred[std::size_t(i)].col2_time - now;
+    int partner = pred[std::size_t(i)].col_partner, partner2 = pred[std::size_t(i)].col2_partner;
+    std::uint32_t cnt = pred[std::size_t(i)].col_count, cnt2 = pred[std::size_t(i)].col2_count;
     const bool second_known = partner2 >= 0;
     const double sigma0 = 2 * s.r;
     // Pass 1: request the partners' states at once, so their cache misses overlap.
@@ -292,15 +343,15 @@ struct EventEngine::Impl {
         }
       }
     }
-    if (partner != col_partner[std::size_t(i)] || best + now < col_time[std::size_t(i)]) {
-      col_time[std::size_t(i)] = now + best;
-      col_partner[std::size_t(i)] = partner;
-      col_count[std::size_t(i)] = cnt;
+    if (partner != pred[std::size_t(i)].col_partner || best + now < pred[std::size_t(i)].col_time) {
+      pred[std::size_t(i)].col_time = now + best;
+      pred[std::size_t(i)].col_partner = partner;
+      pred[std::size_t(i)].col_count = cnt;
     }
-    if (partner2 != col2_partner[std::size_t(i)] || best2 + now < col2_time[std::size_t(i)]) {
-      col2_time[std::size_t(i)] = now + best2;
-      col2_partner[std::size_t(i)] = partner2;
-      col2_count[std::size_t(i)] = cnt2;
+    if (partner2 != pred[std::size_t(i)].col2_partner || best2 + now < pred[std::size_t(i)].col2_time) {
+      pred[std::size_t(i)].col2_time = now + best2;
+      pred[std::size_t(i)].col2_partner = partner2;
+      pred[std::size_t(i)].col2_count = cnt2;
     }
   }
   void scan_entries(int i, const std::uint32_t* cand, int m) {
@@ -312,7 +363,7 @@ struct EventEngine::Impl {
   //! its list centre, or touching a wall that it can reach inside that ball.
   void predict_boundary(int i) {
     const Body& s = body[std::size_t(i)];
-    const Centre& p = centre[std::size_t(i)];
+    const Centre p = ctr_of(i);
     const double pos[3] = {s.x, s.y, s.z}, vel[3] = {s.vx, s.vy, s.vz}, ctr[3] = {p.x, p.y, p.z};
     // |d + v t| = exit_r with d = pos - centre: the positive root of a t^2 + 2 b t + c = 0,
     // c <= 0 inside the ball; each branch is a ratio of same-signed terms (no cancellation).
@@ -339,21 +390,21 @@ struct EventEngine::Impl {
         code = std::uint8_t(kWall * 8 + d * 2 + (v > 0 ? 1 : 0));
       }
     }
-    bnd_time[std::size_t(i)] = now + std::max(0.0, best);
+    pred[std::size_t(i)].bnd_time = now + std::max(0.0, best);
     bnd_code[std::size_t(i)] = code;
   }
 
   void full_predict(int i) {
     ++c.full_predictions;
     sync(body[std::size_t(i)]);
-    col_time[std::size_t(i)] = col2_time[std::size_t(i)] = kInf;
-    col_partner[std::size_t(i)] = col2_partner[std::size_t(i)] = i;  // "none": counts irrelevant at +inf
+    pred[std::size_t(i)].col_time = pred[std::size_t(i)].col2_time = kInf;
+    pred[std::size_t(i)].col_partner = pred[std::size_t(i)].col2_partner = i;  // "none": counts irrelevant at +inf
     scan_entries(i, list(i), nfill[std::size_t(i)]);
     predict_boundary(i);
   }
 
   void schedule(int i) {
-    calendar.update(std::uint32_t(i), std::min(col_time[std::size_t(i)], bnd_time[std::size_t(i)]));
+    calendar.update(std::uint32_t(i), std::min(pred[std::size_t(i)].col_time, pred[std::size_t(i)].bnd_time));
   }
 
   //! Replaces a stale best candidate by the second best if that one is still valid. The second
@@ -361,23 +412,33 @@ struct EventEngine::Impl {
   //! what came third, so a later stale best forces a rescan.
   bool promote_second(int i) {
     const std::size_t u = std::size_t(i);
-    const int j = col2_partner[u];
+    const int j = pred[u].col2_partner;
     if (j < 0) return false;
-    if (col2_time[u] < kInf && count[std::size_t(j)] != col2_count[u]) return false;
-    col_time[u] = col2_time[u];
-    col_partner[u] = j;
-    col_count[u] = col2_count[u];
-    col2_time[u] = kInf;
-    col2_partner[u] = -1;
+    if (pred[u].col2_time < kInf && count[std::size_t(j)] != pred[u].col2_count) return false;
+    pred[u].col_time = pred[u].col2_time;
+    pred[u].col_partner = j;
+    pred[u].col_count = pred[u].col2_count;
+    pred[u].col2_time = kInf;
+    pred[u].col2_partner = -1;
     return true;
   }
 
   bool candidate_stale(int i) const {
-    const int j = col_partner[std::size_t(i)];
-    return col_time[std::size_t(i)] < kInf && count[std::size_t(j)] != col_count[std::size_t(i)];
+    const int j = pred[std::size_t(i)].col_partner;
+    return pred[std::size_t(i)].col_time < kInf && count[std::size_t(j)] != pred[std::size_t(i)].col_count;
+  }
+
+  //! Requests the states of i's neighbours (its list must be cached or on its way).
+  void prefetch_neighbours(int i) {
+    const std::uint32_t* l = list(i);
+    for (int u = 0; u < nfill[std::size_t(i)]; ++u) __builtin_prefetch(&body[l[u] >> kImageBits]);
   }
 
   void collide(int i, int j) {
+    // Both lists, then both neighbourhoods, are requested before either is scanned: four
+    // rounds of cache misses become two.
+    __builtin_prefetch(list(i));
+    __builtin_prefetch(list(j));
     Body& a = body[std::size_t(i)];
     Body& b = body[std::size_t(j)];
     sync(a);
@@ -394,6 +455,8 @@ struct EventEngine::Impl {
     ++c.collisions;
     ++count[std::size_t(i)];
     ++count[std::size_t(j)];
+    prefetch_neighbours(i);
+    prefetch_neighbours(j);
     full_predict(i);
     full_predict(j);
     schedule(i);
@@ -413,12 +476,17 @@ struct EventEngine::Impl {
       if (*pos[d] < lo[d]) *pos[d] += len[d], wrapped = true;
       else if (*pos[d] >= lo[d] + len[d]) *pos[d] -= len[d], wrapped = true;
     }
-    centre[std::size_t(i)] = Centre{s.x, s.y, s.z, s.r};
+    Pred& pi = pred[std::size_t(i)];
+    pi.cx = s.x;
+    pi.cy = s.y;
+    pi.cz = s.z;
     const auto k = cell_of(s.x, s.y, s.z);
     if (k != cc[std::size_t(i)]) {
       unlink(i);
       cc[std::size_t(i)] = k;
       link(i);
+    } else {
+      cell_ctr[std::size_t(cell_index(k)) * std::size_t(cap) + std::size_t(slot_of[std::size_t(i)])] = ctr_of(i);
     }
     // Old members are marked `was`; those found again become `kept`; the rest leave.
     const std::uint64_t was = ++stamp, kept = ++stamp;
@@ -469,9 +537,9 @@ struct EventEngine::Impl {
     const int i = int(calendar.top());
     now = calendar.top_key();
     ++c.events;
-    if (col_time[std::size_t(i)] <= bnd_time[std::size_t(i)]) {
-      const int j = col_partner[std::size_t(i)];
-      if (count[std::size_t(j)] != col_count[std::size_t(i)]) {
+    if (pred[std::size_t(i)].col_time <= pred[std::size_t(i)].bnd_time) {
+      const int j = pred[std::size_t(i)].col_partner;
+      if (count[std::size_t(j)] != pred[std::size_t(i)].col_count) {
         ++c.stale_events;
         if (!promote_second(i)) full_predict(i);
         schedule(i);
@@ -482,6 +550,11 @@ struct EventEngine::Impl {
       boundary_event(i);
     }
     if (++events_since_rebase >= rebase_every) rebase();
+    // The next event's sphere: its lines load while the loop comes round.
+    if (calendar.empty()) return;
+    const std::uint32_t next = calendar.top();
+    __builtin_prefetch(&pred[next]);
+    __builtin_prefetch(&body[next]);
   }
 
   //! Moves every sphere to the current time and shifts the clock so that now = 0.
@@ -491,9 +564,9 @@ struct EventEngine::Impl {
     for (std::size_t i = 0; i < body.size(); ++i) {
       sync(body[i]);
       body[i].t = 0;
-      col_time[i] -= now;
-      col2_time[i] -= now;
-      bnd_time[i] -= now;
+      pred[i].col_time -= now;
+      pred[i].col2_time -= now;
+      pred[i].bnd_time -= now;
     }
     calendar.shift_keys(now);
     base += now;
@@ -538,43 +611,40 @@ struct EventEngine::Impl {
       v.swap(w);
     };
     permute(body);
-    permute(centre);
     permute(mass);
     permute(count);
     permute(cc);
     permute(orig);
-    permute(col_time);
-    permute(bnd_time);
-    permute(col_partner);
-    permute(col_count);
-    permute(col2_time);
-    permute(col2_partner);
-    permute(col2_count);
+    permute(pred);
     permute(bnd_code);
     permute(slot_of);
     permute(mark);
-    for (auto& p : col_partner) p = new_of[std::size_t(p)];
-    for (auto& p : col2_partner)
-      if (p >= 0) p = new_of[std::size_t(p)];
+    for (auto& p : pred) {
+      p.col_partner = new_of[std::size_t(p.col_partner)];
+      if (p.col2_partner >= 0) p.col2_partner = new_of[std::size_t(p.col2_partner)];
+    }
     for (std::size_t h = 0; h < fill.size(); ++h)
       for (int k = 0; k < fill[h]; ++k) {
         int& x = slots[h * std::size_t(cap) + std::size_t(k)];
         x = new_of[std::size_t(x)];
       }
-    std::vector<std::uint32_t> lists(nbr.size());
+    std::vector<std::uint32_t> lists;
+    std::size_t base = 0;
+    alloc_lists(lists, base, n);
     std::vector<int> fills(n);
     for (std::size_t k = 0; k < n; ++k) {
       const std::size_t o = std::size_t(old_of[k]);
       fills[k] = nfill[o];
-      for (int u = 0; u < nfill[o]; ++u) {
-        const std::uint32_t e = nbr[o * std::size_t(ncap) + std::size_t(u)];
-        lists[k * std::size_t(ncap) + std::size_t(u)] = (std::uint32_t(new_of[e >> kImageBits]) << kImageBits) | (e & kImageMask);
-      }
+      const std::uint32_t* from = &nbr[nbase + o * std::size_t(ncap)];
+      std::uint32_t* to = &lists[base + k * std::size_t(ncap)];
+      for (int u = 0; u < nfill[o]; ++u)
+        to[u] = (std::uint32_t(new_of[from[u] >> kImageBits]) << kImageBits) | (from[u] & kImageMask);
     }
     nbr.swap(lists);
+    nbase = base;
     nfill.swap(fills);
     std::vector<double> keys(n);
-    for (std::size_t k = 0; k < n; ++k) keys[k] = std::min(col_time[k], bnd_time[k]);
+    for (std::size_t k = 0; k < n; ++k) keys[k] = std::min(pred[k].col_time, pred[k].bnd_time);
     calendar.build(keys);
   }
 
@@ -659,6 +729,7 @@ EventEngine::EventEngine(const ParticleSystem& sys, const EventConfig& cfg) : im
   m.fill.assign(std::size_t(m.nc[0]) * std::size_t(m.nc[1]) * std::size_t(m.nc[2]), 0);
   m.cap = m.reach == 1 ? 8 : 2;
   m.slots.assign(m.fill.size() * std::size_t(m.cap), -1);
+  m.cell_ctr.assign(m.fill.size() * std::size_t(m.cap), Centre{0, 0, 0, 0});
   m.slot_of.assign(n, 0);
 
   // Cell of every sphere; internal order sorted by cell for locality.
@@ -681,35 +752,30 @@ EventEngine::EventEngine(const ParticleSystem& sys, const EventConfig& cfg) : im
   std::stable_sort(m.orig.begin(), m.orig.end(), [&](std::uint32_t a, std::uint32_t b) { return key[a] < key[b]; });
 
   m.body.resize(n);
-  m.centre.resize(n);
   m.mass.resize(n);
   m.cc.resize(n);
   m.count.assign(n, 0);
-  m.col_time.assign(n, kInf);
-  m.bnd_time.assign(n, kInf);
-  m.col_partner.assign(n, 0);
-  m.col_count.assign(n, 0);
-  m.col2_time.assign(n, kInf);
-  m.col2_partner.assign(n, 0);
-  m.col2_count.assign(n, 0);
+  m.pred.assign(n, Pred{kInf, kInf, kInf, 0, 0, 0, 0, 0, 0, 0});
   m.bnd_code.assign(n, 0);
   m.mark.assign(n, 0);
   for (std::size_t k = 0; k < n; ++k) {
     const std::size_t i = m.orig[k];
     m.body[k] = Body{p0[i].x, p0[i].y, p0[i].z, 0.0, sys.vel[i].x, sys.vel[i].y, sys.vel[i].z, sys.radius[i]};
-    m.centre[k] = Centre{p0[i].x, p0[i].y, p0[i].z, sys.radius[i]};
+    m.pred[k].cx = p0[i].x;
+    m.pred[k].cy = p0[i].y;
+    m.pred[k].cz = p0[i].z;
     m.mass[k] = sys.mass[i];
     m.cc[k] = k0[i];
     m.link(int(k));
   }
   m.nfill.assign(n, 0);
-  m.nbr.assign(n * std::size_t(m.ncap), 0);
+  m.alloc_lists(m.nbr, m.nbase, n);
   m.build_cell_order();
   m.build_lists();
   m.renumber();
   for (std::size_t k = 0; k < n; ++k) m.full_predict(int(k));
   std::vector<double> keys(n);
-  for (std::size_t k = 0; k < n; ++k) keys[k] = std::min(m.col_time[k], m.bnd_time[k]);
+  for (std::size_t k = 0; k < n; ++k) keys[k] = std::min(m.pred[k].col_time, m.pred[k].bnd_time);
   m.calendar.build(keys);
   m.rebase_every = std::max<std::int64_t>(1000, cfg.rebase_events_per_sphere * std::int64_t(n));
 }
