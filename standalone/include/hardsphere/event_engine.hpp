@@ -37,7 +37,7 @@ struct EventConfig {
   //! whose list centre is closer than sigma_ij + shell to its own, and is rebuilt when the
   //! sphere has moved shell / 2 from its centre. Shrunk automatically when a periodic axis or
   //! a user-given cell grid is too small for it.
-  double shell = 0.3;
+  double shell = 0.6;
   //! Events per sphere between re-basings of the clock (all spheres brought to the current time,
   //! times shifted to zero).
   std::int64_t rebase_events_per_sphere = 64;
