@@ -439,6 +439,9 @@ struct EventEngine::Impl {
     // rounds of cache misses become two.
     __builtin_prefetch(list(i));
     __builtin_prefetch(list(j));
+    __builtin_prefetch(&pred[std::size_t(j)]);
+    calendar.prefetch(std::uint32_t(i));
+    calendar.prefetch(std::uint32_t(j));
     Body& a = body[std::size_t(i)];
     Body& b = body[std::size_t(j)];
     sync(a);

@@ -29,6 +29,8 @@ class EventCalendar {
   double top_key() const { return node_[kRoot].key; }
   double key(std::uint32_t i) const { return node_[where_[i]].key; }
 
+  //! Requests the line that locates entry i (before an update, to overlap the cache miss).
+  void prefetch(std::uint32_t i) const { __builtin_prefetch(&where_[i]); }
   //! Changes the key of entry i and restores the heap order.
   void update(std::uint32_t i, double key) {
     const std::size_t p = where_[i];
