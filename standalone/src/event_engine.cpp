@@ -284,8 +284,12 @@ struct EventEngine::Impl {
     std::uint32_t cnt = pred[std::size_t(i)].col_count, cnt2 = pred[std::size_t(i)].col2_count;
     const bool second_known = partner2 >= 0;
     const double sigma0 = 2 * s.r;
-    // Pass 1: request the partners' states at once, so their cache misses overlap.
-    for (int u = 0; u < m; ++u) __builtin_prefetch(&body[cand[u] >> kImageBits]);
+    // Pass 1: request the partners' states (and collision counters, read for the few that
+    // pass the screen) at once, so their cache misses overlap.
+    for (int u = 0; u < m; ++u) {
+      __builtin_prefetch(&body[cand[u] >> kImageBits]);
+      __builtin_prefetch(&count[cand[u] >> kImageBits]);
+    }
     // Pass 2: relative positions and velocities into flat arrays.
     const std::size_t stride = std::size_t(m + 8) & ~std::size_t(7);
     if (soa.size() < 6 * stride) soa.resize(6 * stride);
@@ -542,6 +546,10 @@ struct EventEngine::Impl {
     ++c.events;
     if (pred[std::size_t(i)].col_time <= pred[std::size_t(i)].bnd_time) {
       const int j = pred[std::size_t(i)].col_partner;
+      // Most such entries are valid collisions: request the partner's lines with its counter.
+      __builtin_prefetch(&body[std::size_t(j)]);
+      __builtin_prefetch(&pred[std::size_t(j)]);
+      __builtin_prefetch(list(j));
       if (count[std::size_t(j)] != pred[std::size_t(i)].col_count) {
         ++c.stale_events;
         if (!promote_second(i)) full_predict(i);
