@@ -566,6 +566,11 @@ struct EventEngine::Impl {
     const std::uint32_t next = calendar.top();
     __builtin_prefetch(&pred[next]);
     __builtin_prefetch(&body[next]);
+    // The event after that is most likely one of the root's children: a whole event's head start.
+    for (int k = 0; k < 4; ++k) {
+      const std::uint32_t q = calendar.runner_up(k);
+      if (q < pred.size()) __builtin_prefetch(&pred[q]);
+    }
   }
 
   //! Moves every sphere to the current time and shifts the clock so that now = 0.

@@ -29,6 +29,12 @@ class EventCalendar {
   double top_key() const { return node_[kRoot].key; }
   double key(std::uint32_t i) const { return node_[where_[i]].key; }
 
+  //! Index held by the k-th child (0..3) of the root, or -1 (as unsigned) if there is none: the
+  //! entries that can become the top after the top's key grows.
+  std::uint32_t runner_up(int k) const {
+    const std::size_t p = 4 * kRoot - 8 + std::size_t(k);
+    return p < node_.size() ? node_[p].idx : std::uint32_t(-1);
+  }
   //! Requests the line that locates entry i (before an update, to overlap the cache miss).
   void prefetch(std::uint32_t i) const { __builtin_prefetch(&where_[i]); }
   //! Changes the key of entry i and restores the heap order.
