@@ -569,7 +569,10 @@ struct EventEngine::Impl {
     // The event after that is most likely one of the root's children: a whole event's head start.
     for (int k = 0; k < 4; ++k) {
       const std::uint32_t q = calendar.runner_up(k);
-      if (q < pred.size()) __builtin_prefetch(&pred[q]);
+      if (q < pred.size()) {
+        __builtin_prefetch(&pred[q]);
+        __builtin_prefetch(&body[q]);
+      }
     }
   }
 
