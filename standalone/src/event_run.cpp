@@ -2,7 +2,6 @@
 // engine = event): initial state, equilibration in simulated time, a measured run split into
 // blocks (for the error bar of Z and the collision rate), summary with the stepper's JSON keys
 // where they mean the same thing.
-#include <cstdlib>  // TEMP-SWEEP
 #include <cmath>
 #include <optional>
 
@@ -41,9 +40,7 @@ nlohmann::json run_event_simulation(const RunSpec& spec) {
   if (spec.histogram_bins < 1) throw InputError("histogram bins must be >= 1");
 
   ParticleSystem sys = initial_state(spec);
-  EventConfig ecfg = spec.event;  // TEMP-SWEEP
-  if (const char* e = std::getenv("HS_EVENT_SHELL")) ecfg.shell = std::atof(e);  // TEMP-SWEEP
-  EventEngine engine(sys, ecfg);
+  EventEngine engine(sys, spec.event);
   std::optional<DumpWriter> dump;
   if (spec.dump) dump.emplace(*spec.dump);
   std::optional<AtomicFile> json_file;

@@ -12,6 +12,7 @@ EVENT_KEYS = [
     "temperature", "com_removed", "pair_virial", "compressibility_factor", "compressibility_factor_error",
     "pressure", "wall_pressure", "max_overlap", "speed_ks_distance", "speed_histogram", "seed",
     "collisions_per_second", "events_per_second", "events", "cell_crossings", "stale_events",
+    "neighbour_list_rebuilds", "neighbour_shell",
 ]
 
 
