@@ -719,7 +719,15 @@ EventEngine::EventEngine(const ParticleSystem& sys, const EventConfig& cfg) : im
     throw InputError("event engine: no room for a neighbour-list shell: periodic axes need at least " +
                      std::to_string(min_cells) + " cells wider than the largest diameter / reach");
   m.shell = shell;
-  m.exit_r = 0.5 * shell * (1 - 1e-9);  // strictly inside shell / 2: round-off margin
+  // Strictly inside shell / 2: a margin for the round-off of positions (a few ulps of the largest
+  // coordinate) and of the exit time, so two spheres can never both overshoot.
+  double extent = 0;
+  for (int d = 0; d < 3; ++d)
+    extent = std::max({extent, std::abs(sys.box.lo[std::size_t(d)]), std::abs(sys.box.hi[std::size_t(d)])});
+  m.exit_r = 0.5 * shell * (1 - 1e-9) - 64 * std::numeric_limits<double>::epsilon() * extent;
+  if (n > 0 && !(m.exit_r > 0.25 * shell))
+    throw InputError("event engine: neighbour-list shell " + std::to_string(shell) + " too thin for coordinates up to " +
+                     std::to_string(extent));
   const double wmin = (dmax + shell) / m.reach;
   double cells_total = 1;
   for (std::size_t d = 0; d < 3; ++d) {
