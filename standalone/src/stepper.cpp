@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstddef>
 #include <limits>
 #include <numeric>
 #include <sstream>
@@ -11,6 +12,7 @@
 #include "hardsphere/collision.hpp"
 #include "hardsphere/contact_resolver.hpp"
 #include "hardsphere/errors.hpp"
+#include "close_pairs_row.hpp"
 
 namespace hardsphere {
 
@@ -180,6 +182,8 @@ class Stepper final : public StepperBase {
   };
   std::vector<Pair> near_, wrap_;
   std::vector<std::uint8_t> wrap_image_;
+  std::vector<Real> soa_x_, soa_y_, soa_z_;  // pos_ as coordinate arrays (filled at rebuild) for the pair build
+  std::vector<std::uint32_t> wrap_row_;      // one row's pairs across a periodic face
   // Half stencil as runs of consecutive cells: the 13 forward neighbours of a cell are one
   // cell and four rows of three along x, contiguous in cell order (so in memory) unless a row
   // wraps through a periodic x face. For each cell up to kMaxRuns runs [begin, end) + image.
@@ -319,15 +323,12 @@ template <class Real, bool Mono>
 void Stepper<Real, Mono>::build_pairs_half_stencil() {
   const Real mono_cut = list_cut(sigma_), mono_cut2 = mono_cut * mono_cut;
   const std::int64_t ncell = grid_.size();
-  // Pairs are written unconditionally and kept by advancing the count (no unpredictable
-  // branch per candidate); pairs across a periodic face (rare) take push_pair.
+  // Rows of consecutive spheres go to append_close_row (vectorised where the CPU allows);
+  // pairs across a periodic face (rare) take push_pair.
+  static_assert(sizeof(Pair) == 2 * sizeof(std::uint32_t) && offsetof(Pair, j) == sizeof(std::uint32_t));
   std::size_t n_near = 0;
   near_.resize(std::max<std::size_t>(near_.size(), 1024));
-  const V3<Real>* __restrict pos = pos_.data();
-  auto within = [&](std::uint32_t i, std::uint32_t j, V3<Real> d) {
-    const Real cut = Mono ? mono_cut : list_cut(r_[i] + r_[j]);
-    return dot(d, d) < (Mono ? mono_cut2 : cut * cut);
-  };
+  const detail::RowSoA<Real> soa{soa_x_.data(), soa_y_.data(), soa_z_.data(), r_.data()};
   for (std::int64_t c = 0; c < ncell; ++c) {
     const std::uint32_t b0 = cell_start_[c], b1 = cell_start_[c + 1];
     if (b0 == b1) continue;
@@ -335,24 +336,27 @@ void Stepper<Real, Mono>::build_pairs_half_stencil() {
     std::size_t reach = b1 - b0;  // an upper bound of the pairs this cell can add
     for (int r = 0; r < kMaxRuns && runs[r].begin != runs[r].end; ++r)
       reach += cell_start_[runs[r].end] - cell_start_[runs[r].begin];
-    if (n_near + (b1 - b0) * reach > near_.size()) near_.resize(2 * (n_near + (b1 - b0) * reach));
+    const std::size_t need = n_near + (b1 - b0) * reach + detail::kRowSlack;
+    if (need > near_.size()) near_.resize(2 * need);
     for (std::uint32_t i = b0; i < b1; ++i) {
-      const V3<Real> pi = pos[i];
-      for (std::uint32_t j = i + 1; j < b1; ++j) {
-        near_[n_near] = {i, j};
-        n_near += within(i, j, pi - pos[j]);
-      }
+      const V3<Real> pi = pos_[i];
+      const Real ri = Mono ? Real(0) : r_[i];
+      auto row = [&](std::uint32_t j0, std::uint32_t j1) {
+        n_near = detail::append_close_row<Real, Mono>(soa, i, pi.x, pi.y, pi.z, ri, skin_, mono_cut2, j0, j1,
+                                                      reinterpret_cast<std::uint32_t*>(near_.data()), n_near);
+      };
+      row(i + 1, b1);
       for (int r = 0; r < kMaxRuns && runs[r].begin != runs[r].end; ++r) {
         const std::uint32_t e0 = cell_start_[runs[r].begin], e1 = cell_start_[runs[r].end];
         if (runs[r].image == kNoImage) {
-          for (std::uint32_t j = e0; j < e1; ++j) {
-            near_[n_near] = {i, j};
-            n_near += within(i, j, pi - pos[j]);
-          }
+          row(e0, e1);
         } else {
+          // Across a periodic face: the same row test with i's image, into a scratch buffer.
           const V3<Real> pis = pi - image_shift_[runs[r].image];
-          for (std::uint32_t j = e0; j < e1; ++j)
-            if (within(i, j, pis - pos[j])) push_pair(i, j, runs[r].image);
+          wrap_row_.resize(2 * (e1 - e0 + detail::kRowSlack));
+          const std::size_t hits = detail::append_close_row<Real, Mono>(soa, i, pis.x, pis.y, pis.z, ri, skin_, mono_cut2,
+                                                                        e0, e1, wrap_row_.data(), 0);
+          for (std::size_t k = 0; k < hits; ++k) push_pair(i, wrap_row_[2 * k + 1], runs[r].image);
         }
       }
     }
@@ -409,7 +413,13 @@ void Stepper<Real, Mono>::rebuild() {
     for (std::size_t k = 0; k < n; ++k) scratch[k] = a[order_[k]];
     a.swap(scratch);
   };
-  permute(pos_, scratch_v3_);
+  // Positions also go to coordinate arrays for the pair build, in the same pass.
+  scratch_v3_.resize(n), soa_x_.resize(n), soa_y_.resize(n), soa_z_.resize(n);
+  for (std::size_t k = 0; k < n; ++k) {
+    const V3<Real> p = pos_[order_[k]];
+    scratch_v3_[k] = p, soa_x_[k] = p.x, soa_y_[k] = p.y, soa_z_[k] = p.z;
+  }
+  pos_.swap(scratch_v3_);
   permute(vel_, scratch_v3_);
   if constexpr (!Mono) {  // equal radii and masses need no reordering
     permute(r_, scratch_real_);
