@@ -23,6 +23,32 @@ struct RowSoA {
 //! Spare entries the output must have beyond the hits: the vector path stores whole vectors.
 constexpr std::size_t kRowSlack = 8;
 
+#ifdef HS_CLOSE_PAIRS_AVX512
+//! Eight lanes of Real: 256-bit floats or 512-bit doubles, so one mask covers both.
+template <class Real>
+struct Lanes8;
+template <>
+struct Lanes8<float> {
+  static __m256 set(float a) { return _mm256_set1_ps(a); }
+  static __m256 load(__mmask8 m, const float* p) { return _mm256_maskz_loadu_ps(m, p); }
+  static __m256 add(__m256 a, __m256 b) { return _mm256_add_ps(a, b); }
+  static __m256 sub(__m256 a, __m256 b) { return _mm256_sub_ps(a, b); }
+  static __m256 mul(__m256 a, __m256 b) { return _mm256_mul_ps(a, b); }
+  static __m256 fmadd(__m256 a, __m256 b, __m256 c) { return _mm256_fmadd_ps(a, b, c); }
+  static __mmask8 less(__mmask8 m, __m256 a, __m256 b) { return _mm256_mask_cmp_ps_mask(m, a, b, _CMP_LT_OQ); }
+};
+template <>
+struct Lanes8<double> {
+  static __m512d set(double a) { return _mm512_set1_pd(a); }
+  static __m512d load(__mmask8 m, const double* p) { return _mm512_maskz_loadu_pd(m, p); }
+  static __m512d add(__m512d a, __m512d b) { return _mm512_add_pd(a, b); }
+  static __m512d sub(__m512d a, __m512d b) { return _mm512_sub_pd(a, b); }
+  static __m512d mul(__m512d a, __m512d b) { return _mm512_mul_pd(a, b); }
+  static __m512d fmadd(__m512d a, __m512d b, __m512d c) { return _mm512_fmadd_pd(a, b, c); }
+  static __mmask8 less(__mmask8 m, __m512d a, __m512d b) { return _mm512_mask_cmp_pd_mask(m, a, b, _CMP_LT_OQ); }
+};
+#endif
+
 //! Radii: the cut-off is (r_i + r_j) + skin, squared; Mono uses cut2 for every pair. out holds
 //! pairs as two uint32 (i, j); n counts pairs. Returns the new count.
 template <class Real, bool Mono>
@@ -34,32 +60,17 @@ inline std::size_t append_close_row(const RowSoA<Real>& s, std::uint32_t i, Real
   const __m512i ii = _mm512_set1_epi64(std::int64_t(i));
   for (std::uint32_t j = j0; j < j1; j += 8) {
     const __mmask8 live = j1 - j >= 8 ? __mmask8(0xff) : __mmask8((1u << (j1 - j)) - 1);
-    __mmask8 hit;
-    if constexpr (sizeof(Real) == 4) {
-      const __m256 dx = _mm256_sub_ps(_mm256_set1_ps(px), _mm256_maskz_loadu_ps(live, s.x + j));
-      const __m256 dy = _mm256_sub_ps(_mm256_set1_ps(py), _mm256_maskz_loadu_ps(live, s.y + j));
-      const __m256 dz = _mm256_sub_ps(_mm256_set1_ps(pz), _mm256_maskz_loadu_ps(live, s.z + j));
-      const __m256 d2 = _mm256_fmadd_ps(dz, dz, _mm256_fmadd_ps(dy, dy, _mm256_mul_ps(dx, dx)));
-      __m256 c2 = _mm256_set1_ps(cut2);
-      if constexpr (!Mono) {
-        const __m256 c = _mm256_add_ps(_mm256_add_ps(_mm256_set1_ps(ri), _mm256_maskz_loadu_ps(live, s.r + j)),
-                                       _mm256_set1_ps(skin));
-        c2 = _mm256_mul_ps(c, c);
-      }
-      hit = _mm256_mask_cmp_ps_mask(live, d2, c2, _CMP_LT_OQ);
-    } else {
-      const __m512d dx = _mm512_sub_pd(_mm512_set1_pd(px), _mm512_maskz_loadu_pd(live, s.x + j));
-      const __m512d dy = _mm512_sub_pd(_mm512_set1_pd(py), _mm512_maskz_loadu_pd(live, s.y + j));
-      const __m512d dz = _mm512_sub_pd(_mm512_set1_pd(pz), _mm512_maskz_loadu_pd(live, s.z + j));
-      const __m512d d2 = _mm512_fmadd_pd(dz, dz, _mm512_fmadd_pd(dy, dy, _mm512_mul_pd(dx, dx)));
-      __m512d c2 = _mm512_set1_pd(cut2);
-      if constexpr (!Mono) {
-        const __m512d c = _mm512_add_pd(_mm512_add_pd(_mm512_set1_pd(ri), _mm512_maskz_loadu_pd(live, s.r + j)),
-                                        _mm512_set1_pd(skin));
-        c2 = _mm512_mul_pd(c, c);
-      }
-      hit = _mm512_mask_cmp_pd_mask(live, d2, c2, _CMP_LT_OQ);
+    using L = Lanes8<Real>;
+    const auto dx = L::sub(L::set(px), L::load(live, s.x + j));
+    const auto dy = L::sub(L::set(py), L::load(live, s.y + j));
+    const auto dz = L::sub(L::set(pz), L::load(live, s.z + j));
+    const auto d2 = L::fmadd(dz, dz, L::fmadd(dy, dy, L::mul(dx, dx)));
+    auto c2 = L::set(cut2);
+    if constexpr (!Mono) {
+      const auto c = L::add(L::add(L::set(ri), L::load(live, s.r + j)), L::set(skin));
+      c2 = L::mul(c, c);
     }
+    const __mmask8 hit = L::less(live, d2, c2);
     // x86 is little-endian: the 64-bit lane i | j << 32 is the uint32 pair (i, j) in memory.
     const __m512i pairs = _mm512_or_si512(ii, _mm512_maskz_slli_epi64(0xff, _mm512_add_epi64(_mm512_set1_epi64(j), iota), 32));
     // Compress in a register and store the whole vector (a compressing store to memory is slow
