@@ -511,3 +511,14 @@ TEST(EventCalendarHeap, KeepsTheEarliestOnTopThroughUpdates) {
   cal.shift_keys(0.5);
   EXPECT_EQ(cal.top_key(), *std::min_element(keys.begin(), keys.end()) - 0.5);
 }
+
+TEST(EventAutoShell, ThickerInDiluteGases) {
+  // 1.6 Enskog mean free paths within [0.6, 2] diameters: dense gases keep the thin shell,
+  // dilute ones get a thicker one so a sphere does not rebuild its list several times per flight.
+  EXPECT_DOUBLE_EQ(hardsphere::auto_shell(0.45), 0.6);
+  EXPECT_DOUBLE_EQ(hardsphere::auto_shell(0.30), 0.6);
+  const double g = (1 - 0.05) / std::pow(0.9, 3);
+  EXPECT_NEAR(hardsphere::auto_shell(0.10), 1.6 / (6 * std::sqrt(2.0) * 0.1 * g), 1e-12);
+  EXPECT_DOUBLE_EQ(hardsphere::auto_shell(0.01), 2.0);
+  EXPECT_DOUBLE_EQ(hardsphere::auto_shell(0.0), 0.6);  // empty box: any shell works
+}

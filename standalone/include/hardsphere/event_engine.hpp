@@ -31,6 +31,10 @@ namespace hardsphere {
 enum class Engine { Stepper, Event };
 Engine parse_engine(const std::string& s);  //!< "stepper" or "event"; throws InputError
 
+//! Neighbour-list shell in largest diameters for a gas at packing fraction phi: about 1.6 mean
+//! free paths, within [0.6, 2].
+double auto_shell(double phi);
+
 struct EventConfig {
   //! Cells per axis of the grid that finds neighbour-list members (spheres are filed by their
   //! list centre); 0 = auto (as many as fit with width >= (largest diameter + shell) / reach,
@@ -44,9 +48,10 @@ struct EventConfig {
   //! Neighbour-list shell in units of the largest diameter: a sphere's list holds every sphere
   //! whose list centre is closer than sigma_ij + shell to its own, and is rebuilt when the
   //! sphere has moved shell / 2 from its centre. Shrunk automatically when a periodic axis or
-  //! a user-given cell grid is too small for it. 0.6: the measured optimum at phi = 0.45 is
-  //! flat from 0.5 to 0.8 (larger shells: fewer rebuilds, longer lists).
-  double shell = 0.6;
+  //! a user-given cell grid is too small for it. 0 = auto_shell(packing fraction): 0.6 in dense
+  //! gases (the measured optimum at phi = 0.45 is flat from 0.5 to 0.8), thicker in dilute ones,
+  //! where free flights are long and a thin shell means several rebuilds per collision.
+  double shell = 0;
   //! Events per sphere between re-basings of the clock (all spheres brought to the current time,
   //! times shifted to zero).
   std::int64_t rebase_events_per_sphere = 64;
