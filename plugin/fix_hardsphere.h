@@ -60,6 +60,7 @@ class FixHardSphere : public Fix {
   void serial_setup();
   void serial_step();
   void serial_map();
+  void serial_map_if_stale();
   void map_tags();
   void serial_follow_lammps();
   void serial_write();

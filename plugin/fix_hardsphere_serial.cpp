@@ -126,6 +126,12 @@ void FixHardSphere::map_tags()
   for (int i = 0; i < nlocal; i++) tag_local[std::size_t(atom->tag[i])] = i;
 }
 
+void FixHardSphere::serial_map_if_stale()
+{
+  // The slots follow the stepper's order, which changes at each of its rebuilds.
+  if (slots_dirty || stepper->counters().rebuilds != slot_rebuilds) serial_map();
+}
+
 void FixHardSphere::serial_map()
 {
   // Which LAMMPS atom each stepper slot is, and the shift from the stepper's position to
@@ -196,7 +202,7 @@ void FixHardSphere::serial_follow_lammps()
 
 void FixHardSphere::serial_write()
 {
-  if (slots_dirty || stepper->counters().rebuilds != slot_rebuilds) serial_map();
+  serial_map_if_stale();
   if (!slot_local.empty()) stepper->scatter_state(slot_local.data(), slot_shift.data(), atom->x[0], atom->v[0]);
   state_written = true;
 }
@@ -213,7 +219,7 @@ void FixHardSphere::serial_step()
   // After such a write a fix may have changed velocities (a thermostat): take them up.
   if (!v_written.empty()) {
     if (v_written.size() != std::size_t(3 * nlocal) || !std::equal(v, v + 3 * nlocal, v_written.begin())) {
-      if (slots_dirty || stepper->counters().rebuilds != slot_rebuilds) serial_map();
+      serial_map_if_stale();
       stepper->gather_velocities(slot_local.data(), v);
     }
     v_written.clear();
