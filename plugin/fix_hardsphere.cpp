@@ -561,7 +561,7 @@ void FixHardSphere::resolve_step(hardsphere::ContactResolver<double, Mono> &res)
   const int nall = atom->nlocal + atom->nghost;
   res.reset(std::size_t(nall), dt);
   res.set_event_limit(max_events);
-  res.bind({pos.data(), vel.data(), rad.data(), mass.data(), tags.data(), adj_start.data(), adj_partner.data(),
+  res.bind({pos.data(), vel.data(), rad.data(), mass.data(), tags.data(), nullptr, adj_start.data(), adj_partner.data(),
             adj_image.data(), zero_shift});
   double v2max = 0;
   for (int i = 0; i < nall; i++) v2max = std::max(v2max, hardsphere::dot(vel[i], vel[i]));

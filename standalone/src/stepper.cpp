@@ -77,10 +77,12 @@ class Stepper final : public StepperBase {
   std::array<int, 3> cells_per_dim() const override { return grid_.counts(); }
   double skin() const override { return double(skin_); }
   std::size_t size() const override { return pos_.size(); }
-  void copy_ids(std::int64_t* out) const override { std::copy(id_.begin(), id_.end(), out); }
+  void copy_ids(std::int64_t* out) const override {
+    for (std::size_t k = 0; k < slot_.size(); ++k) out[k] = id_[slot_[k]];
+  }
   void copy_images(std::int32_t* out) const override {
-    for (std::size_t k = 0; k < image_.size(); ++k)
-      for (std::size_t d = 0; d < 3; ++d) out[3 * k + d] = image_[k][d];
+    for (std::size_t k = 0; k < slot_.size(); ++k)
+      for (std::size_t d = 0; d < 3; ++d) out[3 * k + d] = image_[slot_[k]][d];
   }
   void copy_state(Vec3d* pos, Vec3d* vel) const override {
     for (std::size_t k = 0; k < pos_.size(); ++k) {
@@ -171,6 +173,9 @@ class Stepper final : public StepperBase {
   // Per-field arrays in cell order: a neighbour's position or velocity is one cache line.
   std::vector<V3<Real>> pos_, vel_, pos0_;  // pos0_: positions at the last rebuild
   std::vector<Real> r_, m_;
+  // Fields the steps never read stay in id order and are reached through slot_ (the id rank
+  // of the sphere at each position of the cell order), so a rebuild moves 4 bytes, not 24.
+  std::vector<std::uint32_t> slot_;
   std::vector<std::int64_t> id_;
   std::vector<std::array<std::int32_t, 3>> image_;  // box lengths removed by wrapping, per axis
   std::vector<int> type_, cell_;
@@ -195,9 +200,7 @@ class Stepper final : public StepperBase {
   std::vector<CellRun> stencil_;
   std::vector<V3<Real>> scratch_v3_;
   std::vector<Real> scratch_real_;
-  std::vector<std::int64_t> scratch_id_;
-  std::vector<std::array<std::int32_t, 3>> scratch_image_;
-  std::vector<int> scratch_int_;
+  std::vector<std::uint32_t> scratch_u32_;
   // For each sphere s, its list partners q and the image of r_s - r_q (CSR), for local sweeps.
   std::vector<std::uint32_t> adj_start_, adj_partner_, adj_cursor_;
   std::vector<std::uint8_t> adj_image_;
@@ -247,6 +250,7 @@ Stepper<Real, Mono>::Stepper(const ParticleSystem& sys, const StepperConfig& cfg
   vel_.resize(n);
   r_.resize(n);
   m_.resize(n);
+  slot_.resize(n);
   id_.resize(n);
   type_.resize(n);
   image_.assign(n, {0, 0, 0});
@@ -258,6 +262,7 @@ Stepper<Real, Mono>::Stepper(const ParticleSystem& sys, const StepperConfig& cfg
     std::stable_sort(by_id.begin(), by_id.end(), [&](std::size_t a, std::size_t b) { return sys.id[a] < sys.id[b]; });
   for (std::size_t i = 0; i < n; ++i) {
     const std::size_t s = by_id[i];
+    slot_[i] = std::uint32_t(i);
     id_[i] = sys.id[s];
     type_[i] = sys.type[s];
     pos_[i] = {Real(sys.pos[s].x), Real(sys.pos[s].y), Real(sys.pos[s].z)};
@@ -395,16 +400,17 @@ void Stepper<Real, Mono>::build_pairs_any_grid() {
 template <class Real, bool Mono>
 void Stepper<Real, Mono>::rebuild() {
   const std::size_t n = pos_.size();
-  for (int d = 0; d < 3; ++d) {
-    if (!box_.periodic[d]) continue;
-    const Real lo = Real(box_.lo[d]), len = length_[d];
-    for (std::size_t i = 0; i < n; ++i) {
+  const Real lo[3] = {Real(box_.lo[0]), Real(box_.lo[1]), Real(box_.lo[2])};
+  for (std::size_t i = 0; i < n; ++i) {
+    for (int d = 0; d < 3; ++d) {
       Real& p = pos_[i][d];
-      if (p >= lo && p < lo + len) continue;
-      const Real wraps = std::floor((p - lo) / len);
+      const Real len = length_[d];
+      if (!box_.periodic[d] || (p >= lo[d] && p < lo[d] + len)) continue;
+      const Real wraps = std::floor((p - lo[d]) / len);
       p -= len * wraps;
-      image_[i][std::size_t(d)] += std::int32_t(wraps);
-      if (p >= lo + len) p -= len, ++image_[i][std::size_t(d)];  // floor rounding at the top edge
+      std::int32_t& image = image_[slot_[i]][std::size_t(d)];
+      image += std::int32_t(wraps);
+      if (p >= lo[d] + len) p -= len, ++image;  // floor rounding at the top edge
     }
   }
   grid_.sort(n, [this](std::size_t i) { return pos_[i]; }, cell_, cell_start_, order_);
@@ -413,11 +419,12 @@ void Stepper<Real, Mono>::rebuild() {
     for (std::size_t k = 0; k < n; ++k) scratch[k] = a[order_[k]];
     a.swap(scratch);
   };
-  // Positions also go to coordinate arrays for the pair build, in the same pass.
-  scratch_v3_.resize(n), soa_x_.resize(n), soa_y_.resize(n), soa_z_.resize(n);
+  // Positions also go to the rebuild reference and to coordinate arrays for the pair build,
+  // in the same pass.
+  scratch_v3_.resize(n), pos0_.resize(n), soa_x_.resize(n), soa_y_.resize(n), soa_z_.resize(n);
   for (std::size_t k = 0; k < n; ++k) {
     const V3<Real> p = pos_[order_[k]];
-    scratch_v3_[k] = p, soa_x_[k] = p.x, soa_y_[k] = p.y, soa_z_[k] = p.z;
+    scratch_v3_[k] = p, pos0_[k] = p, soa_x_[k] = p.x, soa_y_[k] = p.y, soa_z_[k] = p.z;
   }
   pos_.swap(scratch_v3_);
   permute(vel_, scratch_v3_);
@@ -425,11 +432,8 @@ void Stepper<Real, Mono>::rebuild() {
     permute(r_, scratch_real_);
     permute(m_, scratch_real_);
   }
-  permute(id_, scratch_id_);
-  permute(image_, scratch_image_);
-  permute(type_, scratch_int_);
+  permute(slot_, scratch_u32_);
   resolver_.permute(order_);
-  pos0_ = pos_;
   max_disp2_ = 0;
 
   // Candidate list: every pair that could touch before the next rebuild.
@@ -439,8 +443,8 @@ void Stepper<Real, Mono>::rebuild() {
   if (!stencil_.empty()) build_pairs_half_stencil();
   else build_pairs_any_grid();
   build_adjacency();
-  resolver_.bind({pos_.data(), vel_.data(), r_.data(), m_.data(), id_.data(), adj_start_.data(), adj_partner_.data(),
-                  adj_image_.data(), image_shift_});
+  resolver_.bind({pos_.data(), vel_.data(), r_.data(), m_.data(), id_.data(), slot_.data(), adj_start_.data(),
+                  adj_partner_.data(), adj_image_.data(), image_shift_});
   ++counters_.rebuilds;
 }
 
@@ -570,15 +574,16 @@ void Stepper<Real, Mono>::step() {
 template <class Real, bool Mono>
 ParticleSystem Stepper<Real, Mono>::state() const {
   const std::size_t n = pos_.size();
-  std::vector<std::size_t> by_id(n);
-  std::iota(by_id.begin(), by_id.end(), std::size_t(0));
-  std::sort(by_id.begin(), by_id.end(), [this](std::size_t a, std::size_t b) { return id_[a] < id_[b]; });
+  std::vector<std::size_t> by_id(n);  // slots are id ranks
+  for (std::size_t k = 0; k < n; ++k) by_id[slot_[k]] = k;
   ParticleSystem out;
   out.box = box_;
   out.reserve(n);
-  for (const std::size_t k : by_id)
-    out.push_back(id_[k], type_[k], double(r_[k]), double(m_[k]), {double(pos_[k].x), double(pos_[k].y), double(pos_[k].z)},
+  for (std::size_t s = 0; s < n; ++s) {
+    const std::size_t k = by_id[s];
+    out.push_back(id_[s], type_[s], double(r_[k]), double(m_[k]), {double(pos_[k].x), double(pos_[k].y), double(pos_[k].z)},
                   {double(vel_[k].x), double(vel_[k].y), double(vel_[k].z)});
+  }
   wrap_periodic(out);
   return out;
 }

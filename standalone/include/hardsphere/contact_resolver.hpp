@@ -42,6 +42,7 @@ struct ContactArrays {
   const Real* radius = nullptr;
   const Real* mass = nullptr;
   const std::int64_t* id = nullptr;  //!< tie-break for equal contact times
+  const std::uint32_t* id_slot = nullptr;  //!< if set, sphere i's id is id[id_slot[i]]
   const std::uint32_t* adj_start = nullptr;
   const std::uint32_t* adj_partner = nullptr;
   const std::uint8_t* adj_image = nullptr;
@@ -94,6 +95,9 @@ class ContactResolver {
   //! After the engine reorders its spheres (new[k] = old[order[k]]), reorder the records too.
   template <class Order>
   void permute(const Order& order) {
+    // Between steps every window is the whole step; the counters only tag predictions in
+    // flight, and there are none (a rebuild inside resolve() predicts everything anew).
+    if (changed_.empty()) return;
     moved_.resize(change_.size());
     for (std::size_t k = 0; k < moved_.size(); ++k) moved_[k] = change_[order[k]];
     change_.swap(moved_);
@@ -173,9 +177,8 @@ class ContactResolver {
     // to a small heap, and the earlier of the two fronts is taken each time.
     auto cmp = [this](const Candidate& x, const Candidate& y) { return later(x, y); };
     auto start_run = [&] {
-      sorted_.swap(candidates_);
+      order_by_time(candidates_, sorted_);
       candidates_.clear();
-      std::sort(sorted_.begin(), sorted_.end(), [&](const Candidate& x, const Candidate& y) { return later(y, x); });
       heap_.clear();
       return std::size_t(0);
     };
@@ -224,7 +227,42 @@ class ContactResolver {
   //! Heap order: the earliest contact (largest back time) on top; ties by atom ids.
   bool later(const Candidate& x, const Candidate& y) const {
     if (x.back != y.back) return x.back < y.back;
-    return std::minmax(a_.id[x.i], a_.id[x.j]) > std::minmax(a_.id[y.i], a_.id[y.j]);
+    return std::minmax(id(x.i), id(x.j)) > std::minmax(id(y.i), id(y.j));
+  }
+  std::int64_t id(std::uint32_t i) const { return a_.id_slot ? a_.id[a_.id_slot[i]] : a_.id[i]; }
+
+  //! out = in, earliest contact first (the order of std::sort with later()). Contact times
+  //! spread over the step, so a bucket pass by time (monotone in `back`, so it never
+  //! contradicts later()) leaves a handful per bucket for insertion sorts: O(n), where the
+  //! comparison sort of the ~10^3 contacts of a dense step cost ~7% of the run.
+  void order_by_time(const std::vector<Candidate>& in, std::vector<Candidate>& out) {
+    const std::size_t n = in.size();
+    out.resize(n);
+    auto earlier = [this](const Candidate& x, const Candidate& y) { return later(y, x); };
+    if (n < 32) {
+      std::copy(in.begin(), in.end(), out.begin());
+      std::sort(out.begin(), out.end(), earlier);
+      return;
+    }
+    const Real scale = Real(n) / dt_;
+    auto bucket = [&](Real back) {  // larger back (earlier contact) -> lower bucket
+      const Real b = std::max(back, Real(0)) * scale;
+      return b < Real(n) ? n - 1 - std::size_t(b) : 0;
+    };
+    bucket_start_.assign(n + 1, 0);
+    for (const Candidate& c : in) ++bucket_start_[bucket(c.back) + 1];
+    for (std::size_t b = 0; b < n; ++b) bucket_start_[b + 1] += bucket_start_[b];
+    bucket_fill_.assign(bucket_start_.begin(), bucket_start_.end() - 1);
+    for (const Candidate& c : in) out[bucket_fill_[bucket(c.back)]++] = c;
+    for (std::size_t b = 0; b < n; ++b) {
+      const std::uint32_t lo = bucket_start_[b], hi = bucket_start_[b + 1];
+      for (std::uint32_t k = lo + 1; k < hi; ++k) {  // insertion sort: buckets hold ~1
+        const Candidate c = out[k];
+        std::uint32_t m = k;
+        for (; m > lo && earlier(c, out[m - 1]); --m) out[m] = out[m - 1];
+        out[m] = c;
+      }
+    }
   }
 
   template <class Hooks>
@@ -275,6 +313,7 @@ class ContactResolver {
   std::vector<Change> change_, moved_;  // moved_: scratch for permute()
   std::vector<std::uint32_t> changed_;
   std::vector<Candidate> candidates_, sorted_, heap_;
+  std::vector<std::uint32_t> bucket_start_, bucket_fill_;  // order_by_time() scratch
   std::vector<std::uint32_t> near_;  // sweep scratch: list entries that pass the distance test
 };
 
