@@ -343,6 +343,14 @@ void Stepper<Real, Mono>::build_pairs_half_stencil() {
       reach += cell_start_[runs[r].end] - cell_start_[runs[r].begin];
     const std::size_t need = n_near + (b1 - b0) * reach + detail::kRowSlack;
     if (need > near_.size()) near_.resize(2 * need);
+    // The cell's own row (after i) and a first run that starts at the next cell without an
+    // image (the +x neighbour, unless x wraps) are contiguous: one row.
+    int first = 0;
+    std::uint32_t own_end = b1;
+    if (runs[0].begin == c + 1 && runs[0].end != runs[0].begin && runs[0].image == kNoImage) {
+      own_end = cell_start_[runs[0].end];
+      first = 1;
+    }
     for (std::uint32_t i = b0; i < b1; ++i) {
       const V3<Real> pi = pos_[i];
       const Real ri = Mono ? Real(0) : r_[i];
@@ -350,8 +358,8 @@ void Stepper<Real, Mono>::build_pairs_half_stencil() {
         n_near = detail::append_close_row<Real, Mono>(soa, i, pi.x, pi.y, pi.z, ri, skin_, mono_cut2, j0, j1,
                                                       reinterpret_cast<std::uint32_t*>(near_.data()), n_near);
       };
-      row(i + 1, b1);
-      for (int r = 0; r < kMaxRuns && runs[r].begin != runs[r].end; ++r) {
+      row(i + 1, own_end);
+      for (int r = first; r < kMaxRuns && runs[r].begin != runs[r].end; ++r) {
         const std::uint32_t e0 = cell_start_[runs[r].begin], e1 = cell_start_[runs[r].end];
         if (runs[r].image == kNoImage) {
           row(e0, e1);
