@@ -30,14 +30,18 @@ Detect parse_detect(const std::string& s) {
 
 double auto_skin(const ParticleSystem& sys, double dt) {
   // A thin skin means frequent rebuilds, a thick one longer scans and neighbour sweeps.
-  // Measured optimum (fixed-K runs, phi 0.2-0.45, dt 0.01-0.04): a rebuild every ~4 steps for
-  // the fastest spheres (about 2.5 rms speeds), i.e. skin ~ 20 v_rms dt, kept within
-  // [0.3, 0.6] diameters: thinner skins rebuild mid-step in dense gases, thicker ones lose.
+  // (1) A rebuild every ~4 steps at most for the fastest spheres (~2.5 rms speeds): skin >=
+  // 20 v_rms dt; more frequent rebuilds also fall mid-step in dense gases (measured optimum
+  // at phi 0.3-0.45, dt 0.01-0.04). (2) The list costs ~ phi s per step for a skin s and a
+  // rebuild ~ N (plus the pair build) every ~ s / (v dt) steps, so the sum is least near
+  // s ~ sqrt(v dt d / phi): thicker skins pay in dilute gases (prefactor from fixed-K runs at
+  // dt 0.01: optimum ~0.6 at phi 0.1-0.2). The larger of the two, within [0.3, 0.6] diameters.
   double v2 = 0;
   for (const auto& v : sys.vel) v2 += dot(v, v);
   const double v_rms = sys.size() ? std::sqrt(v2 / double(sys.size())) : 0.0;
   const double diameter = 2 * sys.max_radius();
-  const double skin = 2.0 * 4.0 * 2.5 * v_rms * dt;
+  const double phi = std::max(sys.packing_fraction(), 1e-3);
+  const double skin = std::max(20.0 * v_rms * dt, 1.75 * std::sqrt(v_rms * dt * diameter / phi));
   return std::clamp(skin, 0.3 * diameter, 0.6 * diameter);
 }
 
