@@ -1,6 +1,8 @@
 // hardsphere: command-line front end. It only parses options and calls the library.
 #include <CLI/CLI.hpp>
+#include <cerrno>
 #include <cmath>
+#include <cstdlib>
 #include <iostream>
 #include <sstream>
 
@@ -24,6 +26,16 @@ std::vector<double> parse_list(const std::string& s, const char* what) {
   if (out.size() != 1 && out.size() != 3) throw InputError(std::string(what) + " '" + s + "' needs one value or three (x,y,z)");
   if (out.size() == 1) out = {out[0], out[0], out[0]};
   return out;
+}
+
+//! A seed is any whole number 0 .. 2^64-1; strtoull alone would wrap "-1" to 2^64-1.
+std::uint64_t parse_seed(const std::string& s) {
+  char* end = nullptr;
+  errno = 0;
+  const unsigned long long v = std::strtoull(s.c_str(), &end, 10);
+  if (s.empty() || !std::isdigit(static_cast<unsigned char>(s[0])) || *end != '\0' || errno == ERANGE)
+    throw InputError("--seed '" + s + "' must be a whole number from 0 to 18446744073709551615");
+  return v;
 }
 
 std::array<int, 3> parse_cells(const std::string& s) {
@@ -92,7 +104,8 @@ int main(int argc, char** argv) {
   auto* o_t = run->add_option("--temperature", spec.init.temperature, "initial temperature, k_B = 1 (default 1)");
   auto* o_speed = run->add_option("--init-speed", init_speed, "give every sphere this speed, isotropic directions");
   auto* o_init = run->add_option("--init", init_s, "initial positions: auto, random (insertion) or lattice (dense route)");
-  auto* o_seed = run->add_option("--seed", spec.init.seed, "random seed (default 1)");
+  std::string seed_s = "1";
+  auto* o_seed = run->add_option("--seed", seed_s, "random seed, 0 .. 2^64-1 (default 1)");
   auto* o_dt = run->add_option("--dt", spec.stepper.dt, "time step (default 0.01)");
   auto* o_steps = run->add_option("--steps", spec.steps, "measured steps (default 1000)");
   auto* o_equil = run->add_option("--equilibrate", spec.equilibrate, "steps run first and not measured (default 0)");
@@ -123,6 +136,7 @@ int main(int argc, char** argv) {
   try {
     spec.periodic = parse_boundary(boundary_s);
     spec.stepper.cells = parse_cells(cells_s);
+    spec.init.seed = parse_seed(seed_s);
     spec.precision = parse_precision(precision_s);
     spec.stepper.detect = parse_detect(detect_s);
     spec.engine = parse_engine(engine_s);

@@ -133,6 +133,9 @@ def assert_rejected(hs, tmp_path, args, *needles, status=2):
     (["--precision", "quad"], ["quad"]),
     (["--detect", "psychic"], ["psychic"]),
     (["--init", "crystal"], ["crystal"]),
+    (["--seed", "-1"], ["--seed '-1'"]),
+    (["--seed", "18446744073709551616"], ["--seed '18446744073709551616'"]),
+    (["--seed", "7x"], ["--seed '7x'"]),
 ])
 def test_bad_option_values(hs, tmp_path, args, needles):
     assert_rejected(hs, tmp_path, ["--steps", "5", *args], *needles)
