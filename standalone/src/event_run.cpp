@@ -37,7 +37,7 @@ nlohmann::json run_event_simulation(const RunSpec& spec) {
   if (!(spec.equilibrate_time >= 0) || !std::isfinite(spec.equilibrate_time))
     throw InputError("equilibrate time = " + std::to_string(spec.equilibrate_time) + " must be >= 0");
   if (spec.blocks < 1) throw InputError("blocks = " + std::to_string(spec.blocks) + " must be >= 1");
-  if (spec.histogram_bins < 1) throw InputError("histogram bins must be >= 1");
+  if (spec.histogram_bins < 1) throw InputError("--histogram-bins " + std::to_string(spec.histogram_bins) + " must be >= 1");
 
   ParticleSystem sys = initial_state(spec);
   EventEngine engine(sys, spec.event);

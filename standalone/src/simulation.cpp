@@ -28,7 +28,7 @@ nlohmann::json run_simulation(const RunSpec& spec) {
   if (spec.steps < 0) throw InputError("steps = " + std::to_string(spec.steps) + " must be >= 0");
   if (spec.equilibrate < 0) throw InputError("equilibrate = " + std::to_string(spec.equilibrate) + " must be >= 0");
   if (spec.dump && spec.dump_every < 1) throw InputError("dump every = " + std::to_string(spec.dump_every) + " must be >= 1");
-  if (spec.histogram_bins < 1) throw InputError("histogram bins must be >= 1");
+  if (spec.histogram_bins < 1) throw InputError("--histogram-bins " + std::to_string(spec.histogram_bins) + " must be >= 1");
 
   ParticleSystem sys = initial_state(spec);
   auto engine = make_stepper(sys, spec.stepper, spec.precision);

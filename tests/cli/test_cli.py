@@ -136,6 +136,7 @@ def assert_rejected(hs, tmp_path, args, *needles, status=2):
     (["--seed", "-1"], ["--seed '-1'"]),
     (["--seed", "18446744073709551616"], ["--seed '18446744073709551616'"]),
     (["--seed", "7x"], ["--seed '7x'"]),
+    (["--histogram-bins", "-3"], ["--histogram-bins -3"]),
 ])
 def test_bad_option_values(hs, tmp_path, args, needles):
     assert_rejected(hs, tmp_path, ["--steps", "5", *args], *needles)
