@@ -295,6 +295,9 @@ void FixHardSphere::build_adjacency()
   // Both directions, CSR over owned + ghost atoms, from the half ghost list (ghost
   // coordinates are image-shifted already: every pair has image code kNoImage).
   const int nall = atom->nlocal + atom->nghost;
+  if (std::uint32_t(nall) > hardsphere::kMaxAdjIndex)
+    error->one(FLERR, "fix hardsphere: " + std::to_string(nall) + " owned + ghost atoms on one rank, at most " +
+                          std::to_string(hardsphere::kMaxAdjIndex + 1));
   adj_start.assign(nall + 1, 0);
   const int nlisted = list->inum + list->gnum;
   for (int ii = 0; ii < nlisted; ii++) {
@@ -304,18 +307,17 @@ void FixHardSphere::build_adjacency()
     for (int k = 0; k < list->numneigh[i]; k++) adj_start[(jl[k] & NEIGHMASK) + 1]++;
   }
   for (int i = 0; i < nall; i++) adj_start[i + 1] += adj_start[i];
-  adj_partner.resize(adj_start[nall]);
+  adj.resize(adj_start[nall]);
   std::vector<std::uint32_t> cursor(adj_start.begin(), adj_start.end() - 1);
   for (int ii = 0; ii < nlisted; ii++) {
     const int i = list->ilist[ii];
     const int *jl = list->firstneigh[i];
     for (int k = 0; k < list->numneigh[i]; k++) {
       const int j = jl[k] & NEIGHMASK;
-      adj_partner[cursor[i]++] = std::uint32_t(j);
-      adj_partner[cursor[j]++] = std::uint32_t(i);
+      adj[cursor[i]++] = hardsphere::adj_entry(std::uint32_t(j), kNoImage);
+      adj[cursor[j]++] = hardsphere::adj_entry(std::uint32_t(i), kNoImage);
     }
   }
-  adj_image.assign(adj_partner.size(), kNoImage);
 
   adjacency_dirty = false;
 }
@@ -561,8 +563,7 @@ void FixHardSphere::resolve_step(hardsphere::ContactResolver<double, Mono> &res)
   const int nall = atom->nlocal + atom->nghost;
   res.reset(std::size_t(nall), dt);
   res.set_event_limit(max_events);
-  res.bind({pos.data(), vel.data(), rad.data(), mass.data(), tags.data(), nullptr, adj_start.data(), adj_partner.data(),
-            adj_image.data(), zero_shift});
+  res.bind({pos.data(), vel.data(), rad.data(), mass.data(), tags.data(), nullptr, adj_start.data(), adj.data(), zero_shift});
   double v2max = 0;
   for (int i = 0; i < nall; i++) v2max = std::max(v2max, hardsphere::dot(vel[i], vel[i]));
   res.set_speed_bound(std::sqrt(v2max));
@@ -575,7 +576,7 @@ void FixHardSphere::resolve_step(hardsphere::ContactResolver<double, Mono> &res)
   for (int i = 0; i < nall; i++) {
     const V3 pi = pos[i];
     for (std::uint32_t k = adj_start[i]; k < adj_start[i + 1]; k++) {
-      const std::uint32_t j = adj_partner[k];
+      const std::uint32_t j = hardsphere::adj_partner(adj[k]);
       if (j <= std::uint32_t(i)) continue;
       const V3 dr = pi - pos[j];
       const double sg = Mono ? mono_sigma : rad[i] + rad[j];
@@ -668,5 +669,5 @@ double FixHardSphere::memory_usage()
 {
   const double n = double(pos.size());
   return double(atom->nmax) * 7 * sizeof(double) + n * (4 * sizeof(V3) + 2 * sizeof(double) + 9) +
-         double(adj_partner.size()) * 5;
+         double(adj.size()) * 4;
 }

@@ -121,8 +121,7 @@ class FixHardSphere : public Fix {
   std::vector<V3> pos, vel, vprev, xbuild;
   std::vector<double> rad, mass;
   std::vector<std::int64_t> tags;
-  std::vector<std::uint32_t> adj_start, adj_partner;
-  std::vector<std::uint8_t> adj_image;
+  std::vector<std::uint32_t> adj_start, adj;  // adj: hardsphere::adj_entry(partner, image)
   V3 zero_shift[27];
   hardsphere::ContactResolver<double, true> res_mono;
   hardsphere::ContactResolver<double, false> res_poly;

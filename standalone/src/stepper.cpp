@@ -206,8 +206,7 @@ class Stepper final : public StepperBase {
   std::vector<Real> scratch_real_;
   std::vector<std::uint32_t> scratch_u32_;
   // For each sphere s, its list partners q and the image of r_s - r_q (CSR), for local sweeps.
-  std::vector<std::uint32_t> adj_start_, adj_partner_, adj_cursor_;
-  std::vector<std::uint8_t> adj_image_;
+  std::vector<std::uint32_t> adj_start_, adj_, adj_cursor_;  // adj_: adj_entry(partner, image)
   ContactResolver<Real, Mono> resolver_;
   ContactTally tally_;
   mutable StepCounters counters_;
@@ -223,7 +222,7 @@ Stepper<Real, Mono>::Stepper(const ParticleSystem& sys, const StepperConfig& cfg
   }
   if (cfg.max_events_per_step < 1) throw InputError("max events per step must be >= 1");
   const std::size_t n = sys.size();
-  if (n >= std::numeric_limits<std::uint32_t>::max() / 2) throw InputError("too many particles for one engine");
+  if (n > kMaxAdjIndex) throw InputError("too many particles for one stepper: " + std::to_string(n) + " (at most " + std::to_string(kMaxAdjIndex + 1) + ")");
   const double diameter = 2 * sys.max_radius();
 
   const bool auto_cells = cfg.cells[0] == 0 && cfg.cells[1] == 0 && cfg.cells[2] == 0;
@@ -455,8 +454,8 @@ void Stepper<Real, Mono>::rebuild() {
   if (!stencil_.empty()) build_pairs_half_stencil();
   else build_pairs_any_grid();
   build_adjacency();
-  resolver_.bind({pos_.data(), vel_.data(), r_.data(), m_.data(), id_.data(), slot_.data(), adj_start_.data(),
-                  adj_partner_.data(), adj_image_.data(), image_shift_});
+  resolver_.bind({pos_.data(), vel_.data(), r_.data(), m_.data(), id_.data(), slot_.data(), adj_start_.data(), adj_.data(),
+                  image_shift_});
   ++counters_.rebuilds;
 }
 
@@ -468,14 +467,11 @@ void Stepper<Real, Mono>::build_adjacency() {
   for (const auto& p : near_) ++adj_start_[p.i + 1], ++adj_start_[p.j + 1];
   for (const auto& p : wrap_) ++adj_start_[p.i + 1], ++adj_start_[p.j + 1];
   for (std::size_t i = 0; i < n; ++i) adj_start_[i + 1] += adj_start_[i];
-  adj_partner_.resize(2 * np);
-  adj_image_.resize(2 * np);
+  adj_.resize(2 * np);
   adj_cursor_.assign(adj_start_.begin(), adj_start_.end() - 1);
   auto add = [&](std::uint32_t i, std::uint32_t j, std::uint8_t image) {
-    adj_partner_[adj_cursor_[i]] = j;
-    adj_image_[adj_cursor_[i]++] = image;
-    adj_partner_[adj_cursor_[j]] = i;
-    adj_image_[adj_cursor_[j]++] = std::uint8_t(26 - image);
+    adj_[adj_cursor_[i]++] = adj_entry(j, image);
+    adj_[adj_cursor_[j]++] = adj_entry(i, std::uint8_t(26 - image));
   };
   for (const auto& p : near_) add(p.i, p.j, kNoImage);
   for (std::size_t k = 0; k < wrap_.size(); ++k) add(wrap_[k].i, wrap_[k].j, wrap_image_[k]);

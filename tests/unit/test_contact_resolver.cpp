@@ -37,8 +37,7 @@ TEST(ContactResolver, TakesContactsEarliestFirstWithTiesByAtomIds) {
   std::vector<Vec3<double>> pos(n), vel(n);
   std::vector<double> radius(n, 0.5), mass(n, 1.0);
   std::vector<std::int64_t> id(n);
-  std::vector<std::uint32_t> adj_start(n + 1), adj_partner(n);
-  std::vector<std::uint8_t> adj_image(n, hardsphere::kNoImage);
+  std::vector<std::uint32_t> adj_start(n + 1), adj(n);
   const std::vector<Vec3<double>> shift(27, Vec3<double>{0, 0, 0});
   for (std::uint32_t p = 0; p < pairs; ++p) {
     const double d = 1.0 - 2.0 * u * back[p];  // separation now: they touched `back` ago
@@ -49,15 +48,15 @@ TEST(ContactResolver, TakesContactsEarliestFirstWithTiesByAtomIds) {
     pos[a] = {x - d / 2, 0, 0}, vel[a] = {u, 0, 0};
     pos[b] = {x + d / 2, 0, 0}, vel[b] = {-u, 0, 0};
     id[a] = 5000 - a, id[b] = 5000 - b;  // ids run against the indices, so ties must use them
-    adj_partner[a] = b, adj_partner[b] = a;
+    adj[a] = hardsphere::adj_entry(b, hardsphere::kNoImage), adj[b] = hardsphere::adj_entry(a, hardsphere::kNoImage);
   }
   for (std::uint32_t k = 0; k <= n; ++k) adj_start[k] = k;
 
   ContactResolver<double, true> res;
   res.reset(n, dt);
   res.set_uniform(1.0, 1.0);
-  res.bind({pos.data(), vel.data(), radius.data(), mass.data(), id.data(), nullptr, adj_start.data(),
-            adj_partner.data(), adj_image.data(), shift.data()});
+  res.bind({pos.data(), vel.data(), radius.data(), mass.data(), id.data(), nullptr, adj_start.data(), adj.data(),
+            shift.data()});
   // Handed over in an order unrelated to time.
   for (std::uint32_t q = 0; q < pairs; ++q) {
     const std::uint32_t p = (q * 7) % pairs;

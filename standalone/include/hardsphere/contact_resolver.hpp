@@ -33,8 +33,17 @@ namespace hardsphere {
 constexpr std::uint8_t image_code(int kx, int ky, int kz) { return std::uint8_t((kx + 1) * 9 + (ky + 1) * 3 + (kz + 1)); }
 constexpr std::uint8_t kNoImage = 13;
 
+//! A neighbour-list entry packs the partner's index and the image code into one word, so a
+//! sweep after a collision misses the cache once per row, not once per array.
+constexpr int kAdjImageBits = 5;
+constexpr std::uint32_t kMaxAdjIndex = (std::uint32_t(1) << (32 - kAdjImageBits)) - 1;
+constexpr std::uint32_t adj_entry(std::uint32_t partner, std::uint8_t image) { return partner << kAdjImageBits | image; }
+constexpr std::uint32_t adj_partner(std::uint32_t entry) { return entry >> kAdjImageBits; }
+constexpr std::uint8_t adj_image(std::uint32_t entry) { return std::uint8_t(entry & ((1u << kAdjImageBits) - 1)); }
+
 //! Views of an engine's per-sphere arrays and of its neighbour lists (CSR, both directions).
-//! For partner k of sphere s the separation is pos[s] - pos[partner[k]] - image_shift[image[k]].
+//! For entry e = adj[k] of sphere s the separation is
+//! pos[s] - pos[adj_partner(e)] - image_shift[adj_image(e)]; indices are at most kMaxAdjIndex.
 template <class Real>
 struct ContactArrays {
   Vec3<Real>* pos = nullptr;
@@ -44,8 +53,7 @@ struct ContactArrays {
   const std::int64_t* id = nullptr;  //!< tie-break for equal contact times
   const std::uint32_t* id_slot = nullptr;  //!< if set, sphere i's id is id[id_slot[i]]
   const std::uint32_t* adj_start = nullptr;
-  const std::uint32_t* adj_partner = nullptr;
-  const std::uint8_t* adj_image = nullptr;
+  const std::uint32_t* adj = nullptr;  //!< adj_entry(partner, image), rows adj_start[s] .. adj_start[s + 1]
   const Vec3<Real>* image_shift = nullptr;  //!< 27 shifts by image code
 };
 
@@ -140,23 +148,22 @@ class ContactResolver {
     // overlap); only the survivors go to consider().
     const Real reach = Real(1.001) * (norm(a_.vel[s]) + speed_bound_) * change_[s].back;
     const std::uint32_t k0 = a_.adj_start[s], k1 = a_.adj_start[s + 1];
-    const std::uint32_t* __restrict partner = a_.adj_partner;
-    const std::uint8_t* __restrict image = a_.adj_image;
+    const std::uint32_t* __restrict adj = a_.adj;
     const Vec3<Real>* __restrict pos = a_.pos;
     const Vec3<Real>* __restrict shift = a_.image_shift;
     if (near_.size() < k1 - k0) near_.resize(2 * (k1 - k0));
     std::uint32_t* __restrict hits = near_.data();
     std::uint32_t n = 0;
     for (std::uint32_t k = k0; k < k1; ++k) {
-      const std::uint32_t q = partner[k];
-      const Vec3<Real> dr = ps - pos[q] - shift[image[k]];
+      const std::uint32_t q = adj_partner(adj[k]);
+      const Vec3<Real> dr = ps - pos[q] - shift[adj_image(adj[k])];
       const Real far = sigma(s, q) + reach;
       hits[n] = k;
       n += dot(dr, dr) < far * far;
     }
     for (std::uint32_t h = 0; h < n; ++h) {
-      const std::uint32_t k = hits[h], q = partner[k];
-      const std::uint8_t img = image[k];
+      const std::uint32_t e = adj[hits[h]], q = adj_partner(e);
+      const std::uint8_t img = adj_image(e);
       const Vec3<Real> dr = ps - pos[q] - shift[img];
       // Candidates keep the lower index first so their order matches a full scan.
       if (s < q) consider(s, q, img, dr, sigma(s, q), false);
