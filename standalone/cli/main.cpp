@@ -1,5 +1,6 @@
 // hardsphere: command-line front end. It only parses options and calls the library.
 #include <CLI/CLI.hpp>
+#include <cctype>
 #include <cerrno>
 #include <cmath>
 #include <cstdlib>

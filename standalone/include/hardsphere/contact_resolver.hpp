@@ -155,8 +155,8 @@ class ContactResolver {
     std::uint32_t* __restrict hits = near_.data();
     std::uint32_t n = 0;
     for (std::uint32_t k = k0; k < k1; ++k) {
-      const std::uint32_t q = adj_partner(adj[k]);
-      const Vec3<Real> dr = ps - pos[q] - shift[adj_image(adj[k])];
+      const std::uint32_t e = adj[k], q = adj_partner(e);
+      const Vec3<Real> dr = ps - pos[q] - shift[adj_image(e)];
       const Real far = sigma(s, q) + reach;
       hits[n] = k;
       n += dot(dr, dr) < far * far;
