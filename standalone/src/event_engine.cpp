@@ -7,6 +7,7 @@
 #include "hardsphere/collision.hpp"
 #include "hardsphere/errors.hpp"
 #include "hardsphere/event_calendar.hpp"
+#include "hardsphere/neighbour_entry.hpp"
 
 namespace hardsphere {
 
@@ -43,12 +44,10 @@ struct alignas(64) Pred {
   std::uint32_t col_count, col2_count;  // partners' collision counters when predicted
 };
 
-//! A neighbour-list entry packs the partner index and the periodic image of the partner as seen
-//! from the list's owner: entry = j << kImageBits | image, image = (sx+1) + 3 (sy+1) + 9 (sz+1)
-//! with s = -1, 0, 1 the box lengths added to the partner's position per axis. The partner's
-//! entry for the owner has image kImages - 1 - image (all shifts negated).
-constexpr int kImageBits = 5;
-constexpr std::uint32_t kImageMask = (1u << kImageBits) - 1;
+//! Neighbour-list entries are adj_entry(j, image) (neighbour_entry.hpp) with
+//! image = (sx+1) + 3 (sy+1) + 9 (sz+1), s = -1, 0, 1 the box lengths added to the partner's
+//! position per axis. The partner's entry for the owner has image kImages - 1 - image (all
+//! shifts negated).
 constexpr int kImages = 27;
 
 //! Neighbour lists start on cache-line boundaries, so a list of up to 16 entries is one line.
@@ -172,7 +171,7 @@ struct EventEngine::Impl {
     std::uint32_t* l = list(i);
     int& f = nfill[std::size_t(i)];
     for (int u = 0; u < f; ++u)
-      if (int(l[u] >> kImageBits) == j) {
+      if (int(adj_partner(l[u])) == j) {
         l[u] = l[--f];
         return;
       }
@@ -181,8 +180,8 @@ struct EventEngine::Impl {
   void reimage_neighbour(int i, int j, std::uint32_t image) {
     std::uint32_t* l = list(i);
     for (int u = 0; u < nfill[std::size_t(i)]; ++u)
-      if (int(l[u] >> kImageBits) == j) {
-        l[u] = (std::uint32_t(j) << kImageBits) | image;
+      if (int(adj_partner(l[u])) == j) {
+        l[u] = adj_entry(std::uint32_t(j), std::uint8_t(image));
         return;
       }
   }
@@ -287,8 +286,8 @@ struct EventEngine::Impl {
     // Pass 1: request the partners' states (and collision counters, read for the few that
     // pass the screen) at once, so their cache misses overlap.
     for (int u = 0; u < m; ++u) {
-      __builtin_prefetch(&body[cand[u] >> kImageBits]);
-      __builtin_prefetch(&count[cand[u] >> kImageBits]);
+      __builtin_prefetch(&body[adj_partner(cand[u])]);
+      __builtin_prefetch(&count[adj_partner(cand[u])]);
     }
     // Pass 2: relative positions and velocities into flat arrays.
     const std::size_t stride = std::size_t(m + 8) & ~std::size_t(7);
@@ -301,8 +300,8 @@ struct EventEngine::Impl {
     double* __restrict uy = ux + stride;
     double* __restrict uz = uy + stride;
     for (int u = 0; u < m; ++u) {
-      const Body& q = body[cand[u] >> kImageBits];
-      const auto& sh = image_shift[cand[u] & kImageMask];
+      const Body& q = body[adj_partner(cand[u])];
+      const auto& sh = image_shift[adj_image(cand[u])];
       const double dtj = now - q.t;
       rx[u] = s.x - (q.x + q.vx * dtj + sh[0]);
       ry[u] = s.y - (q.y + q.vy * dtj + sh[1]);
@@ -316,7 +315,7 @@ struct EventEngine::Impl {
     int* __restrict hit = hits.data();
     int nh = 0;
     for (int u = 0; u < m; ++u) {
-      const double sigma = Mono ? sigma0 : s.r + body[cand[u] >> kImageBits].r;
+      const double sigma = Mono ? sigma0 : s.r + body[adj_partner(cand[u])].r;
       const double bb = rx[u] * ux[u] + ry[u] * uy[u] + rz[u] * uz[u];
       const double rr = rx[u] * rx[u] + ry[u] * ry[u] + rz[u] * rz[u];
       const double vv = ux[u] * ux[u] + uy[u] * uy[u] + uz[u] * uz[u];
@@ -327,7 +326,7 @@ struct EventEngine::Impl {
     // Pass 4: contact times of the survivors, best and second best.
     for (int h = 0; h < nh; ++h) {
       const int u = hit[h];
-      const int j = int(cand[u] >> kImageBits);
+      const int j = int(adj_partner(cand[u]));
       const double sigma = Mono ? sigma0 : s.r + body[std::size_t(j)].r;
       const double t = kernel::contact_time(Vec3d{rx[u], ry[u], rz[u]}, Vec3d{ux[u], uy[u], uz[u]}, sigma);
       if (t < best2) {  // best2 = +inf when the second is unknown
@@ -435,7 +434,7 @@ struct EventEngine::Impl {
   //! Requests the states of i's neighbours (its list must be cached or on its way).
   void prefetch_neighbours(int i) {
     const std::uint32_t* l = list(i);
-    for (int u = 0; u < nfill[std::size_t(i)]; ++u) __builtin_prefetch(&body[l[u] >> kImageBits]);
+    for (int u = 0; u < nfill[std::size_t(i)]; ++u) __builtin_prefetch(&body[adj_partner(l[u])]);
   }
 
   void collide(int i, int j) {
@@ -498,23 +497,23 @@ struct EventEngine::Impl {
     // Old members are marked `was`; those found again become `kept`; the rest leave.
     const std::uint64_t was = ++stamp, kept = ++stamp;
     old_list.assign(list(i), list(i) + nfill[std::size_t(i)]);
-    for (std::uint32_t e : old_list) mark[e >> kImageBits] = was;
+    for (std::uint32_t e : old_list) mark[adj_partner(e)] = was;
     nfill[std::size_t(i)] = 0;
     fresh.clear();
     for_each_in_range(i, [&](int j, std::uint32_t image) {
-      const std::uint32_t entry = (std::uint32_t(j) << kImageBits) | image;
-      const std::uint32_t back = (std::uint32_t(i) << kImageBits) | (kImages - 1 - image);
+      const std::uint32_t entry = adj_entry(std::uint32_t(j), std::uint8_t(image));
+      const std::uint32_t back = adj_entry(std::uint32_t(i), std::uint8_t(kImages - 1 - image));
       add_neighbour(i, entry);
       if (mark[std::size_t(j)] == was) {
         mark[std::size_t(j)] = kept;
-        if (wrapped) reimage_neighbour(j, i, back & kImageMask);
+        if (wrapped) reimage_neighbour(j, i, adj_image(back));
       } else {
         add_neighbour(j, back);
         fresh.push_back(entry);
       }
     });
     for (std::uint32_t e : old_list)
-      if (mark[e >> kImageBits] == was) remove_neighbour(int(e >> kImageBits), i);
+      if (mark[adj_partner(e)] == was) remove_neighbour(int(adj_partner(e)), i);
     if (candidate_stale(i) && !promote_second(i)) {
       full_predict(i);
     } else {
@@ -657,7 +656,7 @@ struct EventEngine::Impl {
       const std::uint32_t* from = &nbr[nbase + o * std::size_t(ncap)];
       std::uint32_t* to = &lists[base + k * std::size_t(ncap)];
       for (int u = 0; u < nfill[o]; ++u)
-        to[u] = (std::uint32_t(new_of[from[u] >> kImageBits]) << kImageBits) | (from[u] & kImageMask);
+        to[u] = adj_entry(std::uint32_t(new_of[adj_partner(from[u])]), adj_image(from[u]));
     }
     nbr.swap(lists);
     nbase = base;
@@ -673,8 +672,8 @@ struct EventEngine::Impl {
     for (int i = 0; i < int(body.size()); ++i)
       for_each_in_range(i, [&](int j, std::uint32_t image) {
         if (j < i) return;  // each pair once, entered in both lists
-        add_neighbour(i, (std::uint32_t(j) << kImageBits) | image);
-        add_neighbour(j, (std::uint32_t(i) << kImageBits) | (kImages - 1 - image));
+        add_neighbour(i, adj_entry(std::uint32_t(j), std::uint8_t(image)));
+        add_neighbour(j, adj_entry(std::uint32_t(i), std::uint8_t(kImages - 1 - image)));
       });
   }
 
@@ -699,7 +698,7 @@ double auto_shell(double phi) {
 EventEngine::EventEngine(const ParticleSystem& sys, const EventConfig& cfg) : impl_(std::make_unique<Impl>()) {
   Impl& m = *impl_;
   const std::size_t n = sys.size();
-  if (n >= (std::size_t(1) << (32 - kImageBits))) throw InputError("too many spheres for the event engine");
+  if (n > kMaxAdjIndex) throw InputError("too many spheres for the event engine");
   if (sys.radius.size() != n || sys.mass.size() != n || sys.vel.size() != n)
     throw InputError("event engine: inconsistent particle arrays");
   if (!(cfg.shell >= 0) || !std::isfinite(cfg.shell))

@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "hardsphere/collision.hpp"
+#include "hardsphere/neighbour_entry.hpp"
 #include "hardsphere/vec3.hpp"
 
 // The neighbour sweep calls consider() for every partner: keep it inlined.
@@ -32,14 +33,6 @@ namespace hardsphere {
 //! mirrored shift of code c is 26 - c.
 constexpr std::uint8_t image_code(int kx, int ky, int kz) { return std::uint8_t((kx + 1) * 9 + (ky + 1) * 3 + (kz + 1)); }
 constexpr std::uint8_t kNoImage = 13;
-
-//! A neighbour-list entry packs the partner's index and the image code into one word, so a
-//! sweep after a collision misses the cache once per row, not once per array.
-constexpr int kAdjImageBits = 5;
-constexpr std::uint32_t kMaxAdjIndex = (std::uint32_t(1) << (32 - kAdjImageBits)) - 1;
-constexpr std::uint32_t adj_entry(std::uint32_t partner, std::uint8_t image) { return partner << kAdjImageBits | image; }
-constexpr std::uint32_t adj_partner(std::uint32_t entry) { return entry >> kAdjImageBits; }
-constexpr std::uint8_t adj_image(std::uint32_t entry) { return std::uint8_t(entry & ((1u << kAdjImageBits) - 1)); }
 
 //! Views of an engine's per-sphere arrays and of its neighbour lists (CSR, both directions).
 //! For entry e = adj[k] of sphere s the separation is

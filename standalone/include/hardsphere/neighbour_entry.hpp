@@ -1,0 +1,16 @@
+#pragma once
+//! One neighbour-list entry packs a partner's index and a periodic image code (0..26, the
+//! partner seen from the list's owner) into one word, so reading a list row misses the cache
+//! once, not once per array. Shared by the stepper's and the LAMMPS fix's lists (through the
+//! contact resolver) and by the event engine's lists; each engine keeps its own image numbering.
+#include <cstdint>
+
+namespace hardsphere {
+
+constexpr int kAdjImageBits = 5;
+constexpr std::uint32_t kMaxAdjIndex = (std::uint32_t(1) << (32 - kAdjImageBits)) - 1;  //!< largest partner index
+constexpr std::uint32_t adj_entry(std::uint32_t partner, std::uint8_t image) { return partner << kAdjImageBits | image; }
+constexpr std::uint32_t adj_partner(std::uint32_t entry) { return entry >> kAdjImageBits; }
+constexpr std::uint8_t adj_image(std::uint32_t entry) { return std::uint8_t(entry & ((1u << kAdjImageBits) - 1)); }
+
+}  // namespace hardsphere
