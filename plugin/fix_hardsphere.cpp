@@ -68,23 +68,23 @@ FixHardSphere::FixHardSphere(LAMMPS *lmp, int narg, char **arg) : Fix(lmp, narg,
   size_vector = kVectorSize;
   global_freq = 1;
   extvector = 0;
-  comm_forward = 4;  // velocity and wall-bounce time of ghosts
+  comm_forward = 4;  // velocity and drift mirrors (wall_axes) of ghosts
   virial_global_flag = 1;
   thermo_virial = 1;
-  maxexchange = 7;  // wall_back and start travel with their atom
+  maxexchange = 7;  // wall_axes and start travel with their atom
   force_reneighbor = 1;
   next_reneighbor = -1;
   for (auto &s : zero_shift) s = V3{0, 0, 0};
 
   grow_arrays(atom->nmax);
   atom->add_callback(Atom::GROW);
-  for (int i = 0; i < atom->nlocal; i++) wall_back[i] = 0.0;
+  for (int i = 0; i < atom->nlocal; i++) wall_axes[i] = 0.0;
 }
 
 FixHardSphere::~FixHardSphere()
 {
   atom->delete_callback(id, Atom::GROW);
-  memory->destroy(wall_back);
+  memory->destroy(wall_axes);
   memory->destroy(start);
 }
 
@@ -174,7 +174,7 @@ void FixHardSphere::setup(int vflag)
 {
   check_setup();
   if (serial) serial_setup();
-  for (int i = 0; i < atom->nlocal; i++) wall_back[i] = dt;
+  for (int i = 0; i < atom->nlocal; i++) wall_axes[i] = 0.0;
   // Thermo at a run's first step reports the last resolved step's collision virial (zero
   // before any step): setup resolves no collisions itself.
   v_init(vflag);
@@ -272,21 +272,24 @@ void FixHardSphere::initial_integrate(int)
     x[i][0] += dt * v[i][0];
     x[i][1] += dt * v[i][1];
     x[i][2] += dt * v[i][2];
-    wall_back[i] = dt;
+    wall_axes[i] = 0.0;
   }
   if (domain->xperiodic && domain->yperiodic && domain->zperiodic) return;
+  // LAMMPS loses atoms outside fixed faces: mirror them back in for its communication and
+  // neighbour lists. post_force() undoes the mirrors and lets the resolver bounce them in time
+  // order with the collisions (as the standalone stepper does).
   for (int i = 0; i < nlocal; i++) {
+    int axes = 0;
     for (int d = 0; d < 3; d++) {
       if (domain->periodicity[d]) continue;
-      const double before = x[i][d], vb = v[i][d];
-      const double dp = hardsphere::kernel::reflect_from_walls(x[i][d], v[i][d], domain->boxlo[d], domain->boxhi[d],
-                                                               atom->radius[i]);
-      if (dp != 0.0) {
-        n_wall += 1;
-        wall_back[i] = std::min(wall_back[i], std::abs(x[i][d] - before) / (2.0 * std::abs(vb)));
+      const double before = x[i][d];
+      if (hardsphere::kernel::reflect_from_walls(x[i][d], v[i][d], domain->boxlo[d], domain->boxhi[d],
+                                                 atom->radius[i]) != 0.0) {
+        axes |= 1 << d;
         start[i][d] += x[i][d] - before;  // the mirror is part of this step's move
       }
     }
+    wall_axes[i] = double(axes);
   }
 }
 
@@ -328,23 +331,17 @@ void FixHardSphere::note_disp(int k, const V3 &p)
   max_disp2 = std::max(max_disp2, hardsphere::dot(d, d));
 }
 
-void FixHardSphere::reflect(int k)
+void FixHardSphere::unmirror(int k)
 {
-  if (domain->xperiodic && domain->yperiodic && domain->zperiodic) return;
+  // Inverse of the drift's mirror on each flagged axis: the straight path continues past the
+  // face it crossed (the one the mirrored velocity now points away from).
+  const int axes = int(wall_axes[k]);
   for (int d = 0; d < 3; d++) {
-    if (domain->periodicity[d]) continue;
-    const double before = pos[k][d], vb = vel[k][d];
-    const double dp =
-        hardsphere::kernel::reflect_from_walls(pos[k][d], vel[k][d], domain->boxlo[d], domain->boxhi[d], rad[k]);
-    if (dp != 0.0) {
-      if (k < atom->nlocal) n_wall += 1;
-      note_disp(k, pos[k]);
-      const double back = std::abs(pos[k][d] - before) / (2.0 * std::abs(vb));
-      if (mono) res_mono.mark_changed(k, std::min(res_mono.window(k), back));
-      else res_poly.mark_changed(k, std::min(res_poly.window(k), back));
-    }
+    if (!(axes & (1 << d))) continue;
+    const double contact = vel[k][d] < 0.0 ? domain->boxhi[d] - rad[k] : domain->boxlo[d] + rad[k];
+    pos[k][d] = 2.0 * contact - pos[k][d];
+    vel[k][d] = -vel[k][d];
   }
-  vprev[k] = vel[k];
 }
 
 void FixHardSphere::on_collision(int i, int j, double back)
@@ -369,8 +366,6 @@ void FixHardSphere::on_collision(int i, int j, double back)
   vprev[i] = vel[i];
   vprev[j] = vel[j];
   note_disp(i, ci), note_disp(j, cj), note_disp(i, pos[i]), note_disp(j, pos[j]);
-  reflect(i);
-  reflect(j);
 }
 
 bool FixHardSphere::ghosts_agree_with_owners()
@@ -481,6 +476,12 @@ struct FixHardSphere::Hooks {
     first = -1;
     f.on_collision(i, int(k), back);
   }
+  void after_bounce(std::uint32_t k, int, double, double)
+  {
+    if (int(k) < f.atom->nlocal) f.n_wall += 1;  // a ghost's bounce is counted by its owner
+    f.vprev[k] = f.vel[k];
+    f.note_disp(int(k), f.pos[k]);
+  }
   bool must_rescan() const { return false; }  // lists cannot be rebuilt inside a LAMMPS step
   void rescan() {}
 };
@@ -498,7 +499,7 @@ void FixHardSphere::post_force(int vflag)
       for (int k = 0; k < 6; k++) virial[k] = step_virial[k] / dt;
     return;
   }
-  // Ghosts need the owners' current velocities and wall-bounce times.
+  // Ghosts need the owners' current velocities and drift mirrors.
   comm->forward_comm_fix(this);
   if (adjacency_dirty) build_adjacency();
 
@@ -512,10 +513,13 @@ void FixHardSphere::post_force(int vflag)
     mass[i] = atom->rmass[i];
     tags[i] = std::int64_t(atom->tag[i]);
   }
-  vprev = vel;
   met_owned.assign(nall, 0);
   x_start.resize(nlocal);  // where the owned atoms started this step, in LAMMPS's current wrapping
   for (int i = 0; i < nlocal; i++) x_start[i] = pos[i] - V3{start[i][0], start[i][1], start[i][2]};
+  for (int i = 0; i < nall; i++)
+    if (wall_axes[i] != 0.0) unmirror(i);
+  vprev = vel;
+  // Straight paths past a face bound the path to it: checking their ends covers the bounce.
   for (int i = 0; i < nlocal; i++) note_disp(i, pos[i]);
   n_coll_step = 0;
   std::fill(step_virial, step_virial + 6, 0.0);
@@ -567,8 +571,8 @@ void FixHardSphere::resolve_step(hardsphere::ContactResolver<double, Mono> &res)
   double v2max = 0;
   for (int i = 0; i < nall; i++) v2max = std::max(v2max, hardsphere::dot(vel[i], vel[i]));
   res.set_speed_bound(std::sqrt(v2max));
-  for (int i = 0; i < nall; i++)
-    if (wall_back[i] < dt) res.mark_changed(std::uint32_t(i), wall_back[i]);
+  res.set_walls({domain->periodicity[0] != 0, domain->periodicity[1] != 0, domain->periodicity[2] != 0},
+                {domain->boxlo[0], domain->boxlo[1], domain->boxlo[2]}, {domain->boxhi[0], domain->boxhi[1], domain->boxhi[2]});
 
   // Scan: each pair once (j > i) of the both-direction adjacency.
   res.clear_candidates();
@@ -584,6 +588,7 @@ void FixHardSphere::resolve_step(hardsphere::ContactResolver<double, Mono> &res)
       if (hardsphere::dot(dr, dr) < lim * lim) res.consider(std::uint32_t(i), j, kNoImage, dr, sg, !sweep);
     }
   }
+  res.predict_all_walls();
   if (res.has_candidates()) {
     Hooks<Mono> hooks{*this};
     hardsphere::ContactTally tally;
@@ -617,7 +622,7 @@ int FixHardSphere::pack_forward_comm(int n, int *list_, double *buf, int, int *)
     buf[m++] = v[j][0];
     buf[m++] = v[j][1];
     buf[m++] = v[j][2];
-    if (comm_mode == 0) buf[m++] = wall_back[j];
+    if (comm_mode == 0) buf[m++] = wall_axes[j];
   }
   return m;
 }
@@ -635,32 +640,32 @@ void FixHardSphere::unpack_forward_comm(int n, int first, double *buf)
     v[i][0] = buf[m++];
     v[i][1] = buf[m++];
     v[i][2] = buf[m++];
-    wall_back[i] = buf[m++];
+    wall_axes[i] = buf[m++];
   }
 }
 
 void FixHardSphere::grow_arrays(int nmax)
 {
-  memory->grow(wall_back, nmax, "hardsphere:wall_back");
+  memory->grow(wall_axes, nmax, "hardsphere:wall_axes");
   memory->grow(start, nmax, 6, "hardsphere:start");
 }
 
 void FixHardSphere::copy_arrays(int i, int j, int)
 {
-  wall_back[j] = wall_back[i];
+  wall_axes[j] = wall_axes[i];
   for (int k = 0; k < 6; k++) start[j][k] = start[i][k];
 }
 
 int FixHardSphere::pack_exchange(int i, double *buf)
 {
-  buf[0] = wall_back[i];
+  buf[0] = wall_axes[i];
   for (int k = 0; k < 6; k++) buf[1 + k] = start[i][k];
   return 7;
 }
 
 int FixHardSphere::unpack_exchange(int nlocal, double *buf)
 {
-  wall_back[nlocal] = buf[0];
+  wall_axes[nlocal] = buf[0];
   for (int k = 0; k < 6; k++) start[nlocal][k] = buf[1 + k];
   return 7;
 }

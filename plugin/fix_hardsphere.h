@@ -3,9 +3,9 @@
 //!
 //! Time integrator for hard spheres (instead of fix nve/sphere). On one rank it hands the atoms
 //! to the standalone stepper (fix_hardsphere_serial.cpp). Under MPI (or 'path ghosts') it drifts
-//! the owned atoms by v dt, reflects them at fixed (f) box faces, then resolves the step's
-//! collisions in time order with hardsphere::ContactResolver (the standalone stepper's
-//! implementation) over owned + ghost atoms, checks the ghosts against their owners and re-runs
+//! the owned atoms by v dt and mirrors them at fixed (f) box faces (LAMMPS keeps atoms inside),
+//! then undoes the mirrors and resolves the step's collisions and wall bounces in time order with
+//! hardsphere::ContactResolver (the standalone stepper's implementation) over owned + ghost atoms, checks the ghosts against their owners and re-runs
 //! the step for all atoms if they disagree. Needs atom_style sphere and pair_style hardsphere.
 //! Global vector (f_ID[1..8]): collisions (cumulative), collisions in the last step, sum of
 //! r_ij.dp_i over collisions, simulated time, wall bounces, steps re-run for all atoms at once
@@ -70,7 +70,7 @@ class FixHardSphere : public Fix {
   hardsphere::ParticleSystem empty_system() const;
   //! A standalone stepper for `sys` with this fix's dt, detection mode and event limit.
   std::unique_ptr<hardsphere::StepperBase> new_stepper(const hardsphere::ParticleSystem &sys) const;
-  void reflect(int k);
+  void unmirror(int k);
   void note_disp(int k, const V3 &p);
 
   class NeighList *list = nullptr;
@@ -106,10 +106,10 @@ class FixHardSphere : public Fix {
   bool lammps_moved = false;               //!< LAMMPS re-neighboured: it may have wrapped or sorted atoms
   bool state_written = true;               //!< LAMMPS's x and v hold the stepper's current state
 
-  double *wall_back = nullptr;  //!< per atom: time back from step end of this step's wall bounce (dt: none)
+  double *wall_axes = nullptr;  //!< per atom: bit d set if the drift of this step mirrored it on axis d
 
   // Cross-check of ghost copies against their owners (see ghosts_agree_with_owners).
-  int comm_mode = 0;                    //!< forward comm: 0 velocity + bounce time, 1 owners' final velocity
+  int comm_mode = 0;                    //!< forward comm: 0 velocity + wall_axes, 1 owners' final velocity
   std::vector<std::uint8_t> met_owned;  //!< per ghost: collided with an owned atom in this step
   std::vector<V3> v_owner;              //!< per ghost: its owner's velocity at the end of the step
   double **start = nullptr;             //!< per atom: this step's drift displacement, velocity before it

@@ -69,6 +69,8 @@ class Stepper final : public StepperBase {
   ParticleSystem state() const override;
   const StepCounters& counters() const override {
     counters_.collisions = tally_.collisions;
+    counters_.wall_collisions = tally_.wall_collisions;
+    counters_.wall_impulse = tally_.wall_impulse;
     counters_.pair_virial = tally_.virial;
     counters_.pair_virial_tensor = tally_.virial_tensor;
     counters_.unresolved_steps = tally_.unresolved_steps;
@@ -123,13 +125,10 @@ class Stepper final : public StepperBase {
 
  private:
   //! What the shared resolver needs from this engine after each collision.
-  template <bool AllPeriodic>
   struct Hooks {
     Stepper& s;
-    void after_collision(std::uint32_t k, Real) {
-      s.note_displacement(k);
-      if constexpr (!AllPeriodic) s.reflect(k);
-    }
+    void after_collision(std::uint32_t k, Real) { s.note_displacement(k); }
+    void after_bounce(std::uint32_t k, int, Real, Real) { s.note_displacement(k); }
     bool must_rescan() const { return s.list_expired(); }
     void rescan() {
       // Collisions moved spheres past the skin: rebuild (indices change) and re-predict all.
@@ -143,7 +142,7 @@ class Stepper final : public StepperBase {
     for (std::int64_t s = 0; s < steps; ++s) step<AllPeriodic, Sweep>();
   }
   template <bool AllPeriodic, bool Sweep> void step();
-  template <bool AllPeriodic> void drift();
+  void drift();
   template <bool Sweep> void scan_pair_list();
   void rebuild();
   void build_stencil();
@@ -159,7 +158,6 @@ class Stepper final : public StepperBase {
   }
   //! Candidate cut-off of a pair: contact distance plus skin (an infinite skin takes all).
   Real list_cut(Real contact) const { return std::isinf(skin_) ? std::numeric_limits<Real>::max() / 4 : contact + skin_; }
-  void reflect(std::uint32_t i);
   void note_displacement(std::uint32_t i) {
     const V3<Real> d = pos_[i] - pos0_[i];
     max_disp2_ = std::max(max_disp2_, dot(d, d));
@@ -277,6 +275,9 @@ Stepper<Real, Mono>::Stepper(const ParticleSystem& sys, const StepperConfig& cfg
   resolver_.reset(n, dt_);
   resolver_.set_uniform(sigma_, n ? m_[0] : Real(0));
   resolver_.set_event_limit(cfg.max_events_per_step);
+  std::array<Real, 3> wall_lo{}, wall_hi{};
+  for (std::size_t d = 0; d < 3; ++d) wall_lo[d] = Real(box_.lo[d]), wall_hi[d] = Real(box_.hi[d]);
+  resolver_.set_walls(box_.periodic, wall_lo, wall_hi);
   if (grid_.half_stencil_ok()) build_stencil();
   rebuild();
   counters_.rebuilds = 0;
@@ -478,7 +479,6 @@ void Stepper<Real, Mono>::build_adjacency() {
 }
 
 template <class Real, bool Mono>
-template <bool AllPeriodic>
 void Stepper<Real, Mono>::drift() {
   const std::size_t n = pos_.size();
   const Real dt = dt_;
@@ -497,26 +497,9 @@ void Stepper<Real, Mono>::drift() {
     v2max = v2 > v2max ? v2 : v2max;
   }
   max_disp2_ = m;
-  resolver_.set_speed_bound(std::sqrt(v2max));  // walls flip velocities, speeds stay
-  if constexpr (!AllPeriodic) {
-    for (std::uint32_t i = 0; i < n; ++i) reflect(i);
-  }
-}
-
-template <class Real, bool Mono>
-void Stepper<Real, Mono>::reflect(std::uint32_t i) {
-  for (int d = 0; d < 3; ++d) {
-    if (box_.periodic[d]) continue;
-    const Real before = pos_[i][d], v = vel_[i][d];
-    const Real dp = kernel::reflect_from_walls(pos_[i][d], vel_[i][d], Real(box_.lo[d]), Real(box_.hi[d]), r_[i]);
-    if (dp != Real(0)) {
-      ++counters_.wall_collisions;
-      counters_.wall_impulse[d] += double(m_[i]) * std::abs(double(dp));
-      note_displacement(i);
-      // The bounce happened half the mirror distance ago.
-      resolver_.mark_changed(i, std::min(resolver_.window(i), std::abs(pos_[i][d] - before) / (Real(2) * std::abs(v))));
-    }
-  }
+  // Spheres may now be beyond a wall: the resolver bounces them in time order with the
+  // contacts (walls flip velocities, speeds stay).
+  resolver_.set_speed_bound(std::sqrt(v2max));
 }
 
 template <class Real, bool Mono>
@@ -567,11 +550,12 @@ void Stepper<Real, Mono>::scan_pair_list() {
 template <class Real, bool Mono>
 template <bool AllPeriodic, bool Sweep>
 void Stepper<Real, Mono>::step() {
-  drift<AllPeriodic>();
+  drift();
   if (list_expired()) rebuild();
   scan_pair_list<Sweep>();
+  if constexpr (!AllPeriodic) resolver_.predict_all_walls();
   if (resolver_.has_candidates()) {
-    Hooks<AllPeriodic> hooks{*this};
+    Hooks hooks{*this};
     resolver_.resolve(hooks, tally_);
   }
   resolver_.end_step();

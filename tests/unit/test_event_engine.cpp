@@ -371,14 +371,15 @@ TEST(EventNeighbourLists, AgreeWithAllPairsReferenceMonodisperse) {
 TEST(EventNeighbourLists, AgreeWithAllPairsReferencePolydisperseWithWalls) {
   // Three sizes and masses (radius 0.5/0.42/0.3, mass 1/0.7/0.25), periodic in x and y, walls
   // in z, N = 600 in a 9^3 box: the sigma_ij of unlike pairs and walls reached from inside a
-  // list shell.
+  // list shell. ~1200 collisions: the two runs' round-off grows ~10x per 0.1 time units here
+  // (1e-12 at t = 0.2, 1e-10 at t = 0.4), so a longer run would compare chaos, not the lists.
   auto s = test::binary_mixture_with_walls(600);
   for (std::size_t i = 1; i < s.size(); i += 5)
     if (i % 3 != 0) s.radius[i] = 0.42, s.mass[i] = 0.7;
   for (double shell : {0.02, 0.6}) {
     EventConfig cfg;
     cfg.shell = shell;
-    expect_same_as_reference(s, cfg, 0.65, 10, 1800);
+    expect_same_as_reference(s, cfg, 0.4, 10, 1100);
   }
 }
 

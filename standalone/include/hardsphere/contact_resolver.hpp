@@ -7,6 +7,9 @@
 //! (ties broken by atom ids, so every engine and every MPI rank orders them alike). A collision
 //! changes two velocities: their pending predictions are invalidated by per-sphere counters and
 //! their contacts over the rest of the step are predicted again from the neighbour lists.
+//! Bounces off reflecting walls are events in the same order: a sphere whose straight path ends
+//! beyond a wall is mirrored at its wall contact time, and only then are its contacts on the
+//! path after the bounce predicted (mirroring at once would skip the path up to the wall).
 //!
 //! Indices are the engine's local ones (cell order in the stepper, owned + ghost atoms in
 //! LAMMPS). Engines own the arrays; the resolver keeps per-sphere windows and counters.
@@ -14,6 +17,7 @@
 #include <array>
 #include <cstdint>
 #include <limits>
+#include <utility>
 #include <vector>
 
 #include "hardsphere/collision.hpp"
@@ -54,6 +58,8 @@ struct ContactArrays {
 struct ContactTally {
   std::int64_t collisions = 0;
   std::int64_t unresolved_steps = 0;  //!< steps that hit the event limit with contacts left
+  std::int64_t wall_collisions = 0;
+  std::array<double, 3> wall_impulse{0, 0, 0};  //!< sum of |m dv| of wall bounces, per axis
   double virial = 0;                  //!< sum over collisions of r_ij . dp_i at contact
   //! The same sum as a tensor, r_ij (x) dp_i: xx, yy, zz, xy, xz, yz (LAMMPS's virial order).
   std::array<double, 6> virial_tensor{0, 0, 0, 0, 0, 0};
@@ -63,6 +69,7 @@ struct ContactTally {
 template <class Real, bool Mono>
 class ContactResolver {
  public:
+  //! A pair contact (i < j), or a wall bounce of sphere i (j == kWall, image = the axis).
   struct Candidate {
     std::uint32_t i, j;  // i < j
     std::uint8_t image;  // of r_i - r_j
@@ -87,6 +94,15 @@ class ContactResolver {
     mass_ = mass;
   }
   void set_event_limit(std::int64_t max_events) { max_events_ = max_events; }
+  //! Reflecting walls at lo[d] and hi[d] on every axis d that is not periodic.
+  void set_walls(const std::array<bool, 3>& periodic, const std::array<Real, 3>& lo, const std::array<Real, 3>& hi) {
+    n_wall_axes_ = 0;
+    for (int d = 0; d < 3; ++d)
+      if (!periodic[std::size_t(d)]) wall_axis_[n_wall_axes_++] = d;
+    lo_ = lo;
+    hi_ = hi;
+  }
+  static constexpr std::uint32_t kWall = 0xffffffffu;
   //! An upper bound of every sphere's speed in this step (the resolver raises it after each
   //! collision). It lets neighbour sweeps reject distant partners early; +inf (the default)
   //! disables that, which is always correct.
@@ -118,6 +134,29 @@ class ContactResolver {
   Real sigma(std::uint32_t i, std::uint32_t j) const {
     if constexpr (Mono) return sigma_;
     else return a_.radius[i] + a_.radius[j];
+  }
+  Real radius(std::uint32_t i) const {
+    if constexpr (Mono) return sigma_ / Real(2);
+    else return a_.radius[i];
+  }
+
+  //! Queues a bounce of sphere s for each wall its straight path over its window ends beyond.
+  void predict_walls(std::uint32_t s) {
+    for (int k = 0; k < n_wall_axes_; ++k) {
+      const int d = wall_axis_[k];
+      const Real x = a_.pos[s][d], v = a_.vel[s][d], r = radius(s);
+      Real beyond;  // distance past the wall contact plane, along the motion
+      if (v > Real(0) && x + r > hi_[std::size_t(d)]) beyond = x - (hi_[std::size_t(d)] - r);
+      else if (v < Real(0) && x - r < lo_[std::size_t(d)]) beyond = (lo_[std::size_t(d)] + r) - x;
+      else continue;
+      const Real back = std::min(beyond / std::abs(v), change_[s].back);
+      candidates_.push_back({s, kWall, std::uint8_t(d), back, change_[s].count, 0});
+    }
+  }
+  //! predict_walls() for every sphere (after a scan).
+  void predict_all_walls() {
+    if (n_wall_axes_ == 0) return;
+    for (std::uint32_t s = 0; s < change_.size(); ++s) predict_walls(s);
   }
 
   //! Queues (i, j), i < j, if the pair touched while approaching within its common
@@ -167,12 +206,26 @@ class ContactResolver {
   bool has_candidates() const { return !candidates_.empty(); }
   void clear_candidates() { candidates_.clear(); }
 
-  //! Resolves the queued contacts in time order. Hooks (engine specific):
+  //! Resolves the queued contacts and bounces in time order. Hooks (engine specific):
   //!   void after_collision(std::uint32_t k, Real back)  sphere k changed velocity at `back`
+  //!   void after_bounce(std::uint32_t k, int axis, Real back, Real dv)  k bounced off a wall
   //!   bool must_rescan()   the neighbour lists are no longer valid (e.g. skin exceeded)
   //!   void rescan()        rebuild them, bind() again and consider() every touching pair
   template <class Hooks>
   void resolve(Hooks& hooks, ContactTally& tally) {
+    if (n_wall_axes_ > 0) resolve_impl<true>(hooks, tally);
+    else resolve_impl<false>(hooks, tally);  // periodic scenes skip every wall test
+  }
+
+  //! Every sphere starts the next step with a whole-step straight-line window.
+  void end_step() {
+    for (const std::uint32_t i : changed_) change_[i].back = dt_;
+    changed_.clear();
+  }
+
+ private:
+  template <bool Walls, class Hooks>
+  void resolve_impl(Hooks& hooks, ContactTally& tally) {
     // The contacts found by the scan are sorted once; the few predicted after collisions go
     // to a small heap, and the earlier of the two fronts is taken each time.
     auto cmp = [this](const Candidate& x, const Candidate& y) { return later(x, y); };
@@ -193,19 +246,31 @@ class ContactResolver {
         c = heap_.back();
         heap_.pop_back();
       }
-      if (c.count_i != change_[c.i].count || c.count_j != change_[c.j].count) continue;  // stale
+      const bool wall = Walls && c.j == kWall;
+      if (c.count_i != change_[c.i].count || (!wall && c.count_j != change_[c.j].count)) continue;  // stale
       if (++events > max_events_) {
         ++tally.unresolved_steps;
+        settle_walls(hooks, tally);
         break;
       }
-      if (!collide(c, hooks, tally)) continue;
+      if constexpr (Walls) {
+        if (wall) bounce(c, hooks, tally);
+        else if (!collide(c, hooks, tally)) continue;
+      } else if (!collide(c, hooks, tally)) {
+        continue;
+      }
       if (hooks.must_rescan()) {
         hooks.rescan();  // refills candidates_ from the rebuilt lists
+        predict_all_walls();
         next = start_run();
         continue;
       }
       sweep_neighbours(c.i);
-      sweep_neighbours(c.j);
+      if constexpr (Walls) predict_walls(c.i);
+      if (!wall) {
+        sweep_neighbours(c.j);
+        if constexpr (Walls) predict_walls(c.j);
+      }
       for (const auto& n : candidates_) {
         heap_.push_back(n);
         std::push_heap(heap_.begin(), heap_.end(), cmp);
@@ -217,19 +282,45 @@ class ContactResolver {
     heap_.clear();
   }
 
-  //! Every sphere starts the next step with a whole-step straight-line window.
-  void end_step() {
-    for (const std::uint32_t i : changed_) change_[i].back = dt_;
-    changed_.clear();
-  }
-
- private:
   //! Heap order: the earliest contact (largest back time) on top; ties by atom ids.
   bool later(const Candidate& x, const Candidate& y) const {
     if (x.back != y.back) return x.back < y.back;
-    return std::minmax(id(x.i), id(x.j)) > std::minmax(id(y.i), id(y.j));
+    return tie_key(x) > tie_key(y);
+  }
+  //! (lower id, higher id) of a pair; (id, -1 - axis) of a bounce, so no pair shares its key.
+  std::pair<std::int64_t, std::int64_t> tie_key(const Candidate& c) const {
+    if (c.j == kWall) return {id(c.i), -1 - std::int64_t(c.image)};
+    return std::minmax(id(c.i), id(c.j));
   }
   std::int64_t id(std::uint32_t i) const { return a_.id_slot ? a_.id[a_.id_slot[i]] : a_.id[i]; }
+
+  //! Mirrors sphere c.i at the wall of axis c.image, `c.back` before the end of the step.
+  template <class Hooks>
+  void bounce(const Candidate& c, Hooks& hooks, ContactTally& tally) {
+    const int d = c.image;
+    Real& v = a_.vel[c.i][d];
+    const Real v_before = v;
+    kernel::reflect_from_walls(a_.pos[c.i][d], v, lo_[std::size_t(d)], hi_[std::size_t(d)], radius(c.i));
+    const Real dv = v - v_before;
+    ++tally.wall_collisions;
+    tally.wall_impulse[std::size_t(d)] += std::abs(double(Mono ? mass_ : a_.mass[c.i]) * double(dv));
+    mark_changed(c.i, c.back);
+    hooks.after_bounce(c.i, d, c.back, dv);
+  }
+
+  //! When the event limit stops a step, spheres may still be beyond a wall: mirror them (their
+  //! paths are not checked again, as for the contacts left).
+  template <class Hooks>
+  void settle_walls(Hooks& hooks, ContactTally& tally) {
+    const std::size_t mark = candidates_.size();
+    predict_all_walls();
+    for (std::size_t k = mark; k < candidates_.size(); ++k) {
+      Candidate c = candidates_[k];
+      c.back = std::min(c.back, change_[c.i].back);  // another axis of c.i may have bounced first
+      bounce(c, hooks, tally);
+    }
+    candidates_.resize(mark);
+  }
 
   //! out = in, earliest contact first (the order of std::sort with later()). Contact times
   //! spread over the step, so a bucket pass by time (monotone in `back`, so it never
@@ -315,6 +406,8 @@ class ContactResolver {
   std::vector<Candidate> candidates_, sorted_, heap_;
   std::vector<std::uint32_t> bucket_start_, bucket_fill_;  // order_by_time() scratch
   std::vector<std::uint32_t> near_;  // sweep scratch: list entries that pass the distance test
+  std::array<Real, 3> lo_{}, hi_{};  // wall positions
+  int wall_axis_[3] = {0, 0, 0}, n_wall_axes_ = 0;  // the axes with walls
 };
 
 }  // namespace hardsphere
