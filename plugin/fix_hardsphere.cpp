@@ -476,7 +476,7 @@ struct FixHardSphere::Hooks {
     first = -1;
     f.on_collision(i, int(k), back);
   }
-  void after_bounce(std::uint32_t k, int, double, double)
+  void after_bounce(std::uint32_t k)
   {
     if (int(k) < f.atom->nlocal) f.n_wall += 1;  // a ghost's bounce is counted by its owner
     f.vprev[k] = f.vel[k];

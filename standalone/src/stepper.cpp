@@ -128,7 +128,7 @@ class Stepper final : public StepperBase {
   struct Hooks {
     Stepper& s;
     void after_collision(std::uint32_t k, Real) { s.note_displacement(k); }
-    void after_bounce(std::uint32_t k, int, Real, Real) { s.note_displacement(k); }
+    void after_bounce(std::uint32_t k) { s.note_displacement(k); }
     bool must_rescan() const { return s.list_expired(); }
     void rescan() {
       // Collisions moved spheres past the skin: rebuild (indices change) and re-predict all.

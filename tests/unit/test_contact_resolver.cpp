@@ -20,7 +20,7 @@ struct Recorder {
   void after_collision(std::uint32_t k, double) {
     if (k % 2 == 0) order.push_back(k / 2);  // called for both spheres; the lower one names the pair
   }
-  void after_bounce(std::uint32_t, int, double, double) {}
+  void after_bounce(std::uint32_t) {}
   bool must_rescan() const { return false; }
   void rescan() {}
 };

@@ -123,14 +123,6 @@ class ContactResolver {
       if (change_[k].back != dt_) changed_.push_back(k);
   }
 
-  //! Records a velocity change of sphere i that happened `back` before the end of the step.
-  void mark_changed(std::uint32_t i, Real back) {
-    if (change_[i].back == dt_) changed_.push_back(i);  // first change this step
-    change_[i].back = back;
-    ++change_[i].count;
-  }
-  Real window(std::uint32_t i) const { return change_[i].back; }
-
   Real sigma(std::uint32_t i, std::uint32_t j) const {
     if constexpr (Mono) return sigma_;
     else return a_.radius[i] + a_.radius[j];
@@ -144,12 +136,11 @@ class ContactResolver {
   void predict_walls(std::uint32_t s) {
     for (int k = 0; k < n_wall_axes_; ++k) {
       const int d = wall_axis_[k];
-      const Real x = a_.pos[s][d], v = a_.vel[s][d], r = radius(s);
-      Real beyond;  // distance past the wall contact plane, along the motion
-      if (v > Real(0) && x + r > hi_[std::size_t(d)]) beyond = x - (hi_[std::size_t(d)] - r);
-      else if (v < Real(0) && x - r < lo_[std::size_t(d)]) beyond = (lo_[std::size_t(d)] + r) - x;
-      else continue;
-      const Real back = std::min(beyond / std::abs(v), change_[s].back);
+      // The kernel's mirror on copies decides whether s went past a wall; it moves the
+      // coordinate by twice the distance past the contact plane, which s covered since the bounce.
+      Real x = a_.pos[s][d], v = a_.vel[s][d];
+      if (kernel::reflect_from_walls(x, v, lo_[std::size_t(d)], hi_[std::size_t(d)], radius(s)) == Real(0)) continue;
+      const Real back = std::min(std::abs(x - a_.pos[s][d]) / (Real(2) * std::abs(v)), change_[s].back);
       candidates_.push_back({s, kWall, std::uint8_t(d), back, change_[s].count, 0});
     }
   }
@@ -208,7 +199,7 @@ class ContactResolver {
 
   //! Resolves the queued contacts and bounces in time order. Hooks (engine specific):
   //!   void after_collision(std::uint32_t k, Real back)  sphere k changed velocity at `back`
-  //!   void after_bounce(std::uint32_t k, int axis, Real back, Real dv)  k bounced off a wall
+  //!   void after_bounce(std::uint32_t k)  sphere k bounced off a wall
   //!   bool must_rescan()   the neighbour lists are no longer valid (e.g. skin exceeded)
   //!   void rescan()        rebuild them, bind() again and consider() every touching pair
   template <class Hooks>
@@ -282,6 +273,13 @@ class ContactResolver {
     heap_.clear();
   }
 
+  //! Records a velocity change of sphere i that happened `back` before the end of the step.
+  void mark_changed(std::uint32_t i, Real back) {
+    if (change_[i].back == dt_) changed_.push_back(i);  // first change this step
+    change_[i].back = back;
+    ++change_[i].count;
+  }
+
   //! Heap order: the earliest contact (largest back time) on top; ties by atom ids.
   bool later(const Candidate& x, const Candidate& y) const {
     if (x.back != y.back) return x.back < y.back;
@@ -301,11 +299,10 @@ class ContactResolver {
     Real& v = a_.vel[c.i][d];
     const Real v_before = v;
     kernel::reflect_from_walls(a_.pos[c.i][d], v, lo_[std::size_t(d)], hi_[std::size_t(d)], radius(c.i));
-    const Real dv = v - v_before;
     ++tally.wall_collisions;
-    tally.wall_impulse[std::size_t(d)] += std::abs(double(Mono ? mass_ : a_.mass[c.i]) * double(dv));
+    tally.wall_impulse[std::size_t(d)] += std::abs(double(Mono ? mass_ : a_.mass[c.i]) * double(v - v_before));
     mark_changed(c.i, c.back);
-    hooks.after_bounce(c.i, d, c.back, dv);
+    hooks.after_bounce(c.i);
   }
 
   //! When the event limit stops a step, spheres may still be beyond a wall: mirror them (their
