@@ -4,6 +4,7 @@
 #include <cmath>
 #include <limits>
 
+#include "hardsphere/always_inline.hpp"
 #include "hardsphere/collision.hpp"
 #include "hardsphere/errors.hpp"
 #include "hardsphere/event_calendar.hpp"
@@ -431,15 +432,10 @@ struct EventEngine::Impl {
     return pred[std::size_t(i)].col_time < kInf && count[std::size_t(j)] != pred[std::size_t(i)].col_count;
   }
 
-  //! Requests the states of i's neighbours (its list must be cached or on its way).
-  void prefetch_neighbours(int i) {
-    const std::uint32_t* l = list(i);
-    for (int u = 0; u < nfill[std::size_t(i)]; ++u) __builtin_prefetch(&body[adj_partner(l[u])]);
-  }
-
   void collide(int i, int j) {
-    // Both lists, then both neighbourhoods, are requested before either is scanned: four
-    // rounds of cache misses become two.
+    // Both lists are requested before either is scanned, so their misses overlap. (Requesting
+    // both neighbourhoods here as well measured 8% slower at N = 1e6: each scan requests its
+    // partners itself.)
     __builtin_prefetch(list(i));
     __builtin_prefetch(list(j));
     __builtin_prefetch(&pred[std::size_t(j)]);
@@ -461,8 +457,6 @@ struct EventEngine::Impl {
     ++c.collisions;
     ++count[std::size_t(i)];
     ++count[std::size_t(j)];
-    prefetch_neighbours(i);
-    prefetch_neighbours(j);
     full_predict(i);
     full_predict(j);
     schedule(i);

@@ -10,6 +10,8 @@
 #include <cstdint>
 #include <vector>
 
+#include "hardsphere/always_inline.hpp"
+
 namespace hardsphere {
 
 class EventCalendar {
@@ -37,7 +39,7 @@ class EventCalendar {
     return p < node_.size() ? node_[p].idx : std::uint32_t(-1);
   }
   //! Requests the line that locates entry i (before an update, to overlap the cache miss).
-  void prefetch(std::uint32_t i) const { __builtin_prefetch(&where_[i]); }
+  HS_ALWAYS_INLINE void prefetch(std::uint32_t i) const { __builtin_prefetch(&where_[i]); }
   //! Changes the key of entry i and restores the heap order.
   void update(std::uint32_t i, double key) {
     const std::size_t p = where_[i];
