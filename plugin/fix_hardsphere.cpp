@@ -482,6 +482,12 @@ struct FixHardSphere::Hooks {
     f.vprev[k] = f.vel[k];
     f.note_disp(int(k), f.pos[k]);
   }
+  HS_ALWAYS_INLINE void prefetch(std::uint32_t k) const
+  {
+    __builtin_prefetch(&f.xbuild[k]);
+    __builtin_prefetch(&f.vprev[k]);
+    __builtin_prefetch(&f.tags[k]);
+  }
   bool must_rescan() const { return false; }  // lists cannot be rebuilt inside a LAMMPS step
   void rescan() {}
 };

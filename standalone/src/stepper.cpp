@@ -129,6 +129,7 @@ class Stepper final : public StepperBase {
     Stepper& s;
     void after_collision(std::uint32_t k, Real) { s.note_displacement(k); }
     void after_bounce(std::uint32_t k) { s.note_displacement(k); }
+    HS_ALWAYS_INLINE void prefetch(std::uint32_t k) const { __builtin_prefetch(&s.pos0_[k]); }
     bool must_rescan() const { return s.list_expired(); }
     void rescan() {
       // Collisions moved spheres past the skin: rebuild (indices change) and re-predict all.

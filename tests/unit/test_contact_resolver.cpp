@@ -21,6 +21,7 @@ struct Recorder {
     if (k % 2 == 0) order.push_back(k / 2);  // called for both spheres; the lower one names the pair
   }
   void after_bounce(std::uint32_t) {}
+  void prefetch(std::uint32_t) const {}
   bool must_rescan() const { return false; }
   void rescan() {}
 };

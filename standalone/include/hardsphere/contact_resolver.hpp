@@ -194,6 +194,8 @@ class ContactResolver {
   //! Resolves the queued contacts and bounces in time order. Hooks (engine specific):
   //!   void after_collision(std::uint32_t k, Real back)  sphere k changed velocity at `back`
   //!   void after_bounce(std::uint32_t k)  sphere k bounced off a wall
+  //!   void prefetch(std::uint32_t k) const  request what the two above will read of sphere k
+  //!                        (called a few contacts ahead; must be forced inline, see always_inline.hpp)
   //!   bool must_rescan()   the neighbour lists are no longer valid (e.g. skin exceeded)
   //!   void rescan()        rebuild them, bind() again and consider() every touching pair
   template <class Hooks>
@@ -225,7 +227,7 @@ class ContactResolver {
     while (next < sorted_.size() || !heap_.empty()) {
       Candidate c;
       if (heap_.empty() || (next < sorted_.size() && !later(sorted_[next], heap_.front()))) {
-        prefetch_ahead(next);
+        prefetch_ahead(next, hooks);
         c = sorted_[next++];
       } else {
         std::pop_heap(heap_.begin(), heap_.end(), cmp);
@@ -272,7 +274,8 @@ class ContactResolver {
   //! collision then waits on its spheres' records, list rows and partners' positions in turn
   //! (at N = 1e5 most of a sweep was such waits). Request them for the contacts a few places
   //! ahead in three stages, each reading only what the stage before brought in.
-  HS_ALWAYS_INLINE void prefetch_ahead(std::size_t next) const {
+  template <class Hooks>
+  HS_ALWAYS_INLINE void prefetch_ahead(std::size_t next, const Hooks& hooks) const {
     constexpr std::size_t kRecords = 6, kRows = 4, kPartners = 2;
     const std::size_t n = sorted_.size();
     if (next + kRecords < n) {
@@ -283,6 +286,7 @@ class ContactResolver {
         __builtin_prefetch(&a_.pos[k]);
         __builtin_prefetch(&a_.vel[k]);
         __builtin_prefetch(&change_[k]);
+        hooks.prefetch(k);
       }
     }
     if (next + kRows < n) {
