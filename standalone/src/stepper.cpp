@@ -13,6 +13,7 @@
 #include "hardsphere/contact_resolver.hpp"
 #include "hardsphere/errors.hpp"
 #include "close_pairs_row.hpp"
+#include "default_init_allocator.hpp"
 
 namespace hardsphere {
 
@@ -188,7 +189,8 @@ class Stepper final : public StepperBase {
   struct Pair {
     std::uint32_t i, j;
   };
-  std::vector<Pair> near_, wrap_;
+  std::vector<Pair, detail::DefaultInitAllocator<Pair>> near_;  // grown and cut back at every rebuild
+  std::vector<Pair> wrap_;
   std::vector<std::uint8_t> wrap_image_;
   std::vector<Real> soa_x_, soa_y_, soa_z_;  // pos_ as coordinate arrays (filled at rebuild) for the pair build
   std::vector<std::uint32_t> wrap_row_;      // one row's pairs across a periodic face
