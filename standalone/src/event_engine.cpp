@@ -559,12 +559,14 @@ struct EventEngine::Impl {
     const std::uint32_t next = calendar.top();
     __builtin_prefetch(&pred[next]);
     __builtin_prefetch(&body[next]);
+    __builtin_prefetch(list(int(next)));  // its address needs no load: scanned if it collides
     // The event after that is most likely one of the root's children: a whole event's head start.
     for (int k = 0; k < 4; ++k) {
       const std::uint32_t q = calendar.runner_up(k);
       if (q < pred.size()) {
         __builtin_prefetch(&pred[q]);
         __builtin_prefetch(&body[q]);
+        __builtin_prefetch(list(int(q)));
       }
     }
   }
