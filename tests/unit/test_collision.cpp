@@ -1,7 +1,9 @@
 // Analytic two-body cases for the kernel, in both argument orders where order matters.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <cstdint>
 
 #include "hardsphere/collision.hpp"
 
@@ -49,6 +51,54 @@ TEST(RewindTime, GrazingRecedingPairFindsItsEntry) {
   // it entered at x = -0.6, i.e. 0.9 / speed ago.
   const double speed = 3;
   EXPECT_NEAR(k::rewind_time(Vec3d{0.3, 0.8, 0}, Vec3d{speed, 0, 0}, 1.0), 0.9 / speed, 1e-15);
+}
+
+TEST(TouchedBackTime, ApproachingOverlapGivesItsEntry) {
+  // 0.1 deep, closing at speed 1: entered contact 0.1 ago, whether or not the window reaches back
+  // that far (it overlapped while approaching inside it; callers clamp to the window).
+  const Vec3d dr{0.9, 0, 0}, dv{-1, 0, 0};
+  for (const bool overlap_only : {false, true}) {
+    EXPECT_NEAR(k::touched_back_time(dr, dv, 1.0, 0.2, overlap_only), 0.1, 1e-15);
+    EXPECT_NEAR(k::touched_back_time(dr, dv, 1.0, 0.05, overlap_only), 0.1, 1e-15);
+    EXPECT_NEAR(k::touched_back_time(-dr, -dv, 1.0, 0.2, overlap_only), 0.1, 1e-15);
+  }
+}
+
+TEST(TouchedBackTime, PassThroughWithinTheWindowIsFoundBySweepsOnly) {
+  // Now 1.5 apart and receding at 10: 0.25 ago the pair entered contact head-on and crossed.
+  const Vec3d dr{1.5, 0, 0}, dv{10, 0, 0};
+  EXPECT_NEAR(k::touched_back_time(dr, dv, 1.0, 0.3, false), 0.25, 1e-15);
+  EXPECT_LT(k::touched_back_time(dr, dv, 1.0, 0.3, true), 0.0);  // no overlap now: the seed misses it
+  EXPECT_LT(k::touched_back_time(dr, dv, 1.0, 0.1, false), 0.0);  // approach ended 0.15 ago
+}
+
+TEST(TouchedBackTime, MissesAndRecedersAreNotContacts) {
+  EXPECT_LT(k::touched_back_time(Vec3d{0, 2, 0}, Vec3d{1, 0, 0}, 1.0, 0.5, false), 0.0);  // passes 2 apart
+  EXPECT_LT(k::touched_back_time(Vec3d{1.5, 0, 0}, Vec3d{-1, 0, 0}, 1.0, 0.5, false), 0.0);  // approaching, apart
+  EXPECT_LT(k::touched_back_time(Vec3d{0.9, 0, 0}, Vec3d{0, 0, 0}, 1.0, 0.5, false), 0.0);  // resting overlap
+}
+
+TEST(TouchedBackTime, AgreesWithRewindTimeWheneverTouched) {
+  // Random pairs around contact: whenever it reports a contact, the time is rewind_time's.
+  std::uint64_t state = 88172645463325252ull;
+  auto uniform = [&] {  // xorshift64, in [-1, 1)
+    state ^= state << 13, state ^= state >> 7, state ^= state << 17;
+    return double(state >> 11) * 0x1.0p-52 - 1.0;
+  };
+  int touched = 0;
+  for (int n = 0; n < 20000; ++n) {
+    const Vec3d dr{1.2 * uniform(), 1.2 * uniform(), 1.2 * uniform()}, dv{3 * uniform(), 3 * uniform(), 3 * uniform()};
+    const double t = k::touched_back_time(dr, dv, 1.0, 0.1, false);
+    if (t < 0) continue;
+    ++touched;
+    const double expect = k::rewind_time(dr, dv, 1.0);
+    ASSERT_NEAR(t, expect, 1e-12 * std::max(1.0, expect));
+    // At the rewound time the pair is in contact and approaching.
+    const Vec3d at = dr - t * dv;
+    EXPECT_NEAR(std::sqrt(hardsphere::dot(at, at)), 1.0, 1e-9);
+    EXPECT_LT(hardsphere::dot(at, dv), 0.0);
+  }
+  EXPECT_GT(touched, 1000);
 }
 
 TEST(Impulse, HeadOnEqualMassesSwapVelocities) {

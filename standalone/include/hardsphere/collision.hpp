@@ -13,6 +13,17 @@ namespace hardsphere::kernel {
 template <class T>
 constexpr T never() { return std::numeric_limits<T>::infinity(); }
 
+namespace detail {
+//! rewind_time() from the pair's a = dv^2, b = dr.dv, c = dr^2 - sigma^2.
+template <class T>
+inline T rewind_from(T a, T b, T c) {
+  const T root = std::sqrt(std::max(T(0), b * b - a * c));
+  if (b < T(0)) return -c / (root - b);
+  if (a > T(0)) return (b + root) / a;
+  return never<T>();
+}
+}  // namespace detail
+
 //! Back time s of a pair's entry into contact for straight-line motion: the larger root of
 //! |dr - dv s| = sigma, i.e. of a s^2 - 2 b s + c = 0 with a = dv^2, b = dr.dv, c = dr^2 - sigma^2.
 //! dr = r1 - r2, dv = v1 - v2 now. Valid when the pair touches at all (b^2 - a c >= 0), e.g. it
@@ -20,27 +31,23 @@ constexpr T never() { return std::numeric_limits<T>::infinity(); }
 //! for b >= 0, each a ratio of same-signed terms. +inf when there is no relative motion.
 template <class T>
 inline T rewind_time(Vec3<T> dr, Vec3<T> dv, T sigma) {
-  const T b = dot(dr, dv);
-  const T c = dot(dr, dr) - sigma * sigma;
-  const T a = dot(dv, dv);
-  const T root = std::sqrt(std::max(T(0), b * b - a * c));
-  if (b < T(0)) return -c / (root - b);
-  if (a > T(0)) return (b + root) / a;
-  return never<T>();
+  return detail::rewind_from(dot(dv, dv), dot(dr, dv), dot(dr, dr) - sigma * sigma);
 }
 
 //! Did a pair moving in straight lines over the last `window` of time touch while approaching?
 //! True iff it overlapped at some back time s in [0, window] at which it was still approaching:
 //! the approach lasts for back times s > b/a and the overlap for s in (s_exit, s_entry), so the
-//! test is b < window a, entry s_entry > 0 and a real contact (disc > 0).
+//! test is b < window a, entry s_entry > 0 and a real contact (disc > 0). If so, returns
+//! rewind_time() (>= 0, from the same dot products), otherwise -1.
 //! `overlap_only` restricts it to pairs that overlap now (the seed's a posteriori detection).
 template <class T>
-inline bool touched_within(Vec3<T> dr, Vec3<T> dv, T sigma, T window, bool overlap_only) {
+inline T touched_back_time(Vec3<T> dr, Vec3<T> dv, T sigma, T window, bool overlap_only) {
   const T c = dot(dr, dr) - sigma * sigma;
   const T b = dot(dr, dv);
-  if (!(c < T(0)) && (overlap_only || !(b > T(0)))) return false;
+  if (!(c < T(0)) && (overlap_only || !(b > T(0)))) return T(-1);
   const T a = dot(dv, dv);
-  return b < window * a && b * b - a * c > T(0);
+  if (!(b < window * a && b * b - a * c > T(0))) return T(-1);
+  return detail::rewind_from(a, b, c);
 }
 
 //! Time t >= 0 until a pair touches, or +inf if it never does (receding, or missing).

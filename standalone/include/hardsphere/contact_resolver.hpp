@@ -150,8 +150,8 @@ class ContactResolver {
     const Vec3<Real> dv = a_.vel[i] - a_.vel[j];
     const Change ci = change_[i], cj = change_[j];
     const Real w = std::min(ci.back, cj.back);
-    if (kernel::touched_within(dr, dv, sigma, w, overlap_only))
-      candidates_.push_back({i, j, image, std::min(kernel::rewind_time(dr, dv, sigma), w), ci.count, cj.count});
+    const Real back = kernel::touched_back_time(dr, dv, sigma, w, overlap_only);
+    if (back >= Real(0)) candidates_.push_back({i, j, image, std::min(back, w), ci.count, cj.count});
   }
 
   //! Predicts every contact of sphere s with its list partners over its window.
@@ -391,8 +391,9 @@ class ContactResolver {
     const Vec3<Real> shift = a_.image_shift[c.image];
     const Real sg = sigma(i, j);
     const Real w = std::min(change_[i].back, change_[j].back);
-    if (!kernel::touched_within(ri - rj - shift, vi - vj, sg, w, false)) return false;
-    const Real back = std::min(kernel::rewind_time(ri - rj - shift, vi - vj, sg), w);
+    const Real touch = kernel::touched_back_time(ri - rj - shift, vi - vj, sg, w, false);
+    if (touch < Real(0)) return false;
+    const Real back = std::min(touch, w);
     ri -= back * vi;
     rj -= back * vj;
     const Vec3<Real> contact = ri - rj - shift;
