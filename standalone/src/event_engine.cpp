@@ -4,7 +4,6 @@
 #include <cmath>
 #include <limits>
 
-#include "hardsphere/always_inline.hpp"
 #include "hardsphere/collision.hpp"
 #include "hardsphere/errors.hpp"
 #include "hardsphere/event_calendar.hpp"
