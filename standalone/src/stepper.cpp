@@ -14,6 +14,8 @@
 #include "hardsphere/errors.hpp"
 #include "close_pairs_row.hpp"
 #include "default_init_allocator.hpp"
+#include "gap_search.hpp"
+#include "list_guard.hpp"
 
 namespace hardsphere {
 
@@ -130,7 +132,10 @@ class Stepper final : public StepperBase {
     Stepper& s;
     void after_collision(std::uint32_t k, Real) { s.note_displacement(k); }
     void after_bounce(std::uint32_t k) { s.note_displacement(k); }
-    HS_ALWAYS_INLINE void prefetch(std::uint32_t k) const { __builtin_prefetch(&s.pos0_[k]); }
+    HS_ALWAYS_INLINE void prefetch(std::uint32_t k) const {
+      __builtin_prefetch(&s.pos0_[k]);
+      s.guard_.prefetch(k);
+    }
     bool must_rescan() const { return s.list_expired(); }
     void rescan() {
       // Collisions moved spheres past the skin: rebuild (indices change) and re-predict all.
@@ -162,15 +167,23 @@ class Stepper final : public StepperBase {
   Real list_cut(Real contact) const { return std::isinf(skin_) ? std::numeric_limits<Real>::max() / 4 : contact + skin_; }
   void note_displacement(std::uint32_t i) {
     const V3<Real> d = pos_[i] - pos0_[i];
-    max_disp2_ = std::max(max_disp2_, dot(d, d));
+    guard_.note(i, dot(d, d), threats_of());
   }
-  bool list_expired() const { return Real(4) * max_disp2_ >= skin_ * skin_; }
+  bool list_expired() const { return guard_.expired(); }
+  //! For the guard: the spheres j with skin <= gap_ij < 2 skin of sphere i at the last rebuild.
+  auto threats_of() {
+    return [this](std::uint32_t i, auto&& push) { for_each_threat(i, push); };
+  }
+  template <class Push>
+  void for_each_threat(std::uint32_t i, Push& push) const;
 
   Box box_;
   CellGrid grid_;
-  bool all_periodic_, sweep_;
-  Real dt_, skin_, max_disp2_ = 0;
+  bool all_periodic_, sweep_, list_valid_ = true;
+  Real dt_, skin_;
+  detail::ListGuard<Real> guard_;
   Real sigma_ = 0;  // monodisperse diameter
+  Real max_radius_ = 0;
   std::array<Real, 3> length_{};
   V3<Real> image_shift_[27];  // by image code: (kx Lx, ky Ly, kz Lz)
 
@@ -194,6 +207,7 @@ class Stepper final : public StepperBase {
   std::vector<std::uint8_t> wrap_image_;
   std::vector<Real> soa_x_, soa_y_, soa_z_;  // pos_ as coordinate arrays (filled at rebuild) for the pair build
   std::vector<std::uint32_t> wrap_row_;      // one row's pairs across a periodic face
+  mutable std::vector<std::uint32_t> threat_scratch_;  // for_each_threat(): one row's spheres within reach
   // Half stencil as runs of consecutive cells: the 13 forward neighbours of a cell are one
   // cell and four rows of three along x, contiguous in cell order (so in memory) unless a row
   // wraps through a periodic x face. For each cell up to kMaxRuns runs [begin, end) + image.
@@ -275,6 +289,7 @@ Stepper<Real, Mono>::Stepper(const ParticleSystem& sys, const StepperConfig& cfg
     m_[i] = Real(sys.mass[s]);
   }
   if (n) sigma_ = Real(2) * r_[0];
+  max_radius_ = Real(sys.max_radius());
   resolver_.reset(n, dt_);
   resolver_.set_uniform(sigma_, n ? m_[0] : Real(0));
   resolver_.set_event_limit(cfg.max_events_per_step);
@@ -282,6 +297,9 @@ Stepper<Real, Mono>::Stepper(const ParticleSystem& sys, const StepperConfig& cfg
   for (std::size_t d = 0; d < 3; ++d) wall_lo[d] = Real(box_.lo[d]), wall_hi[d] = Real(box_.hi[d]);
   resolver_.set_walls(box_.periodic, wall_lo, wall_hi);
   if (grid_.half_stencil_ok()) build_stencil();
+  // Threats are enumerated from the cells within two of a sphere's: every periodic axis needs
+  // 3 cells (so a cell is at least sigma + skin wide).
+  guard_.configure(skin_, cfg.pairwise_list_check && grid_.half_stencil_ok(), std::max<std::size_t>(n / 32, 16));
   rebuild();
   counters_.rebuilds = 0;
 }
@@ -449,7 +467,7 @@ void Stepper<Real, Mono>::rebuild() {
   }
   permute(slot_, scratch_u32_);
   resolver_.permute(order_);
-  max_disp2_ = 0;
+  guard_.reset(n);
 
   // Candidate list: every pair that could touch before the next rebuild.
   near_.clear();
@@ -461,6 +479,20 @@ void Stepper<Real, Mono>::rebuild() {
   resolver_.bind({pos_.data(), vel_.data(), r_.data(), m_.data(), id_.data(), slot_.data(), adj_start_.data(), adj_.data(),
                   image_shift_});
   ++counters_.rebuilds;
+}
+
+template <class Real, bool Mono>
+template <class Push>
+void Stepper<Real, Mono>::for_each_threat(std::uint32_t i, Push& push) const {
+  // The guard's window, gap < 2 kMaxMove skin, keeps sigma + gap below sigma + 2 skin, two cell
+  // widths. Gaps are computed again here, so a margin covers their rounding against the pair
+  // build's: pairs at the list's edge count as threats, and gaps are rounded down.
+  const Real eps = Real(1e-4) * (Real(2) * max_radius_ + skin_);
+  const Real window = Real(2) * detail::ListGuard<Real>::kMaxMove * skin_;
+  const detail::CellSorted<Real> cells{&grid_, &box_, cell_start_.data(), {soa_x_.data(), soa_y_.data(), soa_z_.data(), r_.data()},
+                                       image_shift_};
+  detail::for_each_gap_between<Real, Mono>(cells, i, sigma_, max_radius_, skin_ - eps, window + eps, threat_scratch_,
+                                           [&](std::uint32_t j, Real gap) { push(j, gap - eps); });
 }
 
 template <class Real, bool Mono>
@@ -488,18 +520,20 @@ void Stepper<Real, Mono>::drift() {
   V3<Real>* __restrict p = pos_.data();
   const V3<Real>* __restrict v = vel_.data();
   const V3<Real>* __restrict p0 = pos0_.data();
-  Real m = max_disp2_, v2max = 0;
+  Real* __restrict d2max = guard_.displacements();
+  Real m = guard_.max_displacement2(), v2max = 0;
   for (std::size_t i = 0; i < n; ++i) {
     p[i].x += v[i].x * dt;
     p[i].y += v[i].y * dt;
     p[i].z += v[i].z * dt;
     const Real dx = p[i].x - p0[i].x, dy = p[i].y - p0[i].y, dz = p[i].z - p0[i].z;
     const Real d2 = dx * dx + dy * dy + dz * dz;
+    d2max[i] = d2 > d2max[i] ? d2 : d2max[i];
     m = d2 > m ? d2 : m;
     const Real v2 = v[i].x * v[i].x + v[i].y * v[i].y + v[i].z * v[i].z;
     v2max = v2 > v2max ? v2 : v2max;
   }
-  max_disp2_ = m;
+  list_valid_ = guard_.valid_after_drift(m, threats_of());
   // Spheres may now be beyond a wall: the resolver bounces them in time order with the
   // contacts (walls flip velocities, speeds stay).
   resolver_.set_speed_bound(std::sqrt(v2max));
@@ -554,7 +588,7 @@ template <class Real, bool Mono>
 template <bool AllPeriodic, bool Sweep>
 void Stepper<Real, Mono>::step() {
   drift();
-  if (list_expired()) rebuild();
+  if (!list_valid_) rebuild();
   scan_pair_list<Sweep>();
   if constexpr (!AllPeriodic) resolver_.predict_all_walls();
   if (resolver_.has_candidates()) {
