@@ -194,6 +194,7 @@ class Stepper final : public StepperBase {
 
   // Per-field arrays in cell order: a neighbour's position or velocity is one cache line.
   std::vector<V3<Real>> pos_, vel_, pos0_;  // pos0_: positions at the last rebuild
+  std::vector<Real> speed_;                 // |vel_|, set by drift(), kept by the resolver
   std::vector<Real> r_, m_;
   // Fields the steps never read stay in id order and are reached through slot_ (the id rank
   // of the sphere at each position of the cell order), so a rebuild moves 4 bytes, not 24.
@@ -481,8 +482,10 @@ void Stepper<Real, Mono>::rebuild() {
   if (!stencil_.empty()) build_pairs_half_stencil();
   else build_pairs_any_grid();
   build_adjacency();
+  speed_.resize(n);  // in the new order (a rebuild inside a step needs the current speeds)
+  for (std::size_t k = 0; k < n; ++k) speed_[k] = norm(vel_[k]);
   resolver_.bind({pos_.data(), vel_.data(), r_.data(), m_.data(), id_.data(), slot_.data(), adj_start_.data(), adj_.data(),
-                  image_shift_});
+                  image_shift_, speed_.data()});
   ++counters_.rebuilds;
 }
 
@@ -526,6 +529,7 @@ void Stepper<Real, Mono>::drift() {
   const V3<Real>* __restrict v = vel_.data();
   const V3<Real>* __restrict p0 = pos0_.data();
   Real* __restrict d2max = guard_.displacements();
+  Real* __restrict speed = speed_.data();
   Real m = guard_.max_displacement2(), v2max = 0;
   for (std::size_t i = 0; i < n; ++i) {
     p[i].x += v[i].x * dt;
@@ -536,6 +540,7 @@ void Stepper<Real, Mono>::drift() {
     d2max[i] = d2 > d2max[i] ? d2 : d2max[i];
     m = d2 > m ? d2 : m;
     const Real v2 = v[i].x * v[i].x + v[i].y * v[i].y + v[i].z * v[i].z;
+    speed[i] = std::sqrt(v2);  // velocities may have been set since the last step
     v2max = v2 > v2max ? v2 : v2max;
   }
   list_valid_ = guard_.valid_after_drift(m, threats_of());

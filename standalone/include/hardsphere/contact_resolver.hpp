@@ -46,6 +46,10 @@ struct ContactArrays {
   const std::uint32_t* adj_start = nullptr;
   const std::uint32_t* adj = nullptr;  //!< adj_entry(partner, image), rows adj_start[s] .. adj_start[s + 1]
   const Vec3<Real>* image_shift = nullptr;  //!< 27 shifts by image code
+  //! Optional: |vel| per sphere, current at the start of each step; the resolver keeps it
+  //! current through collisions. Lets neighbour sweeps bound each pair's closing speed by
+  //! |v_s| + |v_q| instead of |v_s| + the fastest speed of all.
+  Real* speed = nullptr;
 };
 
 //! Totals of resolved contacts.
@@ -156,14 +160,22 @@ class ContactResolver {
 
   //! Predicts every contact of sphere s with its list partners over its window.
   void sweep_neighbours(std::uint32_t s) {
+    if (a_.speed) sweep_neighbours<true>(s);
+    else sweep_neighbours<false>(s);
+  }
+
+  //! A partner can have touched s within s's window w only if their gap is below the closing
+  //! distance |v_s - v_q| w <= (|v_s| + |v_q|) w, or (|v_s| + v_max) w without per-sphere
+  //! speeds: that test needs no velocity vector or window of q, so most partners are rejected
+  //! cheaply (the 1.001 absorbs rounding; the bound is loose by far more). It runs branch-free
+  //! over the whole list first (a rejected partner costs no mispredicted branch and the loads
+  //! overlap); only the survivors go to consider().
+  template <bool Speeds>
+  void sweep_neighbours(std::uint32_t s) {
     const Vec3<Real> ps = a_.pos[s];
-    // A partner can have touched s within s's window only if their gap is below the closing
-    // distance |v_s - v_q| w <= (|v_s| + v_max) w: that test needs q's position only, so most
-    // partners are rejected without loading their velocity and window (the 1.001 absorbs
-    // rounding; the bound is loose by far more). The test runs branch-free over the whole
-    // list first (a rejected partner costs no mispredicted branch and the position loads
-    // overlap); only the survivors go to consider().
-    const Real reach = Real(1.001) * (norm(a_.vel[s]) + speed_bound_) * change_[s].back;
+    const Real w = Real(1.001) * change_[s].back;
+    const Real reach = (norm(a_.vel[s]) + speed_bound_) * w;  // without speeds
+    const Real reach_s = Speeds ? a_.speed[s] * w : Real(0);
     const std::uint32_t k0 = a_.adj_start[s], k1 = a_.adj_start[s + 1];
     const std::uint32_t* __restrict adj = a_.adj;
     const Vec3<Real>* __restrict pos = a_.pos;
@@ -174,7 +186,7 @@ class ContactResolver {
     for (std::uint32_t k = k0; k < k1; ++k) {
       const std::uint32_t e = adj[k], q = adj_partner(e);
       const Vec3<Real> dr = ps - pos[q] - shift[adj_image(e)];
-      const Real far = sigma(s, q) + reach;
+      const Real far = sigma(s, q) + (Speeds ? reach_s + a_.speed[q] * w : reach);
       hits[n] = k;
       n += dot(dr, dr) < far * far;
     }
@@ -416,7 +428,9 @@ class ContactResolver {
     a_.pos[j] = rj + back * vj;
     a_.vel[i] = vi;
     a_.vel[j] = vj;
-    speed_bound_ = std::max({speed_bound_, norm(vi), norm(vj)});
+    const Real speed_i = norm(vi), speed_j = norm(vj);
+    speed_bound_ = std::max({speed_bound_, speed_i, speed_j});
+    if (a_.speed) a_.speed[i] = speed_i, a_.speed[j] = speed_j;
     ++tally.collisions;
     tally.virial += virial;
     for (const std::uint32_t k : {i, j}) {
