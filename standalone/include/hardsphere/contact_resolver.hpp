@@ -310,8 +310,11 @@ class ContactResolver {
       const Candidate& c = sorted_[next + kPartners];
       for (const std::uint32_t k : {c.i, c.j}) {
         if (k == kWall) continue;
-        for (std::uint32_t e = a_.adj_start[k]; e < a_.adj_start[k + 1]; ++e)
-          __builtin_prefetch(&a_.pos[adj_partner(a_.adj[e])]);
+        for (std::uint32_t e = a_.adj_start[k]; e < a_.adj_start[k + 1]; ++e) {
+          const std::uint32_t q = adj_partner(a_.adj[e]);
+          __builtin_prefetch(&a_.pos[q]);
+          if (a_.speed) __builtin_prefetch(&a_.speed[q]);
+        }
       }
     }
   }
