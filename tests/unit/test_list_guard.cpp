@@ -32,6 +32,14 @@ struct Threats {
   }
 };
 
+//! A guard over 4 spheres with a skin of 1, nothing moved yet.
+Guard fresh_guard(bool pairwise = true, std::size_t max_movers = 16) {
+  Guard g;
+  g.configure(kSkin, pairwise, max_movers);
+  g.reset(4);
+  return g;
+}
+
 //! Sets sphere displacements d (in skins) and asks the guard after a drift.
 bool after_drift(Guard& g, Threats& t, const std::vector<double>& d) {
   double m = 0;
@@ -45,9 +53,7 @@ bool after_drift(Guard& g, Threats& t, const std::vector<double>& d) {
 }  // namespace
 
 TEST(ListGuard, ClassicTestExpiresAtHalfTheSkin) {
-  Guard g;
-  g.configure(kSkin, false, 16);
-  g.reset(4);
+  Guard g = fresh_guard(false);
   Threats t;
   EXPECT_TRUE(after_drift(g, t, {0.49, 0.1, 0.2, 0.3}));
   EXPECT_FALSE(after_drift(g, t, {0.5, 0.1, 0.2, 0.3}));
@@ -55,9 +61,7 @@ TEST(ListGuard, ClassicTestExpiresAtHalfTheSkin) {
 }
 
 TEST(ListGuard, MoverStaysValidUntilAThreatsGapIsClosed) {
-  Guard g;
-  g.configure(kSkin, true, 16);
-  g.reset(4);
+  Guard g = fresh_guard();
   Threats t;
   // Sphere 0 is past half the skin; 2 (gap 1.0) has room 0.3, 1 (gap 1.2) room 0.5.
   EXPECT_TRUE(after_drift(g, t, {0.7, 0.45, 0.29, 0.49}));
@@ -71,9 +75,7 @@ TEST(ListGuard, MoverStaysValidUntilAThreatsGapIsClosed) {
 }
 
 TEST(ListGuard, TwoMoversCheckTheirSumAndAMoverItsNewDisplacement) {
-  Guard g;
-  g.configure(kSkin, true, 16);
-  g.reset(4);
+  Guard g = fresh_guard();
   Threats t;
   EXPECT_TRUE(after_drift(g, t, {0.6, 0.55, 0.1, 0.4}));  // 0.6 + 0.55 < 1.2
   EXPECT_EQ(g.movers(), 2u);
@@ -87,9 +89,7 @@ TEST(ListGuard, TwoMoversCheckTheirSumAndAMoverItsNewDisplacement) {
 }
 
 TEST(ListGuard, AThreatThatBecomesAMoverIsChecked) {
-  Guard g;
-  g.configure(kSkin, true, 16);
-  g.reset(4);
+  Guard g = fresh_guard();
   Threats t;
   EXPECT_TRUE(after_drift(g, t, {0.69, 0.2, 0.1, 0.1}));
   g.note(1, 0.52 * 0.52, t.fn());  // 1 becomes a mover: 0.69 + 0.52 > 1.2
@@ -97,16 +97,12 @@ TEST(ListGuard, AThreatThatBecomesAMoverIsChecked) {
 }
 
 TEST(ListGuard, LimitsOnTheLargestMoveAndOnTheNumberOfMovers) {
-  Guard g;
-  g.configure(kSkin, true, 16);
-  g.reset(4);
+  Guard g = fresh_guard();
   Threats t;
   t.of = {{}, {}, {}, {}};  // nothing near: only the limits can expire the list
   EXPECT_TRUE(after_drift(g, t, {0.84, 0.6, 0.1, 0.1}));
   EXPECT_FALSE(after_drift(g, t, {0.86, 0.6, 0.1, 0.1}));  // beyond kMaxMove = 0.85 skins
-  Guard few;
-  few.configure(kSkin, true, 1);
-  few.reset(4);
+  Guard few = fresh_guard(true, 1);
   EXPECT_TRUE(after_drift(few, t, {0.6, 0.1, 0.1, 0.1}));
   EXPECT_FALSE(after_drift(few, t, {0.6, 0.6, 0.1, 0.1}));  // a second mover: a rebuild is due
 }
