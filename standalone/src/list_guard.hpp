@@ -17,6 +17,7 @@
 //! Within a step only colliding spheres move on: a mover that collides is checked again, and
 //! any other sphere against a cap, the displacement at which it would meet a mover's margin.
 #include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <limits>
 #include <vector>

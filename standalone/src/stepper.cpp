@@ -202,7 +202,9 @@ class Stepper final : public StepperBase {
   // bound; only at phi >= 0.3, where sweeps are a large part of the loop (N = 8000, float,
   // 6-8 alternating rounds: phi 0.45 0.0505-0.0515 -> 0.0485-0.0493 CPU s per unit time, phi
   // 0.3 unchanged); at phi 0.2, N = 1e5 sweeps are ~6% and the extra loads cost more than they
-  // save (Google Benchmark Target, 8 rounds, medians 33.1 -> 32.3 M/s double, 40.4 -> 38.0 float).
+  // save (Google Benchmark Target, 8 rounds, medians 33.1 -> 32.3 M/s double, 40.4 -> 38.0 float),
+  // and so they do in large systems, where each speed is one more cache miss (N = 1e6, phi 0.3,
+  // perf: resolving and sweeps +40% against -31% in rebuilds).
   bool speeds_ = false;
   std::vector<Real> speed_;
   std::vector<Real> r_, m_;
@@ -316,7 +318,9 @@ Stepper<Real, Mono>::Stepper(const ParticleSystem& sys, const StepperConfig& cfg
   // Threats are enumerated from the cells within two of a sphere's: every periodic axis needs
   // 3 cells (so a cell is at least sigma + skin wide).
   guard_.configure(skin_, cfg.pairwise_list_check && grid_.half_stencil_ok(), std::max<std::size_t>(n / 32, 16));
-  speeds_ = sys.packing_fraction() >= 0.3;
+  // Speeds pay where the sweeps' extra loads hit the cache: positions and speeds within ~1 MiB
+  // (the L2 of this machine's cores). At N = 1e6, phi 0.3 they cost more than they saved.
+  speeds_ = sys.packing_fraction() >= 0.3 && double(n) * double(sizeof(V3<Real>) + sizeof(Real)) <= 1048576.0;
   rebuild();
   counters_.rebuilds = 0;
 }
