@@ -179,7 +179,7 @@ class Stepper final : public StepperBase {
     guard_.note(i, dot(d, d), threats_of());
   }
   bool list_expired() const { return guard_.expired(); }
-  //! For the guard: the spheres j with skin <= gap_ij < 2 skin of sphere i at the last rebuild.
+  //! For the guard: the spheres j with skin <= gap_ij < 2 kMaxMove skin of sphere i at the last rebuild.
   auto threats_of() {
     return [this](std::uint32_t i, auto&& push) { for_each_threat(i, push); };
   }
