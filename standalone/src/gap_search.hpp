@@ -58,6 +58,7 @@ void for_each_gap_between(const CellSorted<Real>& s, std::uint32_t i, Real sigma
     return std::max({double(c) * w - x, x - double(c + 1) * w, 0.0});
   };
   const double reach2 = double(reach) * double(reach);
+  const Real cut = (Mono ? sigma : Real(0)) + gap_hi;  // the row kernel's cut-off for Mono
   for (int z = lo[2]; z <= hi[2]; ++z)
     for (int y = lo[1]; y <= hi[1]; ++y) {
       const double gy = slab_gap(y, 1), gz = slab_gap(z, 2);
@@ -75,7 +76,6 @@ void for_each_gap_between(const CellSorted<Real>& s, std::uint32_t i, Real sigma
         if (j0 == j1) continue;
         const Vec3<Real> pi = p - s.image_shift[image_code(ix, iy, iz)];
         rows.resize(2 * (j1 - j0 + kRowSlack));
-        const Real cut = (Mono ? sigma : Real(0)) + gap_hi;
         const std::size_t n =
             append_close_row<Real, Mono>(s.soa, i, pi.x, pi.y, pi.z, ri, gap_hi, cut * cut, j0, j1, rows.data(), 0);
         for (std::size_t h = 0; h < n; ++h) {

@@ -188,7 +188,7 @@ class Stepper final : public StepperBase {
 
   Box box_;
   CellGrid grid_;
-  bool all_periodic_, sweep_, list_valid_ = true;
+  bool all_periodic_, sweep_;
   Real dt_, skin_;
   detail::ListGuard<Real> guard_;
   Real sigma_ = 0;  // monodisperse diameter
@@ -561,7 +561,7 @@ void Stepper<Real, Mono>::drift_impl() {
     if constexpr (Speeds) speed[i] = std::sqrt(v2);  // velocities may have been set since the last step
     v2max = v2 > v2max ? v2 : v2max;
   }
-  list_valid_ = guard_.valid_after_drift(m, threats_of());
+  guard_.valid_after_drift(m, threats_of());  // list_expired() tells the step
   // Spheres may now be beyond a wall: the resolver bounces them in time order with the
   // contacts (walls flip velocities, speeds stay).
   resolver_.set_speed_bound(std::sqrt(v2max));
@@ -616,7 +616,7 @@ template <class Real, bool Mono>
 template <bool AllPeriodic, bool Sweep>
 void Stepper<Real, Mono>::step() {
   drift();
-  if (!list_valid_) rebuild();
+  if (list_expired()) rebuild();
   scan_pair_list<Sweep>();
   if constexpr (!AllPeriodic) resolver_.predict_all_walls();
   if (resolver_.has_candidates()) {

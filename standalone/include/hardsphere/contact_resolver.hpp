@@ -174,7 +174,7 @@ class ContactResolver {
   void sweep_neighbours(std::uint32_t s) {
     const Vec3<Real> ps = a_.pos[s];
     const Real w = Real(1.001) * change_[s].back;
-    const Real reach = (norm(a_.vel[s]) + speed_bound_) * w;  // without speeds
+    const Real reach = Speeds ? Real(0) : (norm(a_.vel[s]) + speed_bound_) * w;
     const Real reach_s = Speeds ? a_.speed[s] * w : Real(0);
     const std::uint32_t k0 = a_.adj_start[s], k1 = a_.adj_start[s + 1];
     const std::uint32_t* __restrict adj = a_.adj;
