@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "hardsphere/collision.hpp"
 #include "hardsphere/errors.hpp"
@@ -511,6 +512,37 @@ TEST(EventCalendarHeap, KeepsTheEarliestOnTopThroughUpdates) {
   }
   cal.shift_keys(0.5);
   EXPECT_EQ(cal.top_key(), *std::min_element(keys.begin(), keys.end()) - 0.5);
+}
+
+TEST(EventCalendarHeap, TiesInfiniteKeysAndAPartialLastBlock) {
+  // Few distinct keys (many ties), +inf (no event) and a last block only partly filled: the top
+  // is always a real entry holding the least key.
+  Rng rng(5);
+  const std::size_t n = 2 * EventCalendar::kBlock + 13;
+  const double inf = std::numeric_limits<double>::infinity();
+  const double values[] = {0.5, 1.0, 2.0, inf};
+  std::vector<double> keys(n, inf);
+  EventCalendar cal;
+  cal.build(keys);
+  ASSERT_FALSE(cal.empty());
+  EXPECT_LT(cal.top(), n);
+  EXPECT_EQ(cal.top_key(), inf);
+  for (int round = 0; round < 5000; ++round) {
+    const auto i = std::uint32_t(rng.below(n));
+    keys[i] = values[rng.below(4)];
+    cal.update(i, keys[i]);
+    const double least = *std::min_element(keys.begin(), keys.end());
+    ASSERT_LT(cal.top(), n);
+    ASSERT_EQ(cal.top_key(), least);
+    ASSERT_EQ(keys[cal.top()], least);
+    ASSERT_EQ(cal.key(i), keys[i]);
+  }
+  for (std::uint32_t i = 0; i < n; ++i) cal.update(i, inf);
+  EXPECT_LT(cal.top(), n);
+  EXPECT_EQ(cal.top_key(), inf);
+  EventCalendar none;
+  none.build({});
+  EXPECT_TRUE(none.empty());
 }
 
 TEST(EventAutoShell, ThickerInDiluteGases) {
