@@ -437,6 +437,8 @@ struct EventEngine::Impl {
     // partners itself.)
     __builtin_prefetch(list(i));
     __builtin_prefetch(list(j));
+    __builtin_prefetch(&nfill[std::size_t(i)]);
+    __builtin_prefetch(&nfill[std::size_t(j)]);
     __builtin_prefetch(&pred[std::size_t(j)]);
     calendar.prefetch(std::uint32_t(i));
     calendar.prefetch(std::uint32_t(j));
@@ -542,6 +544,7 @@ struct EventEngine::Impl {
       __builtin_prefetch(&body[std::size_t(j)]);
       __builtin_prefetch(&pred[std::size_t(j)]);
       __builtin_prefetch(list(j));
+      __builtin_prefetch(&nfill[std::size_t(j)]);
       if (count[std::size_t(j)] != pred[std::size_t(i)].col_count) {
         ++c.stale_events;
         if (!promote_second(i)) full_predict(i);
@@ -559,6 +562,7 @@ struct EventEngine::Impl {
     __builtin_prefetch(&pred[next]);
     __builtin_prefetch(&body[next]);
     __builtin_prefetch(list(int(next)));  // its address needs no load: scanned if it collides
+    __builtin_prefetch(&nfill[next]);
     // The event after that is most likely one of the root's children: a whole event's head start.
     for (int k = 0; k < 4; ++k) {
       const std::uint32_t q = calendar.runner_up(k);
@@ -566,6 +570,7 @@ struct EventEngine::Impl {
         __builtin_prefetch(&pred[q]);
         __builtin_prefetch(&body[q]);
         __builtin_prefetch(list(int(q)));
+        __builtin_prefetch(&nfill[q]);
       }
     }
   }
