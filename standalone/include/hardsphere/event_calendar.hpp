@@ -46,7 +46,7 @@ class EventCalendar {
     for (std::size_t p = node_.size(); p-- > kRoot;) sift_down(p);
   }
   bool empty() const { return node_.size() <= kRoot; }
-  //! The sphere with the earliest key (the lowest index among equal keys of one block).
+  //! The sphere with the earliest key (of equal keys, the one its block recorded).
   std::uint32_t top() const { return node_[kRoot].arg; }
   double top_key() const { return node_[kRoot].key; }
   double key(std::uint32_t i) const { return keys_()[i]; }
