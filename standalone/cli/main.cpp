@@ -92,7 +92,7 @@ int main(int argc, char** argv) {
   RunSpec spec;
   std::int64_t n = 1000;
   double phi = 0.2;
-  std::string box_s, boundary_s = "p", cells_s = "auto", precision_s = "double", init_s = "auto", json_s, detect_s = "overlap";
+  std::string box_s, boundary_s = "p", cells_s = "auto", precision_s = "double", init_s = "auto", json_s, detect_s = "auto";
   double init_speed = 0;
   std::string read_data_s, write_data_s, dump_s;
 
@@ -112,7 +112,7 @@ int main(int argc, char** argv) {
   auto* o_equil = run->add_option("--equilibrate", spec.equilibrate, "steps run first and not measured (default 0)");
   run->add_option("--cells", cells_s, "cells per axis: auto, K or Kx,Ky,Kz (1 = one box, O(N^2))");
   run->add_option("--precision", precision_s, "double or float (default double)");
-  auto* o_detect = run->add_option("--detect", detect_s, "contact detection: overlap (a posteriori, default) or sweep (whole step)");
+  auto* o_detect = run->add_option("--detect", detect_s, "contact detection: auto (default: sweep for steps with v_rms dt > 0.1 diameters, else overlap), overlap (a posteriori) or sweep (whole step)");
   std::string engine_s = "stepper";
   double time_s = 0, equilibrate_time_s = 0;
   run->add_option("--engine", engine_s, "stepper (time-stepped, default) or event (exact event-driven)");

@@ -28,7 +28,25 @@ Precision parse_precision(const std::string& s) {
 Detect parse_detect(const std::string& s) {
   if (s == "overlap") return Detect::Overlap;
   if (s == "sweep") return Detect::Sweep;
-  throw InputError("unknown detection mode '" + s + "' (expected overlap or sweep)");
+  if (s == "auto") return Detect::Auto;
+  throw InputError("unknown detection mode '" + s + "' (expected auto, overlap or sweep)");
+}
+
+bool detects_by_sweep(Detect d, const ParticleSystem& sys, double dt) {
+  if (d != Detect::Auto) return d == Detect::Sweep;
+  // Overlap detection misses grazes, pairs that touch and part within one step. Measured
+  // against the event engine (collision-rate deficit, N = 8000-10^4): within the noise (+-0.2%)
+  // up to v_rms dt = 0.07 diameters; 0.5-0.8% at 0.14 (dt 0.08: phi 0.1, 0.3); 1.2% at 0.35
+  // (phi 0.2, dt 0.2), where a sphere that collides while inside a missed graze can end the
+  // run overlapping its partner. Sweep detection costs 1.2-1.6x as much, so it is chosen only
+  // for the long steps.
+  double v2 = 0, smallest = std::numeric_limits<double>::infinity();
+  for (std::size_t i = 0; i < sys.size(); ++i) {
+    v2 += dot(sys.vel[i], sys.vel[i]);
+    smallest = std::min(smallest, 2 * sys.radius[i]);
+  }
+  const double v_rms = sys.size() ? std::sqrt(v2 / double(sys.size())) : 0.0;
+  return v_rms * dt > 0.1 * smallest;
 }
 
 double auto_skin(const ParticleSystem& sys, double dt) {
@@ -252,7 +270,7 @@ class Stepper final : public StepperBase {
 
 template <class Real, bool Mono>
 Stepper<Real, Mono>::Stepper(const ParticleSystem& sys, const StepperConfig& cfg)
-    : box_(sys.box), all_periodic_(cfg.specialise && sys.box.all_periodic()), sweep_(cfg.detect == Detect::Sweep), dt_(Real(cfg.dt)) {
+    : box_(sys.box), all_periodic_(cfg.specialise && sys.box.all_periodic()), sweep_(detects_by_sweep(cfg.detect, sys, cfg.dt)), dt_(Real(cfg.dt)) {
   if (!(std::isfinite(cfg.dt) && cfg.dt > 0)) {
     std::ostringstream m;
     m << "time step dt = " << cfg.dt << " must be positive and finite";

@@ -14,7 +14,7 @@ JSON_KEYS = [
     "n", "packing_fraction", "box", "steps", "dt", "sim_time", "cells_per_dim", "loop_cpu_seconds",
     "particle_steps_per_second", "collisions", "kinetic_energy_initial", "kinetic_energy_final",
     "energy_rel_drift", "momentum_initial", "momentum_final", "temperature", "compressibility_factor",
-    "max_overlap", "wall_collisions", "speed_histogram", "speed_ks_distance", "seed", "scene_kernel",
+    "max_overlap", "wall_collisions", "speed_histogram", "speed_ks_distance", "seed", "scene_kernel", "detect",
 ]
 
 
@@ -91,6 +91,15 @@ def test_walls_one_box_and_sweep_mode_run(hs):
     assert j["cells_per_dim"] == [1, 1, 1]
     assert j["wall_collisions"] > 0
     assert j["box"]["boundary"] == "w,w,w"
+
+
+def test_auto_detection_sweeps_long_steps_only(hs):
+    # One speed 1 (v_rms = 1), unit diameters: auto switches to sweep above dt = 0.1.
+    for dt, mode in [(0.05, "overlap"), (0.2, "sweep")]:
+        j = run_json(hs, "--n", 300, "--phi", 0.2, "--init-speed", 1.0, "--dt", dt, "--steps", 5)
+        assert j["detect"] == mode and j["scene_kernel"].endswith("," + mode)
+    j = run_json(hs, "--n", 300, "--phi", 0.2, "--dt", 0.2, "--steps", 5, "--detect", "overlap")
+    assert j["detect"] == "overlap"
 
 
 def test_init_speed_gives_every_sphere_one_speed(hs, tmp_path):

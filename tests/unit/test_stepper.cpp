@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <utility>
 
 #include "hardsphere/errors.hpp"
 #include "hardsphere/event_engine.hpp"
@@ -325,4 +326,35 @@ TEST(DenseInit, LatticeRouteReachesHalfPacking) {
   EXPECT_EQ(max_overlap(s), 0.0);
   EXPECT_NEAR(norm(total_momentum(s)), 0.0, 1e-10);
   EXPECT_NEAR(temperature(s), 1.0, 1e-12);
+}
+
+TEST(StepperDetection, AutoSweepsOnlyStepsLongEnoughForGrazes) {
+  // One speed (v_rms = 1 exactly), unit diameters: the threshold v_rms dt = 0.1 diameters.
+  auto s = gas(100, 0.1, 3, 1.0);
+  EXPECT_FALSE(detects_by_sweep(Detect::Auto, s, 0.099));
+  EXPECT_TRUE(detects_by_sweep(Detect::Auto, s, 0.101));
+  EXPECT_FALSE(detects_by_sweep(Detect::Overlap, s, 1.0));
+  EXPECT_TRUE(detects_by_sweep(Detect::Sweep, s, 0.001));
+  s.radius[7] = 0.25;  // the smallest sphere sets the scale
+  EXPECT_TRUE(detects_by_sweep(Detect::Auto, s, 0.051));
+  EXPECT_THROW(parse_detect("psychic"), InputError);
+  EXPECT_EQ(parse_detect("auto"), Detect::Auto);
+}
+
+TEST(StepperDetection, DefaultIsOverlapForShortStepsAndSweepForLongOnes) {
+  // The default configuration runs exactly the explicit mode that auto picks: the same
+  // collisions and final state. At dt = 0.2 (phi 0.2, about one mean free time) that is sweep
+  // detection, which sees the grazes and leaves no overlapping pair.
+  const auto s = gas(1500, 0.2, 11);
+  for (const auto& [dt, picked] : {std::pair{0.01, Detect::Overlap}, std::pair{0.2, Detect::Sweep}}) {
+    StepperConfig by_default, explicit_mode;
+    explicit_mode.detect = picked;
+    StepCounters a, b;
+    const auto out_a = run(s, dt, 20, by_default, Precision::Double, &a);
+    const auto out_b = run(s, dt, 20, explicit_mode, Precision::Double, &b);
+    EXPECT_GT(a.collisions, 100) << "dt " << dt;
+    EXPECT_EQ(a.collisions, b.collisions) << "dt " << dt;
+    for (std::size_t i = 0; i < s.size(); ++i) ASSERT_EQ(norm(out_a.pos[i] - out_b.pos[i]), 0.0) << "dt " << dt << " sphere " << i;
+    EXPECT_EQ(max_overlap(out_a), 0.0) << "dt " << dt;
+  }
 }

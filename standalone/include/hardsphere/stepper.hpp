@@ -27,9 +27,12 @@ Precision parse_precision(const std::string& s);
 //! How contacts are found at the end of a step. Overlap: the seed's a posteriori test (pairs
 //! that overlap now), plus a sweep of the neighbours of every colliding sphere so contacts are
 //! resolved in time order. Sweep: every candidate pair is tested for a contact anywhere within
-//! the step, so grazes and pass-throughs inside one step are caught too.
-enum class Detect { Overlap, Sweep };
+//! the step, so grazes and pass-throughs inside one step are caught too. Auto: sweep when steps
+//! are long enough for grazes to matter (v_rms dt > 0.1 of the smallest diameter), otherwise overlap.
+enum class Detect { Overlap, Sweep, Auto };
 Detect parse_detect(const std::string& s);
+//! Whether mode d detects by sweeping for this system and step (Auto decided from its speeds).
+bool detects_by_sweep(Detect d, const ParticleSystem& sys, double dt);
 
 struct StepperConfig {
   double dt = 0.01;
@@ -39,7 +42,7 @@ struct StepperConfig {
   //! Contact events per step before giving up (counted in StepCounters::unresolved_steps);
   //! only an inelastic collapse could need more.
   std::int64_t max_events_per_step = 100000000;
-  Detect detect = Detect::Overlap;
+  Detect detect = Detect::Auto;
   //! Select kernels specialised for the scene (no wall tests in periodic boxes, no per-sphere
   //! radii and masses when all are equal). false runs the general kernel on any scene: only
   //! for measuring what the specialisation gains, results are the same.
