@@ -32,6 +32,14 @@ Detect parse_detect(const std::string& s) {
   throw InputError("unknown detection mode '" + s + "' (expected auto, overlap or sweep)");
 }
 
+namespace {
+double rms_speed(const ParticleSystem& sys) {
+  double v2 = 0;
+  for (const auto& v : sys.vel) v2 += dot(v, v);
+  return sys.size() ? std::sqrt(v2 / double(sys.size())) : 0.0;
+}
+}  // namespace
+
 bool detects_by_sweep(Detect d, const ParticleSystem& sys, double dt) {
   if (d != Detect::Auto) return d == Detect::Sweep;
   // Overlap detection misses grazes, pairs that touch and part within one step. Measured
@@ -40,13 +48,9 @@ bool detects_by_sweep(Detect d, const ParticleSystem& sys, double dt) {
   // (phi 0.2, dt 0.2), where a sphere that collides while inside a missed graze can end the
   // run overlapping its partner. Sweep detection costs 1.2-1.6x as much, so it is chosen only
   // for the long steps.
-  double v2 = 0, smallest = std::numeric_limits<double>::infinity();
-  for (std::size_t i = 0; i < sys.size(); ++i) {
-    v2 += dot(sys.vel[i], sys.vel[i]);
-    smallest = std::min(smallest, 2 * sys.radius[i]);
-  }
-  const double v_rms = sys.size() ? std::sqrt(v2 / double(sys.size())) : 0.0;
-  return v_rms * dt > 0.1 * smallest;
+  double smallest = std::numeric_limits<double>::infinity();
+  for (const double r : sys.radius) smallest = std::min(smallest, 2 * r);
+  return rms_speed(sys) * dt > 0.1 * smallest;
 }
 
 double auto_skin(const ParticleSystem& sys, double dt) {
@@ -66,9 +70,7 @@ double auto_skin(const ParticleSystem& sys, double dt) {
   // middle of steps (N = 8000, phi 0.3, dt 0.08: 271 rebuilds per 50 steps at skin 0.42, 3x the
   // CPU time of skin 0.85-1.0; dt 0.12: 90 rebuilds per step, 20x). skin >= 6 v_rms dt gives a
   // sphere at 3 v_rms about two steps to cross it.
-  double v2 = 0;
-  for (const auto& v : sys.vel) v2 += dot(v, v);
-  const double v_rms = sys.size() ? std::sqrt(v2 / double(sys.size())) : 0.0;
+  const double v_rms = rms_speed(sys);
   const double diameter = 2 * sys.max_radius();
   const double phi = std::max(sys.packing_fraction(), 1e-3);
   const double skin = std::max(20.0 * v_rms * dt, 1.75 * std::sqrt(v_rms * dt * diameter / phi));
