@@ -144,14 +144,12 @@ class Stepper final : public StepperBase {
   }
   void set_velocities(const Vec3d* vel) override {
     for (std::size_t k = 0; k < vel_.size(); ++k) vel_[k] = {Real(vel[k].x), Real(vel[k].y), Real(vel[k].z)};
-    update_speeds();
   }
   void gather_velocities(const std::uint32_t* src, const double* v) override {
     for (std::size_t k = 0; k < vel_.size(); ++k) {
       const double* vi = v + 3 * std::size_t(src[k]);
       vel_[k] = {Real(vi[0]), Real(vi[1]), Real(vi[2])};
     }
-    update_speeds();
   }
   std::string scene_kernel() const override {
     return std::string(all_periodic_ ? "periodic" : "walls") + (Mono ? ",mono" : ",poly") +
@@ -181,14 +179,11 @@ class Stepper final : public StepperBase {
     for (std::int64_t s = 0; s < steps; ++s) step<AllPeriodic, Sweep>();
   }
   template <bool AllPeriodic, bool Sweep> void step();
-  void drift();
-  //! |v| per sphere for the sweeps' speed bounds, after velocities were set from outside (the
-  //! resolver keeps them current through collisions; wall bounces keep speeds).
-  void update_speeds() {
-    if (!speeds_) return;
-    speed_.resize(vel_.size());
-    for (std::size_t k = 0; k < vel_.size(); ++k) speed_[k] = norm(vel_[k]);
+  void drift() {
+    if (speeds_) drift_impl<true>();
+    else drift_impl<false>();
   }
+  template <bool Speeds> void drift_impl();
   template <bool Sweep> void scan_pair_list();
   void rebuild();
   void build_stencil();
@@ -527,7 +522,10 @@ void Stepper<Real, Mono>::rebuild() {
   if (!stencil_.empty()) build_pairs_half_stencil();
   else build_pairs_any_grid();
   build_adjacency();
-  update_speeds();  // in the new order (a rebuild inside a step needs the current speeds)
+  if (speeds_) {  // in the new order (a rebuild inside a step needs the current speeds)
+    speed_.resize(n);
+    for (std::size_t k = 0; k < n; ++k) speed_[k] = norm(vel_[k]);
+  }
   resolver_.bind({pos_.data(), vel_.data(), r_.data(), m_.data(), id_.data(), slot_.data(), adj_start_.data(), adj_.data(),
                   image_shift_, speeds_ ? speed_.data() : nullptr});
   ++counters_.rebuilds;
@@ -566,13 +564,15 @@ void Stepper<Real, Mono>::build_adjacency() {
 }
 
 template <class Real, bool Mono>
-void Stepper<Real, Mono>::drift() {
+template <bool Speeds>
+void Stepper<Real, Mono>::drift_impl() {
   const std::size_t n = pos_.size();
   const Real dt = dt_;
   V3<Real>* __restrict p = pos_.data();
   const V3<Real>* __restrict v = vel_.data();
   const V3<Real>* __restrict p0 = pos0_.data();
   Real* __restrict d2max = guard_.displacements();
+  Real* __restrict speed = speed_.data();
   Real m = guard_.max_displacement2(), v2max = 0;
   for (std::size_t i = 0; i < n; ++i) {
     p[i].x += v[i].x * dt;
@@ -583,6 +583,7 @@ void Stepper<Real, Mono>::drift() {
     d2max[i] = d2 > d2max[i] ? d2 : d2max[i];
     m = d2 > m ? d2 : m;
     const Real v2 = v[i].x * v[i].x + v[i].y * v[i].y + v[i].z * v[i].z;
+    if constexpr (Speeds) speed[i] = std::sqrt(v2);  // velocities may have been set since the last step
     v2max = v2 > v2max ? v2 : v2max;
   }
   guard_.valid_after_drift(m, threats_of());  // list_expired() tells the step
