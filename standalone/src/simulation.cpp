@@ -32,7 +32,6 @@ nlohmann::json run_simulation(const RunSpec& spec) {
 
   ParticleSystem sys = initial_state(spec);
   auto engine = make_stepper(sys, spec.stepper, spec.precision);
-  const bool sweep = detects_by_sweep(spec.stepper.detect, sys, spec.stepper.dt);
   // Output files are opened (as temporaries) before the long part, so an unwritable path fails fast.
   std::optional<DumpWriter> dump;
   if (spec.dump) dump.emplace(*spec.dump);
@@ -71,7 +70,7 @@ nlohmann::json run_simulation(const RunSpec& spec) {
   j["cells_per_dim"] = engine->cells_per_dim();
   j["skin"] = engine->skin();
   j["scene_kernel"] = engine->scene_kernel();
-  j["detect"] = sweep ? "sweep" : "overlap";  // the mode in use (auto resolved)
+  j["detect"] = engine->sweep_detection() ? "sweep" : "overlap";  // the mode in use (auto resolved)
   j["precision"] = spec.precision == Precision::Float ? "float" : "double";
   j["loop_cpu_seconds"] = cpu;
   j["particle_steps_per_second"] = cpu > 0 ? double(fin.size()) * double(c.steps) / cpu : 0.0;

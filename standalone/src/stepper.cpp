@@ -151,6 +151,7 @@ class Stepper final : public StepperBase {
       vel_[k] = {Real(vi[0]), Real(vi[1]), Real(vi[2])};
     }
   }
+  bool sweep_detection() const override { return sweep_; }
   std::string scene_kernel() const override {
     return std::string(all_periodic_ ? "periodic" : "walls") + (Mono ? ",mono" : ",poly") +
            (sizeof(Real) == sizeof(float) ? ",float" : ",double") + (sweep_ ? ",sweep" : ",overlap");

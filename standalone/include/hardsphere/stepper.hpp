@@ -77,6 +77,7 @@ class StepperBase {
   virtual std::array<int, 3> cells_per_dim() const = 0;
   virtual double skin() const = 0;
   virtual std::string scene_kernel() const = 0;  //!< which specialisation runs, e.g. "periodic,mono"
+  virtual bool sweep_detection() const = 0;      //!< the detection mode in use (Auto resolved) is sweep
 
   //! For adapters that keep their own copy of the spheres (the LAMMPS fix): the spheres in the
   //! engine's internal order, which changes only when counters().rebuilds does. Positions are
