@@ -160,43 +160,62 @@ class ContactResolver {
 
   //! Predicts every contact of sphere s with its list partners over its window.
   void sweep_neighbours(std::uint32_t s) {
-    if (a_.speed) sweep_neighbours<true>(s);
-    else sweep_neighbours<false>(s);
+    const std::uint32_t none[1] = {kWall};
+    if (a_.speed) sweep_neighbours<true, 1>(&s, none);
+    else sweep_neighbours<false, 1>(&s, none);
+  }
+  //! The same for both spheres of a collision, except with each other: they recede on straight
+  //! lines for their whole windows (the test would only reject them, at a consider() each).
+  void sweep_collided(std::uint32_t i, std::uint32_t j) {
+    const std::uint32_t s[2] = {i, j}, skip[2] = {j, i};
+    if (a_.speed) sweep_neighbours<true, 2>(s, skip);
+    else sweep_neighbours<false, 2>(s, skip);
   }
 
   //! A partner can have touched s within s's window w only if their gap is below the closing
   //! distance |v_s - v_q| w <= (|v_s| + |v_q|) w, or (|v_s| + v_max) w without per-sphere
   //! speeds: that test needs no velocity vector or window of q, so most partners are rejected
   //! cheaply (the 1.001 absorbs rounding; the bound is loose by far more). It runs branch-free
-  //! over the whole list first (a rejected partner costs no mispredicted branch and the loads
-  //! overlap); only the survivors go to consider().
-  template <bool Speeds>
-  void sweep_neighbours(std::uint32_t s) {
-    const Vec3<Real> ps = a_.pos[s];
-    const Real w = Real(1.001) * change_[s].back;
-    const Real reach = Speeds ? Real(0) : (norm(a_.vel[s]) + speed_bound_) * w;
-    const Real reach_s = Speeds ? a_.speed[s] * w : Real(0);
-    const std::uint32_t k0 = a_.adj_start[s], k1 = a_.adj_start[s + 1];
+  //! over the whole lists of all `Count` spheres first (a rejected partner costs no mispredicted
+  //! branch, and the loads of both lists overlap); only the survivors go to consider().
+  template <bool Speeds, int Count>
+  void sweep_neighbours(const std::uint32_t* sphere, const std::uint32_t* skip) {
     const std::uint32_t* __restrict adj = a_.adj;
     const Vec3<Real>* __restrict pos = a_.pos;
     const Vec3<Real>* __restrict shift = a_.image_shift;
-    if (near_.size() < k1 - k0) near_.resize(2 * (k1 - k0));
+    std::uint32_t len = 0;
+    for (int t = 0; t < Count; ++t) len += a_.adj_start[sphere[t] + 1] - a_.adj_start[sphere[t]];
+    if (near_.size() < len) near_.resize(2 * len);
     std::uint32_t* __restrict hits = near_.data();
-    std::uint32_t n = 0;
-    for (std::uint32_t k = k0; k < k1; ++k) {
-      const std::uint32_t e = adj[k], q = adj_partner(e);
-      const Vec3<Real> dr = ps - pos[q] - shift[adj_image(e)];
-      const Real far = sigma(s, q) + (Speeds ? reach_s + a_.speed[q] * w : reach);
-      hits[n] = k;
-      n += dot(dr, dr) < far * far;
+    std::uint32_t n[Count + 1] = {0};
+    for (int t = 0; t < Count; ++t) {
+      const std::uint32_t s = sphere[t];
+      const Vec3<Real> ps = a_.pos[s];
+      const Real w = Real(1.001) * change_[s].back;
+      const Real reach = Speeds ? Real(0) : (norm(a_.vel[s]) + speed_bound_) * w;
+      const Real reach_s = Speeds ? a_.speed[s] * w : Real(0);
+      const std::uint32_t k0 = a_.adj_start[s], k1 = a_.adj_start[s + 1];
+      std::uint32_t m = n[t];
+      for (std::uint32_t k = k0; k < k1; ++k) {
+        const std::uint32_t e = adj[k], q = adj_partner(e);
+        const Vec3<Real> dr = ps - pos[q] - shift[adj_image(e)];
+        const Real far = Speeds ? (sigma(s, q) + reach_s) + a_.speed[q] * w : sigma(s, q) + reach;
+        hits[m] = k;
+        m += (dot(dr, dr) < far * far) & (q != skip[t]);
+      }
+      n[t + 1] = m;
     }
-    for (std::uint32_t h = 0; h < n; ++h) {
-      const std::uint32_t e = adj[hits[h]], q = adj_partner(e);
-      const std::uint8_t img = adj_image(e);
-      const Vec3<Real> dr = ps - pos[q] - shift[img];
-      // Candidates keep the lower index first so their order matches a full scan.
-      if (s < q) consider(s, q, img, dr, sigma(s, q), false);
-      else consider(q, s, std::uint8_t(26 - img), -dr, sigma(s, q), false);
+    for (int t = 0; t < Count; ++t) {
+      const std::uint32_t s = sphere[t];
+      const Vec3<Real> ps = a_.pos[s];
+      for (std::uint32_t h = n[t]; h < n[t + 1]; ++h) {
+        const std::uint32_t e = adj[hits[h]], q = adj_partner(e);
+        const std::uint8_t img = adj_image(e);
+        const Vec3<Real> dr = ps - pos[q] - shift[img];
+        // Candidates keep the lower index first so their order matches a full scan.
+        if (s < q) consider(s, q, img, dr, sigma(s, q), false);
+        else consider(q, s, std::uint8_t(26 - img), -dr, sigma(s, q), false);
+      }
     }
   }
 
@@ -265,11 +284,11 @@ class ContactResolver {
         next = start_run();
         continue;
       }
-      sweep_neighbours(c.i);
-      if constexpr (Walls) predict_walls(c.i);
-      if (!wall) {
-        sweep_neighbours(c.j);
-        if constexpr (Walls) predict_walls(c.j);
+      if (wall) sweep_neighbours(c.i);
+      else sweep_collided(c.i, c.j);
+      if constexpr (Walls) {
+        predict_walls(c.i);
+        if (!wall) predict_walls(c.j);
       }
       for (const auto& n : candidates_) {
         heap_.push_back(n);
