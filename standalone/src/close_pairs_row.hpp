@@ -5,6 +5,7 @@
 //! compress, otherwise it is the branch-free scalar loop. Both compute |d|^2 as
 //! (dx dx + dy dy) + dz dz from the same coordinates, so they keep the same pairs.
 #include <cstddef>
+#include <algorithm>
 #include <cstdint>
 
 #if defined(__AVX512F__) && defined(__AVX512VL__)
@@ -90,6 +91,53 @@ inline std::size_t append_close_row(const RowSoA<Real>& s, std::uint32_t i, Real
     }
     out[2 * n] = i, out[2 * n + 1] = j;
     n += d2 < c2;
+  }
+  return n;
+#endif
+}
+
+//! append_close_row() for every sphere i of [i0, i1) against one run [j0, j1), taking only j > i
+//! if `upper` (a run that starts inside i's own cell). The pair build's kernel: a cell's few
+//! spheres share their forward runs, so each run's coordinates are loaded once (eight lanes at
+//! a time with AVX-512) for all of them. Pairs come out run by run; the distance is computed
+//! as in append_close_row, so the pairs are the same.
+template <class Real, bool Mono>
+inline std::size_t append_close_block(const RowSoA<Real>& s, std::uint32_t i0, std::uint32_t i1, std::uint32_t j0,
+                                      std::uint32_t j1, bool upper, Real skin, Real cut2, std::uint32_t* out,
+                                      std::size_t n) {
+#ifdef HS_CLOSE_PAIRS_AVX512
+  using L = Lanes8<Real>;
+  const __m512i iota = _mm512_set_epi64(7, 6, 5, 4, 3, 2, 1, 0);
+  for (std::uint32_t j = j0; j < j1; j += 8) {
+    const __mmask8 live = j1 - j >= 8 ? __mmask8(0xff) : __mmask8((1u << (j1 - j)) - 1);
+    const auto xs = L::load(live, s.x + j), ys = L::load(live, s.y + j), zs = L::load(live, s.z + j);
+    auto rs = L::set(Real(0));
+    if constexpr (!Mono) rs = L::load(live, s.r + j);
+    // x86 is little-endian: the 64-bit lane i | j << 32 is the uint32 pair (i, j) in memory.
+    const __m512i js = _mm512_maskz_slli_epi64(0xff, _mm512_add_epi64(_mm512_set1_epi64(j), iota), 32);
+    for (std::uint32_t i = i0; i < i1; ++i) {
+      __mmask8 m = live;
+      if (upper && i >= j) m &= i - j >= 7 ? __mmask8(0) : __mmask8(~((2u << (i - j)) - 1));
+      const auto dx = L::sub(L::set(s.x[i]), xs);
+      const auto dy = L::sub(L::set(s.y[i]), ys);
+      const auto dz = L::sub(L::set(s.z[i]), zs);
+      const auto d2 = L::fmadd(dz, dz, L::fmadd(dy, dy, L::mul(dx, dx)));
+      auto c2 = L::set(cut2);
+      if constexpr (!Mono) {
+        const auto c = L::add(L::add(L::set(s.r[i]), rs), L::set(skin));
+        c2 = L::mul(c, c);
+      }
+      const __mmask8 hit = L::less(m, d2, c2);
+      // Compress in a register and store the whole vector (see append_close_row).
+      _mm512_storeu_si512(out + 2 * n, _mm512_maskz_compress_epi64(hit, _mm512_or_si512(_mm512_set1_epi64(std::int64_t(i)), js)));
+      n += std::size_t(__builtin_popcount(hit));
+    }
+  }
+  return n;
+#else
+  for (std::uint32_t i = i0; i < i1; ++i) {
+    const std::uint32_t from = upper ? std::max(j0, i + 1) : j0;
+    if (from < j1) n = append_close_row<Real, Mono>(s, i, s.x[i], s.y[i], s.z[i], Mono ? Real(0) : s.r[i], skin, cut2, from, j1, out, n);
   }
   return n;
 #endif

@@ -400,8 +400,8 @@ template <class Real, bool Mono>
 void Stepper<Real, Mono>::build_pairs_half_stencil() {
   const Real mono_cut = list_cut(sigma_), mono_cut2 = mono_cut * mono_cut;
   const std::int64_t ncell = grid_.size();
-  // Rows of consecutive spheres go to append_close_row (vectorised where the CPU allows);
-  // pairs across a periodic face (rare) take push_pair.
+  // A cell's spheres against each run of consecutive spheres go to append_close_block
+  // (vectorised where the CPU allows); pairs across a periodic face (rare) take push_pair.
   static_assert(sizeof(Pair) == 2 * sizeof(std::uint32_t) && offsetof(Pair, j) == sizeof(std::uint32_t));
   std::size_t n_near = 0;
   near_.resize(std::max<std::size_t>(near_.size(), 1024));
@@ -423,26 +423,21 @@ void Stepper<Real, Mono>::build_pairs_half_stencil() {
       own_end = cell_start_[runs[0].end];
       first = 1;
     }
-    for (std::uint32_t i = b0; i < b1; ++i) {
-      const V3<Real> pi = pos_[i];
-      const Real ri = Mono ? Real(0) : r_[i];
-      auto row = [&](std::uint32_t j0, std::uint32_t j1) {
-        n_near = detail::append_close_row<Real, Mono>(soa, i, pi.x, pi.y, pi.z, ri, skin_, mono_cut2, j0, j1,
-                                                      reinterpret_cast<std::uint32_t*>(near_.data()), n_near);
-      };
-      row(i + 1, own_end);
-      for (int r = first; r < kMaxRuns && runs[r].begin != runs[r].end; ++r) {
-        const std::uint32_t e0 = cell_start_[runs[r].begin], e1 = cell_start_[runs[r].end];
-        if (runs[r].image == kNoImage) {
-          row(e0, e1);
-        } else {
-          // Across a periodic face: the same row test with i's image, into a scratch buffer.
-          const V3<Real> pis = pi - image_shift_[runs[r].image];
-          wrap_row_.resize(2 * (e1 - e0 + detail::kRowSlack));
-          const std::size_t hits = detail::append_close_row<Real, Mono>(soa, i, pis.x, pis.y, pis.z, ri, skin_, mono_cut2,
-                                                                        e0, e1, wrap_row_.data(), 0);
-          for (std::size_t k = 0; k < hits; ++k) push_pair(i, wrap_row_[2 * k + 1], runs[r].image);
-        }
+    auto* out = reinterpret_cast<std::uint32_t*>(near_.data());
+    n_near = detail::append_close_block<Real, Mono>(soa, b0, b1, b0 + 1, own_end, true, skin_, mono_cut2, out, n_near);
+    for (int r = first; r < kMaxRuns && runs[r].begin != runs[r].end; ++r) {
+      const std::uint32_t e0 = cell_start_[runs[r].begin], e1 = cell_start_[runs[r].end];
+      if (runs[r].image == kNoImage) {
+        n_near = detail::append_close_block<Real, Mono>(soa, b0, b1, e0, e1, false, skin_, mono_cut2, out, n_near);
+        continue;
+      }
+      // Across a periodic face (rare): the row test with i's image, into a scratch buffer.
+      for (std::uint32_t i = b0; i < b1; ++i) {
+        const V3<Real> pis = pos_[i] - image_shift_[runs[r].image];
+        wrap_row_.resize(2 * (e1 - e0 + detail::kRowSlack));
+        const std::size_t hits = detail::append_close_row<Real, Mono>(soa, i, pis.x, pis.y, pis.z, Mono ? Real(0) : r_[i], skin_,
+                                                                      mono_cut2, e0, e1, wrap_row_.data(), 0);
+        for (std::size_t k = 0; k < hits; ++k) push_pair(i, wrap_row_[2 * k + 1], runs[r].image);
       }
     }
   }
