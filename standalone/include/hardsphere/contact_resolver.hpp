@@ -187,24 +187,24 @@ class ContactResolver {
     for (int t = 0; t < Count; ++t) len += a_.adj_start[sphere[t] + 1] - a_.adj_start[sphere[t]];
     if (near_.size() < len) near_.resize(2 * len);
     std::uint32_t* __restrict hits = near_.data();
-    std::uint32_t n[Count + 1] = {0};
-    for (int t = 0; t < Count; ++t) {
-      const std::uint32_t s = sphere[t];
+    // Appends the list entries of s that pass the filter to hits[m...], returns the new m.
+    auto filter = [&](const std::uint32_t s, const std::uint32_t skip_s, std::uint32_t m) {
       const Vec3<Real> ps = a_.pos[s];
       const Real w = Real(1.001) * change_[s].back;
       const Real reach = Speeds ? Real(0) : (norm(a_.vel[s]) + speed_bound_) * w;
       const Real reach_s = Speeds ? a_.speed[s] * w : Real(0);
       const std::uint32_t k0 = a_.adj_start[s], k1 = a_.adj_start[s + 1];
-      std::uint32_t m = n[t];
       for (std::uint32_t k = k0; k < k1; ++k) {
         const std::uint32_t e = adj[k], q = adj_partner(e);
         const Vec3<Real> dr = ps - pos[q] - shift[adj_image(e)];
         const Real far = Speeds ? (sigma(s, q) + reach_s) + a_.speed[q] * w : sigma(s, q) + reach;
         hits[m] = k;
-        m += (dot(dr, dr) < far * far) & (q != skip[t]);
+        m += (dot(dr, dr) < far * far) & (q != skip_s);
       }
-      n[t + 1] = m;
-    }
+      return m;
+    };
+    std::uint32_t n[Count + 1] = {0};
+    for (int t = 0; t < Count; ++t) n[t + 1] = filter(sphere[t], skip[t], n[t]);
     for (int t = 0; t < Count; ++t) {
       const std::uint32_t s = sphere[t];
       const Vec3<Real> ps = a_.pos[s];
