@@ -14,6 +14,7 @@
 #include "hardsphere/errors.hpp"
 #include "close_pairs_row.hpp"
 #include "default_init_allocator.hpp"
+#include "distance_filter.hpp"
 #include "gap_search.hpp"
 #include "list_guard.hpp"
 
@@ -606,8 +607,8 @@ void Stepper<Real, Mono>::scan_pair_list() {
     const Real lim = Sweep ? sg + reach : sg;
     if (dot(d, d) < lim * lim) resolver_.consider(i, j, image, d, sg, !Sweep);
   };
-  // Branch-free distance test over a chunk of the list, then consider() for the few hits:
-  // a rejected pair costs no branch and the position loads of a chunk overlap.
+  // Branch-free distance filter over a chunk of the list, then test() (exact) for the few
+  // hits: a rejected pair costs no branch and the position loads of a chunk overlap.
   constexpr std::size_t kChunk = 256;
   std::uint32_t hits[kChunk];
   const Pair* __restrict pairs = near_.data();
@@ -616,11 +617,10 @@ void Stepper<Real, Mono>::scan_pair_list() {
     std::uint32_t n = 0;
     for (std::size_t k = 0; k < len; ++k) {
       const Pair p = pairs[c0 + k];
-      const V3<Real> d = pos[p.i] - pos[p.j];
       const Real sg = Mono ? sigma_ : r_[p.i] + r_[p.j];
       const Real lim = Sweep ? sg + reach : sg;
       hits[n] = std::uint32_t(k);
-      n += dot(d, d) < lim * lim;
+      n += detail::distance2_filter(pos[p.i], pos[p.j]) < lim * lim * detail::kDistanceFilterSlack<Real>;
     }
     for (std::uint32_t h = 0; h < n; ++h) {
       const Pair p = pairs[c0 + hits[h]];
