@@ -15,6 +15,7 @@
 #include "close_pairs_row.hpp"
 #include "default_init_allocator.hpp"
 #include "distance_filter.hpp"
+#include "drift_kernel.hpp"
 #include "gap_search.hpp"
 #include "list_guard.hpp"
 
@@ -563,26 +564,10 @@ void Stepper<Real, Mono>::build_adjacency() {
 template <class Real, bool Mono>
 template <bool Speeds>
 void Stepper<Real, Mono>::drift_impl() {
-  const std::size_t n = pos_.size();
-  const Real dt = dt_;
-  V3<Real>* __restrict p = pos_.data();
-  const V3<Real>* __restrict v = vel_.data();
-  const V3<Real>* __restrict p0 = pos0_.data();
-  Real* __restrict d2max = guard_.displacements();
-  Real* __restrict speed = speed_.data();
-  Real m = guard_.max_displacement2(), v2max = 0;
-  for (std::size_t i = 0; i < n; ++i) {
-    p[i].x += v[i].x * dt;
-    p[i].y += v[i].y * dt;
-    p[i].z += v[i].z * dt;
-    const Real dx = p[i].x - p0[i].x, dy = p[i].y - p0[i].y, dz = p[i].z - p0[i].z;
-    const Real d2 = dx * dx + dy * dy + dz * dz;
-    d2max[i] = d2 > d2max[i] ? d2 : d2max[i];
-    m = d2 > m ? d2 : m;
-    const Real v2 = v[i].x * v[i].x + v[i].y * v[i].y + v[i].z * v[i].z;
-    if constexpr (Speeds) speed[i] = std::sqrt(v2);  // velocities may have been set since the last step
-    v2max = v2 > v2max ? v2 : v2max;
-  }
+  static_assert(sizeof(V3<Real>) == 3 * sizeof(Real), "xyz triples without padding");
+  const auto mx = detail::drift_spheres<Real>(&pos_.data()->x, &vel_.data()->x, &pos0_.data()->x, guard_.displacements(),
+                                              Speeds ? speed_.data() : nullptr, pos_.size(), dt_, guard_.max_displacement2());
+  const Real m = mx.d2, v2max = mx.v2;
   guard_.valid_after_drift(m, threats_of());  // list_expired() tells the step
   // Spheres may now be beyond a wall: the resolver bounces them in time order with the
   // contacts (walls flip velocities, speeds stay).
