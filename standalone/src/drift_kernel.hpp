@@ -9,6 +9,7 @@
 //! expression), so they give the same numbers.
 #include <cmath>
 #include <cstddef>
+#include <cstdint>
 #include <utility>
 
 #if defined(__AVX512F__)
@@ -41,6 +42,7 @@ struct DriftLanes<float> {
   static V max(V a, V b) { return _mm512_maskz_max_ps(0xffff, a, b); }
   static V sqrt(V a) { return _mm512_maskz_sqrt_ps(0xffff, a); }
   static V perm2(V a, I idx, V b) { return _mm512_permutex2var_ps(a, idx, b); }
+  static std::uint32_t at_least(V a, float b) { return _mm512_cmp_ps_mask(a, _mm512_set1_ps(b), _CMP_GE_OQ); }
   static I index(const int* k) { return _mm512_loadu_si512(k); }
 };
 template <>
@@ -57,6 +59,7 @@ struct DriftLanes<double> {
   static V max(V a, V b) { return _mm512_maskz_max_pd(0xff, a, b); }
   static V sqrt(V a) { return _mm512_maskz_sqrt_pd(0xff, a); }
   static V perm2(V a, I idx, V b) { return _mm512_permutex2var_pd(a, idx, b); }
+  static std::uint32_t at_least(V a, double b) { return _mm512_cmp_pd_mask(a, _mm512_set1_pd(b), _CMP_GE_OQ); }
   static I index(const int* k) {  // 64-bit lanes
     return _mm512_maskz_cvtepi32_epi64(0xff, _mm256_loadu_si256(reinterpret_cast<const __m256i*>(k)));
   }
@@ -80,10 +83,13 @@ struct ComponentIndex {
 
 //! Moves the n spheres and records d2max[i] = max(d2max[i], |p - p0|^2) and, if `speed`,
 //! speed[i] = |v|; returns the maxima of |p - p0|^2 (with max_d2 as a floor) and of |v|^2.
+//! The spheres whose record reaches flag_d2 are appended to flagged (room for n), in order.
 template <class Real>
 DriftMaxima<Real> drift_spheres(Real* __restrict p, const Real* __restrict v, const Real* __restrict p0,
-                                Real* __restrict d2max, Real* __restrict speed, std::size_t n, Real dt, Real max_d2) {
+                                Real* __restrict d2max, Real* __restrict speed, std::size_t n, Real dt, Real max_d2,
+                                Real flag_d2, std::uint32_t* __restrict flagged, std::size_t& n_flagged) {
   Real m = max_d2, v2max = 0;
+  n_flagged = 0;
   std::size_t i = 0;
 #ifdef HS_DRIFT_AVX512
   using T = DriftLanes<Real>;
@@ -109,7 +115,10 @@ DriftMaxima<Real> drift_spheres(Real* __restrict p, const Real* __restrict v, co
                q2 = T::fmadd(v2, vdt, T::load(pi + 2 * L));
     T::store(pi, q0), T::store(pi + L, q1), T::store(pi + 2 * L, q2);
     const auto d2 = sum_sq(T::sub(q0, T::load(p0i)), T::sub(q1, T::load(p0i + L)), T::sub(q2, T::load(p0i + 2 * L)));
-    T::store(d2max + i, T::max(d2, T::load(d2max + i)));
+    const auto rec = T::max(d2, T::load(d2max + i));
+    T::store(d2max + i, rec);
+    for (std::uint32_t f = T::at_least(rec, flag_d2); f != 0; f &= f - 1)  // rare: movers
+      flagged[n_flagged++] = std::uint32_t(i) + std::uint32_t(__builtin_ctz(f));
     vm = T::max(vm, d2);
     const auto w2 = sum_sq(v0, v1, v2);
     if (speed) T::store(speed + i, T::sqrt(w2));
@@ -131,6 +140,7 @@ DriftMaxima<Real> drift_spheres(Real* __restrict p, const Real* __restrict v, co
     const Real dx = pi[0] - p0i[0], dy = pi[1] - p0i[1], dz = pi[2] - p0i[2];
     const Real d2 = dx * dx + dy * dy + dz * dz;
     d2max[i] = d2 > d2max[i] ? d2 : d2max[i];
+    if (d2max[i] >= flag_d2) flagged[n_flagged++] = std::uint32_t(i);
     m = d2 > m ? d2 : m;
     const Real v2 = vi[0] * vi[0] + vi[1] * vi[1] + vi[2] * vi[2];
     if (speed) speed[i] = std::sqrt(v2);

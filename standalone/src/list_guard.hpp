@@ -64,18 +64,24 @@ class ListGuard {
   //! with skin <= gap_ij < 2 kMaxMove skin (a few listed ones more do no harm; gap rounded down).
   template <class Threats>
   bool valid_after_drift(Real max_d2, Threats&& threats) {
-    max_d2_ = max_d2;
-    if (Real(4) * max_d2 < skin2_) return !expired_;  // no movers: the classic test holds
-    if (!pairwise_ || max_d2 >= max_move2_) return !(expired_ = true);
-    for (std::uint32_t i = 0; i < d2_.size(); ++i)
-      if (d2_[i] >= quarter_skin2_ && !mover_[i] && !add_mover(i, threats)) return false;
-    for (const Mover& m : movers_)  // caps are set afresh from the movers' new displacements
-      for (std::uint32_t t = m.first; t < m.last; ++t)
-        if (!mover_[threats_[t].j]) limit_[threats_[t].j] = quarter_skin2_;
-    for (const Mover& m : movers_)
-      if (!check(m)) return false;
-    return !expired_;
+    return after_drift(max_d2, threats, [&](auto&& visit) {
+      for (std::uint32_t i = 0; i < d2_.size(); ++i)
+        if (!visit(i)) return false;
+      return true;
+    });
   }
+  //! The same, told which spheres may be past skin / 2 (in index order; more do no harm):
+  //! the engine's drift collects them, so a step does not look at every sphere again.
+  template <class Threats>
+  bool valid_after_drift(Real max_d2, const std::uint32_t* candidates, std::size_t n_candidates, Threats&& threats) {
+    return after_drift(max_d2, threats, [&](auto&& visit) {
+      for (std::size_t k = 0; k < n_candidates; ++k)
+        if (!visit(candidates[k])) return false;
+      return true;
+    });
+  }
+  //! The squared displacement past which the drift must report a sphere to the overload above.
+  Real candidate_d2() const { return quarter_skin2_; }
 
   //! Sphere k moved on after a velocity change inside the step; d2 is its new displacement^2.
   template <class Threats>
@@ -108,6 +114,22 @@ class ListGuard {
     Real gap;
   };
   static constexpr Real kInf = std::numeric_limits<Real>::infinity();
+
+  template <class Threats, class ForEachCandidate>
+  bool after_drift(Real max_d2, Threats& threats, ForEachCandidate&& for_each_candidate) {
+    max_d2_ = max_d2;
+    if (Real(4) * max_d2 < skin2_) return !expired_;  // no movers: the classic test holds
+    if (!pairwise_ || max_d2 >= max_move2_) return !(expired_ = true);
+    const bool added = for_each_candidate(
+        [&](std::uint32_t i) { return !(d2_[i] >= quarter_skin2_ && !mover_[i] && !add_mover(i, threats)); });
+    if (!added) return false;
+    for (const Mover& m : movers_)  // caps are set afresh from the movers' new displacements
+      for (std::uint32_t t = m.first; t < m.last; ++t)
+        if (!mover_[threats_[t].j]) limit_[threats_[t].j] = quarter_skin2_;
+    for (const Mover& m : movers_)
+      if (!check(m)) return false;
+    return !expired_;
+  }
 
   template <class Threats>
   bool add_mover(std::uint32_t i, Threats& threats) {

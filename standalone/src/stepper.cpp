@@ -219,6 +219,7 @@ class Stepper final : public StepperBase {
   bool all_periodic_, sweep_;
   Real dt_, skin_;
   detail::ListGuard<Real> guard_;
+  std::vector<std::uint32_t> flagged_;  // drift(): spheres past the guard's skin / 2
   Real sigma_ = 0;  // monodisperse diameter
   Real max_radius_ = 0;
   std::array<Real, 3> length_{};
@@ -565,10 +566,13 @@ template <class Real, bool Mono>
 template <bool Speeds>
 void Stepper<Real, Mono>::drift_impl() {
   static_assert(sizeof(V3<Real>) == 3 * sizeof(Real), "xyz triples without padding");
+  flagged_.resize(pos_.size());
+  std::size_t n_flagged = 0;
   const auto mx = detail::drift_spheres<Real>(&pos_.data()->x, &vel_.data()->x, &pos0_.data()->x, guard_.displacements(),
-                                              Speeds ? speed_.data() : nullptr, pos_.size(), dt_, guard_.max_displacement2());
+                                              Speeds ? speed_.data() : nullptr, pos_.size(), dt_, guard_.max_displacement2(),
+                                              guard_.candidate_d2(), flagged_.data(), n_flagged);
   const Real m = mx.d2, v2max = mx.v2;
-  guard_.valid_after_drift(m, threats_of());  // list_expired() tells the step
+  guard_.valid_after_drift(m, flagged_.data(), n_flagged, threats_of());  // list_expired() tells the step
   // Spheres may now be beyond a wall: the resolver bounces them in time order with the
   // contacts (walls flip velocities, speeds stay).
   resolver_.set_speed_bound(std::sqrt(v2max));

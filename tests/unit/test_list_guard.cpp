@@ -47,7 +47,17 @@ bool after_drift(Guard& g, Threats& t, const std::vector<double>& d) {
     g.displacements()[i] = std::max(g.displacements()[i], d[i] * d[i]);
     m = std::max(m, g.displacements()[i]);
   }
-  return g.valid_after_drift(m, t.fn());
+  // The engines' form, told which spheres are past skin / 2, must agree with the full scan.
+  Guard told = g;
+  std::vector<std::uint32_t> past;
+  for (std::uint32_t i = 0; i < d.size(); ++i)
+    if (told.displacements()[i] >= told.candidate_d2()) past.push_back(i);
+  Threats t_told = t;  // its own call count
+  const bool valid_told = told.valid_after_drift(m, past.data(), past.size(), t_told.fn());
+  const bool valid = g.valid_after_drift(m, t.fn());
+  EXPECT_EQ(valid_told, valid);
+  EXPECT_EQ(told.movers(), g.movers());
+  return valid;
 }
 
 }  // namespace
