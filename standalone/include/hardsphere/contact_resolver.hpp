@@ -3,7 +3,7 @@
 //!
 //! After every sphere has drifted by dt, an engine hands the resolver the pairs that touched
 //! within the step (`consider`). The resolver rewinds each to its exact contact time, applies
-//! the elastic impulse from the kernel and re-advances, earliest contact first from a heap
+//! the elastic impulse from the kernel and re-advances, earliest contact first
 //! (ties broken by atom ids, so every engine and every MPI rank orders them alike). A collision
 //! changes two velocities: their pending predictions are invalidated by per-sphere counters and
 //! their contacts over the rest of the step are predicted again from the neighbour lists.
@@ -22,6 +22,7 @@
 
 #include "hardsphere/always_inline.hpp"
 #include "hardsphere/collision.hpp"
+#include "hardsphere/contact_queue.hpp"
 #include "hardsphere/neighbour_entry.hpp"
 #include "hardsphere/vec3.hpp"
 
@@ -244,26 +245,24 @@ class ContactResolver {
  private:
   template <bool Walls, class Hooks>
   void resolve_impl(Hooks& hooks, ContactTally& tally) {
-    // The contacts found by the scan are sorted once; the few predicted after collisions go
-    // to a small heap, and the earlier of the two fronts is taken each time.
+    // The contacts found by the scan are sorted once; those predicted after collisions go to
+    // a queue (contact_queue.hpp), and the earlier of the two fronts is taken each time.
     auto cmp = [this](const Candidate& x, const Candidate& y) { return later(x, y); };
     auto start_run = [&] {
       order_by_time(candidates_, sorted_);
       candidates_.clear();
-      heap_.clear();
+      queue_.reset(dt_);
       return std::size_t(0);
     };
     std::size_t next = start_run();
     std::int64_t events = 0;
-    while (next < sorted_.size() || !heap_.empty()) {
+    while (next < sorted_.size() || !queue_.empty()) {
       Candidate c;
-      if (heap_.empty() || (next < sorted_.size() && !later(sorted_[next], heap_.front()))) {
+      if (queue_.empty() || (next < sorted_.size() && !later(sorted_[next], queue_.top()))) {
         prefetch_ahead(next, hooks);
         c = sorted_[next++];
       } else {
-        std::pop_heap(heap_.begin(), heap_.end(), cmp);
-        c = heap_.back();
-        heap_.pop_back();
+        c = queue_.pop(cmp);
       }
       const bool wall = Walls && c.j == kWall;
       if (c.count_i != change_[c.i].count || (!wall && c.count_j != change_[c.j].count)) continue;  // stale
@@ -290,15 +289,12 @@ class ContactResolver {
         predict_walls(c.i);
         if (!wall) predict_walls(c.j);
       }
-      for (const auto& n : candidates_) {
-        heap_.push_back(n);
-        std::push_heap(heap_.begin(), heap_.end(), cmp);
-      }
+      for (const auto& n : candidates_) queue_.push(n, cmp);
       candidates_.clear();
     }
     candidates_.clear();
     sorted_.clear();
-    heap_.clear();
+    queue_.reset(dt_);
   }
 
   //! In a large system the scan's contacts, taken in time order, land anywhere in memory, and a
@@ -470,7 +466,8 @@ class ContactResolver {
   std::int64_t max_events_ = 100000000;
   std::vector<Change> change_, moved_;  // moved_: scratch for permute()
   std::vector<std::uint32_t> changed_;
-  std::vector<Candidate> candidates_, sorted_, heap_;
+  std::vector<Candidate> candidates_, sorted_;
+  ContactQueue<Candidate, Real> queue_;
   std::vector<std::uint32_t> bucket_start_, bucket_fill_;  // order_by_time() scratch
   std::vector<std::uint32_t> near_;  // sweep scratch: list entries that pass the distance test
   std::array<Real, 3> lo_{}, hi_{};  // wall positions
