@@ -573,7 +573,9 @@ void FixHardSphere::resolve_step(hardsphere::ContactResolver<double, Mono> &res)
   const int nall = atom->nlocal + atom->nghost;
   res.reset(std::size_t(nall), dt);
   res.set_event_limit(max_events);
-  res.bind({pos.data(), vel.data(), rad.data(), mass.data(), tags.data(), nullptr, adj_start.data(), adj.data(), zero_shift});
+  // Ghosts carry their own coordinates: no entry has an image, so every row is plain.
+  res.bind({pos.data(), vel.data(), rad.data(), mass.data(), tags.data(), nullptr, adj_start.data(), adj.data(), zero_shift,
+            nullptr, adj_start.data() + 1});
   double v2max = 0;
   for (int i = 0; i < nall; i++) v2max = std::max(v2max, hardsphere::dot(vel[i], vel[i]));
   res.set_speed_bound(std::sqrt(v2max));

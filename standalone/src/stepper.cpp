@@ -269,6 +269,7 @@ class Stepper final : public StepperBase {
   std::vector<std::uint32_t> scratch_u32_;
   // For each sphere s, its list partners q and the image of r_s - r_q (CSR), for local sweeps.
   std::vector<std::uint32_t> adj_start_, adj_, adj_cursor_;  // adj_: adj_entry(partner, image)
+  std::vector<std::uint32_t> adj_plain_end_;  // per row, the end of its entries without an image
   ContactResolver<Real, Mono> resolver_;
   ContactTally tally_;
   mutable StepCounters counters_;
@@ -526,7 +527,7 @@ void Stepper<Real, Mono>::rebuild() {
     for (std::size_t k = 0; k < n; ++k) speed_[k] = norm(vel_[k]);
   }
   resolver_.bind({pos_.data(), vel_.data(), r_.data(), m_.data(), id_.data(), slot_.data(), adj_start_.data(), adj_.data(),
-                  image_shift_, speeds_ ? speed_.data() : nullptr});
+                  image_shift_, speeds_ ? speed_.data() : nullptr, adj_plain_end_.data()});
   ++counters_.rebuilds;
 }
 
@@ -559,6 +560,7 @@ void Stepper<Real, Mono>::build_adjacency() {
     adj_[adj_cursor_[j]++] = adj_entry(i, std::uint8_t(26 - image));
   };
   for (const auto& p : near_) add(p.i, p.j, kNoImage);
+  adj_plain_end_.assign(adj_cursor_.begin(), adj_cursor_.end());  // each row: pairs without an image first
   for (std::size_t k = 0; k < wrap_.size(); ++k) add(wrap_[k].i, wrap_[k].j, wrap_image_[k]);
 }
 
