@@ -100,11 +100,13 @@ inline std::size_t append_close_row(const RowSoA<Real>& s, std::uint32_t i, Real
 //! if `upper` (a run that starts inside i's own cell). The pair build's kernel: a cell's few
 //! spheres share their forward runs, so each run's coordinates are loaded once (eight lanes at
 //! a time with AVX-512) for all of them. Pairs come out run by run; the distance is computed
-//! as in append_close_row, so the pairs are the same.
+//! as in append_close_row, so the pairs are the same. If `degree` is given, degree[i] and
+//! degree[j] go up by one for each pair (i, j) found: the list's row lengths, counted here where
+//! the hit masks are at hand instead of in a pass over the pairs.
 template <class Real, bool Mono>
 inline std::size_t append_close_block(const RowSoA<Real>& s, std::uint32_t i0, std::uint32_t i1, std::uint32_t j0,
                                       std::uint32_t j1, bool upper, Real skin, Real cut2, std::uint32_t* out,
-                                      std::size_t n) {
+                                      std::size_t n, std::uint32_t* degree = nullptr) {
 #ifdef HS_CLOSE_PAIRS_AVX512
   using L = Lanes8<Real>;
   const __m512i iota = _mm512_set_epi64(7, 6, 5, 4, 3, 2, 1, 0);
@@ -115,6 +117,7 @@ inline std::size_t append_close_block(const RowSoA<Real>& s, std::uint32_t i0, s
     if constexpr (!Mono) rs = L::load(live, s.r + j);
     // x86 is little-endian: the 64-bit lane i | j << 32 is the uint32 pair (i, j) in memory.
     const __m512i js = _mm512_maskz_slli_epi64(0xff, _mm512_add_epi64(_mm512_set1_epi64(j), iota), 32);
+    __m256i hits_j = _mm256_setzero_si256();  // pairs per j of this chunk, over all i
     for (std::uint32_t i = i0; i < i1; ++i) {
       __mmask8 m = live;
       if (upper && i >= j) m &= i - j >= 7 ? __mmask8(0) : __mmask8(~((2u << (i - j)) - 1));
@@ -131,13 +134,23 @@ inline std::size_t append_close_block(const RowSoA<Real>& s, std::uint32_t i0, s
       // Compress in a register and store the whole vector (see append_close_row).
       _mm512_storeu_si512(out + 2 * n, _mm512_maskz_compress_epi64(hit, _mm512_or_si512(_mm512_set1_epi64(std::int64_t(i)), js)));
       n += std::size_t(__builtin_popcount(hit));
+      if (degree) {
+        degree[i] += std::uint32_t(__builtin_popcount(hit));
+        hits_j = _mm256_mask_add_epi32(hits_j, hit, hits_j, _mm256_set1_epi32(1));
+      }
     }
+    if (degree)  // after the i loop: an i of this chunk (own cell) has its own count in by now
+      _mm256_mask_storeu_epi32(degree + j, live, _mm256_add_epi32(_mm256_maskz_loadu_epi32(live, degree + j), hits_j));
   }
   return n;
 #else
   for (std::uint32_t i = i0; i < i1; ++i) {
     const std::uint32_t from = upper ? std::max(j0, i + 1) : j0;
-    if (from < j1) n = append_close_row<Real, Mono>(s, i, s.x[i], s.y[i], s.z[i], Mono ? Real(0) : s.r[i], skin, cut2, from, j1, out, n);
+    if (from >= j1) continue;
+    const std::size_t before = n;
+    n = append_close_row<Real, Mono>(s, i, s.x[i], s.y[i], s.z[i], Mono ? Real(0) : s.r[i], skin, cut2, from, j1, out, n);
+    if (degree)
+      for (std::size_t k = before; k < n; ++k) ++degree[out[2 * k]], ++degree[out[2 * k + 1]];
   }
   return n;
 #endif

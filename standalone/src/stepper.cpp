@@ -270,6 +270,7 @@ class Stepper final : public StepperBase {
   // For each sphere s, its list partners q and the image of r_s - r_q (CSR), for local sweeps.
   std::vector<std::uint32_t> adj_start_, adj_, adj_cursor_;  // adj_: adj_entry(partner, image)
   std::vector<std::uint32_t> adj_plain_end_;  // per row, the end of its entries without an image
+  bool near_counted_ = false;  // the half-stencil pair build counted near_'s pairs into adj_start_
   ContactResolver<Real, Mono> resolver_;
   ContactTally tally_;
   mutable StepCounters counters_;
@@ -409,6 +410,8 @@ void Stepper<Real, Mono>::build_pairs_half_stencil() {
   static_assert(sizeof(Pair) == 2 * sizeof(std::uint32_t) && offsetof(Pair, j) == sizeof(std::uint32_t));
   std::size_t n_near = 0;
   near_.resize(std::max<std::size_t>(near_.size(), 1024));
+  adj_start_.assign(pos_.size() + 1, 0);  // row lengths for build_adjacency(), counted on the way
+  std::uint32_t* degree = adj_start_.data() + 1;
   const detail::RowSoA<Real> soa{soa_x_.data(), soa_y_.data(), soa_z_.data(), r_.data()};
   for (std::int64_t c = 0; c < ncell; ++c) {
     const std::uint32_t b0 = cell_start_[c], b1 = cell_start_[c + 1];
@@ -428,11 +431,11 @@ void Stepper<Real, Mono>::build_pairs_half_stencil() {
       first = 1;
     }
     auto* out = reinterpret_cast<std::uint32_t*>(near_.data());
-    n_near = detail::append_close_block<Real, Mono>(soa, b0, b1, b0 + 1, own_end, true, skin_, mono_cut2, out, n_near);
+    n_near = detail::append_close_block<Real, Mono>(soa, b0, b1, b0 + 1, own_end, true, skin_, mono_cut2, out, n_near, degree);
     for (int r = first; r < kMaxRuns && runs[r].begin != runs[r].end; ++r) {
       const std::uint32_t e0 = cell_start_[runs[r].begin], e1 = cell_start_[runs[r].end];
       if (runs[r].image == kNoImage) {
-        n_near = detail::append_close_block<Real, Mono>(soa, b0, b1, e0, e1, false, skin_, mono_cut2, out, n_near);
+        n_near = detail::append_close_block<Real, Mono>(soa, b0, b1, e0, e1, false, skin_, mono_cut2, out, n_near, degree);
         continue;
       }
       // Across a periodic face (rare): the row test with i's image, into a scratch buffer.
@@ -446,10 +449,12 @@ void Stepper<Real, Mono>::build_pairs_half_stencil() {
     }
   }
   near_.resize(n_near);
+  near_counted_ = true;
 }
 
 template <class Real, bool Mono>
 void Stepper<Real, Mono>::build_pairs_any_grid() {
+  near_counted_ = false;
   // General grids (an axis with 1 or 2 periodic cells): neighbour cells may repeat, so take
   // each unordered cell pair once by index and the minimum image per pair.
   const std::int64_t ncell = grid_.size();
@@ -549,8 +554,10 @@ template <class Real, bool Mono>
 void Stepper<Real, Mono>::build_adjacency() {
   // Both directions, CSR, for sweeping one sphere's neighbours; (j, i) carries the mirrored image.
   const std::size_t n = pos_.size(), np = near_.size() + wrap_.size();
-  adj_start_.assign(n + 1, 0);
-  for (const auto& p : near_) ++adj_start_[p.i + 1], ++adj_start_[p.j + 1];
+  if (!near_counted_) {  // else the pair build counted them into adj_start_ already
+    adj_start_.assign(n + 1, 0);
+    for (const auto& p : near_) ++adj_start_[p.i + 1], ++adj_start_[p.j + 1];
+  }
   for (const auto& p : wrap_) ++adj_start_[p.i + 1], ++adj_start_[p.j + 1];
   for (std::size_t i = 0; i < n; ++i) adj_start_[i + 1] += adj_start_[i];
   adj_.resize(2 * np);

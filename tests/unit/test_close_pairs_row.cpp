@@ -52,7 +52,7 @@ void check_rows() {
 
 //! append_close_block over spheres [i0, i1) and run [j0, j1) finds the same pairs as
 //! append_close_row for each i (j > i only for `upper`, a run starting in i's cell), in any
-//! order, and writes nothing beyond its slack.
+//! order, writes nothing beyond its slack, and counts each pair once for both spheres.
 template <class Real, bool Mono>
 void check_blocks() {
   using hardsphere::detail::kRowSlack;
@@ -74,8 +74,12 @@ void check_blocks() {
             if (j1 < j0) continue;
             const std::size_t base = 3, room = 2 * (base + (i1 - i0) * (j1 - j0) + kRowSlack);
             std::vector<std::uint32_t> got_out(room + 8, 0xdeadbeef), row_out(room + 8, 0xdeadbeef);
+            std::vector<std::uint32_t> degree(n, 7u);  // counts add to what is there
             const std::size_t got = hardsphere::detail::append_close_block<Real, Mono>(soa, i0, i1, j0, j1, upper, skin, cut2,
-                                                                                       got_out.data(), base);
+                                                                                       got_out.data(), base, degree.data());
+            std::vector<std::uint32_t> want_degree(n, 7u);
+            for (std::size_t k = base; k < got; ++k) ++want_degree[got_out[2 * k]], ++want_degree[got_out[2 * k + 1]];
+            EXPECT_EQ(degree, want_degree) << "spheres [" << i0 << ", " << i1 << "), run [" << j0 << ", " << j1 << ")";
             std::size_t want = base;
             for (std::uint32_t i = i0; i < i1; ++i) {
               const std::uint32_t from = upper ? std::max(j0, i + 1) : j0;
