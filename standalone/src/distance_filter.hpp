@@ -5,6 +5,9 @@
 //! ~18% fewer cycles). The lanes are summed in another order than dot(), so the result may
 //! differ from it in the last bits: kDistanceFilterSlack widens the filter, and the caller
 //! decides each pair that passes with the exact expression.
+#include <cstddef>
+#include <cstdint>
+
 #include "hardsphere/always_inline.hpp"
 #include "hardsphere/vec3.hpp"
 
@@ -41,6 +44,44 @@ HS_ALWAYS_INLINE Real distance2_filter(const Vec3<Real>& a, const Vec3<Real>& b)
   const Vec3<Real> d = a - b;
   return dot(d, d);
 #endif
+}
+
+//! The filter over a run of pairs that share one limit (equal radii): appends to `hits` the
+//! index k of every pair (pairs[2k], pairs[2k + 1]) with distance2_filter() < lim2 (lim2 already
+//! widened by the caller) and returns their number; `hits` needs room for len + 4. In float with
+//! AVX-512VL four pairs at a time: their differences transposed into x, y and z vectors and one
+//! compress of the passing indices (~10 instructions per pair instead of ~19).
+template <class Real>
+HS_ALWAYS_INLINE std::uint32_t filter_pairs(const Vec3<Real>* __restrict pos, const std::uint32_t* __restrict pairs,
+                                            std::uint32_t len, Real lim2, std::uint32_t* __restrict hits) {
+  std::uint32_t n = 0, k = 0;
+#ifdef HS_DISTANCE_FILTER_SIMD
+  if constexpr (sizeof(Real) == sizeof(float)) {
+    const float* base = &pos[0].x;
+    const __m128 lim = _mm_set1_ps(lim2);
+    const __m128i iota = _mm_setr_epi32(0, 1, 2, 3);
+    auto diff = [&](std::uint32_t m) {
+      return _mm_sub_ps(_mm_maskz_loadu_ps(0x7, base + 3 * std::size_t(pairs[2 * m])),
+                        _mm_maskz_loadu_ps(0x7, base + 3 * std::size_t(pairs[2 * m + 1])));
+    };
+    for (; k + 4 <= len; k += 4) {
+      const __m128 r0 = diff(k), r1 = diff(k + 1), r2 = diff(k + 2), r3 = diff(k + 3);
+      const __m128 t0 = _mm_unpacklo_ps(r0, r1), t1 = _mm_unpackhi_ps(r0, r1);
+      const __m128 t2 = _mm_unpacklo_ps(r2, r3), t3 = _mm_unpackhi_ps(r2, r3);
+      const __m128 x = _mm_movelh_ps(t0, t2), y = _mm_movehl_ps(t2, t0), z = _mm_movelh_ps(t1, t3);
+      const __m128 d2 = _mm_fmadd_ps(z, z, _mm_fmadd_ps(x, x, _mm_mul_ps(y, y)));
+      const __mmask8 pass = _mm_cmp_ps_mask(d2, lim, _CMP_LT_OQ);
+      _mm_storeu_si128(reinterpret_cast<__m128i*>(hits + n),
+                       _mm_maskz_compress_epi32(pass, _mm_add_epi32(_mm_set1_epi32(int(k)), iota)));
+      n += std::uint32_t(__builtin_popcount(pass));
+    }
+  }
+#endif
+  for (; k < len; ++k) {
+    hits[n] = k;
+    n += distance2_filter(pos[pairs[2 * k]], pos[pairs[2 * k + 1]]) < lim2;
+  }
+  return n;
 }
 
 }  // namespace hardsphere::detail

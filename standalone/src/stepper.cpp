@@ -608,17 +608,24 @@ void Stepper<Real, Mono>::scan_pair_list() {
   // Branch-free distance filter over a chunk of the list, then test() (exact) for the few
   // hits: a rejected pair costs no branch and the position loads of a chunk overlap.
   constexpr std::size_t kChunk = 256;
-  std::uint32_t hits[kChunk];
+  std::uint32_t hits[kChunk + 4];
   const Pair* __restrict pairs = near_.data();
+  static_assert(sizeof(Pair) == 2 * sizeof(std::uint32_t), "pairs as (i, j) words");
   for (std::size_t c0 = 0; c0 < near_.size(); c0 += kChunk) {
     const std::size_t len = std::min(kChunk, near_.size() - c0);
     std::uint32_t n = 0;
-    for (std::size_t k = 0; k < len; ++k) {
-      const Pair p = pairs[c0 + k];
-      const Real sg = Mono ? sigma_ : r_[p.i] + r_[p.j];
-      const Real lim = Sweep ? sg + reach : sg;
-      hits[n] = std::uint32_t(k);
-      n += detail::distance2_filter(pos[p.i], pos[p.j]) < lim * lim * detail::kDistanceFilterSlack<Real>;
+    if constexpr (Mono) {
+      const Real lim = Sweep ? sigma_ + reach : sigma_;
+      n = detail::filter_pairs(pos, reinterpret_cast<const std::uint32_t*>(pairs + c0), std::uint32_t(len),
+                               lim * lim * detail::kDistanceFilterSlack<Real>, hits);
+    } else {
+      for (std::size_t k = 0; k < len; ++k) {
+        const Pair p = pairs[c0 + k];
+        const Real sg = r_[p.i] + r_[p.j];
+        const Real lim = Sweep ? sg + reach : sg;
+        hits[n] = std::uint32_t(k);
+        n += detail::distance2_filter(pos[p.i], pos[p.j]) < lim * lim * detail::kDistanceFilterSlack<Real>;
+      }
     }
     for (std::uint32_t h = 0; h < n; ++h) {
       const Pair p = pairs[c0 + hits[h]];
