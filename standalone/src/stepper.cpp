@@ -575,6 +575,7 @@ template <class Real, bool Mono>
 template <bool Speeds>
 void Stepper<Real, Mono>::drift_impl() {
   static_assert(sizeof(V3<Real>) == 3 * sizeof(Real), "xyz triples without padding");
+  // Speeds are refreshed in every drift: velocities may have been set since the last step.
   flagged_.resize(pos_.size());
   std::size_t n_flagged = 0;
   const auto mx = detail::drift_spheres<Real>(&pos_.data()->x, &vel_.data()->x, &pos0_.data()->x, guard_.displacements(),
