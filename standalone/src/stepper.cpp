@@ -193,7 +193,9 @@ class Stepper final : public StepperBase {
   void build_pairs_half_stencil();
   void build_pairs_any_grid();
   void build_adjacency();
+  //! Adds a pair found outside the block kernel (which counts its own) and counts it.
   void push_pair(std::uint32_t i, std::uint32_t j, std::uint8_t image) {
+    ++adj_start_[i + 1], ++adj_start_[j + 1];
     if (image == kNoImage) near_.push_back({i, j});
     else {
       wrap_.push_back({i, j});
@@ -270,7 +272,6 @@ class Stepper final : public StepperBase {
   // For each sphere s, its list partners q and the image of r_s - r_q (CSR), for local sweeps.
   std::vector<std::uint32_t> adj_start_, adj_, adj_cursor_;  // adj_: adj_entry(partner, image)
   std::vector<std::uint32_t> adj_plain_end_;  // per row, the end of its entries without an image
-  bool near_counted_ = false;  // the half-stencil pair build counted near_'s pairs into adj_start_
   ContactResolver<Real, Mono> resolver_;
   ContactTally tally_;
   mutable StepCounters counters_;
@@ -410,8 +411,7 @@ void Stepper<Real, Mono>::build_pairs_half_stencil() {
   static_assert(sizeof(Pair) == 2 * sizeof(std::uint32_t) && offsetof(Pair, j) == sizeof(std::uint32_t));
   std::size_t n_near = 0;
   near_.resize(std::max<std::size_t>(near_.size(), 1024));
-  adj_start_.assign(pos_.size() + 1, 0);  // row lengths for build_adjacency(), counted on the way
-  std::uint32_t* degree = adj_start_.data() + 1;
+  std::uint32_t* degree = adj_start_.data() + 1;  // list lengths, see rebuild()
   const detail::RowSoA<Real> soa{soa_x_.data(), soa_y_.data(), soa_z_.data(), r_.data()};
   for (std::int64_t c = 0; c < ncell; ++c) {
     const std::uint32_t b0 = cell_start_[c], b1 = cell_start_[c + 1];
@@ -449,12 +449,10 @@ void Stepper<Real, Mono>::build_pairs_half_stencil() {
     }
   }
   near_.resize(n_near);
-  near_counted_ = true;
 }
 
 template <class Real, bool Mono>
 void Stepper<Real, Mono>::build_pairs_any_grid() {
-  near_counted_ = false;
   // General grids (an axis with 1 or 2 periodic cells): neighbour cells may repeat, so take
   // each unordered cell pair once by index and the minimum image per pair.
   const std::int64_t ncell = grid_.size();
@@ -524,6 +522,7 @@ void Stepper<Real, Mono>::rebuild() {
   near_.clear();
   wrap_.clear();
   wrap_image_.clear();
+  adj_start_.assign(n + 1, 0);  // each sphere's list length, counted where its pairs are found
   if (!stencil_.empty()) build_pairs_half_stencil();
   else build_pairs_any_grid();
   build_adjacency();
@@ -554,11 +553,7 @@ template <class Real, bool Mono>
 void Stepper<Real, Mono>::build_adjacency() {
   // Both directions, CSR, for sweeping one sphere's neighbours; (j, i) carries the mirrored image.
   const std::size_t n = pos_.size(), np = near_.size() + wrap_.size();
-  if (!near_counted_) {  // else the pair build counted them into adj_start_ already
-    adj_start_.assign(n + 1, 0);
-    for (const auto& p : near_) ++adj_start_[p.i + 1], ++adj_start_[p.j + 1];
-  }
-  for (const auto& p : wrap_) ++adj_start_[p.i + 1], ++adj_start_[p.j + 1];
+  // adj_start_[i + 1] holds sphere i's list length, counted by the pair build.
   for (std::size_t i = 0; i < n; ++i) adj_start_[i + 1] += adj_start_[i];
   adj_.resize(2 * np);
   adj_cursor_.assign(adj_start_.begin(), adj_start_.end() - 1);
