@@ -10,9 +10,9 @@
 
 #include "hardsphere/always_inline.hpp"
 #include "hardsphere/vec3.hpp"
+#include "hardsphere/xyz4.hpp"
 
-#if defined(__AVX512VL__)
-#include <immintrin.h>
+#ifdef HS_XYZ4
 #define HS_DISTANCE_FILTER_SIMD 1
 #endif
 
@@ -31,7 +31,7 @@ template <class Real>
 HS_ALWAYS_INLINE Real distance2_filter(const Vec3<Real>& a, const Vec3<Real>& b) {
 #ifdef HS_DISTANCE_FILTER_SIMD
   if constexpr (sizeof(Real) == sizeof(float)) {
-    const __m128 d = _mm_sub_ps(_mm_maskz_loadu_ps(0x7, &a.x), _mm_maskz_loadu_ps(0x7, &b.x));
+    const __m128 d = _mm_sub_ps(load_xyz(&a.x), load_xyz(&b.x));
     const __m128 d2 = _mm_mul_ps(d, d);
     return _mm_cvtss_f32(_mm_add_ss(_mm_add_ss(d2, _mm_movehdup_ps(d2)), _mm_movehl_ps(d2, d2)));
   } else {
@@ -61,15 +61,11 @@ HS_ALWAYS_INLINE std::uint32_t filter_pairs(const Vec3<Real>* __restrict pos, co
     const __m128 lim = _mm_set1_ps(lim2);
     const __m128i iota = _mm_setr_epi32(0, 1, 2, 3);
     auto diff = [&](std::uint32_t m) {
-      return _mm_sub_ps(_mm_maskz_loadu_ps(0x7, base + 3 * std::size_t(pairs[2 * m])),
-                        _mm_maskz_loadu_ps(0x7, base + 3 * std::size_t(pairs[2 * m + 1])));
+      return _mm_sub_ps(load_xyz(base + 3 * std::size_t(pairs[2 * m])), load_xyz(base + 3 * std::size_t(pairs[2 * m + 1])));
     };
     for (; k + 4 <= len; k += 4) {
-      const __m128 r0 = diff(k), r1 = diff(k + 1), r2 = diff(k + 2), r3 = diff(k + 3);
-      const __m128 t0 = _mm_unpacklo_ps(r0, r1), t1 = _mm_unpackhi_ps(r0, r1);
-      const __m128 t2 = _mm_unpacklo_ps(r2, r3), t3 = _mm_unpackhi_ps(r2, r3);
-      const __m128 x = _mm_movelh_ps(t0, t2), y = _mm_movehl_ps(t2, t0), z = _mm_movelh_ps(t1, t3);
-      const __m128 d2 = _mm_fmadd_ps(z, z, _mm_fmadd_ps(x, x, _mm_mul_ps(y, y)));
+      const Xyz4 d = transpose_xyz4(diff(k), diff(k + 1), diff(k + 2), diff(k + 3));
+      const __m128 d2 = _mm_fmadd_ps(d.z, d.z, _mm_fmadd_ps(d.x, d.x, _mm_mul_ps(d.y, d.y)));
       const __mmask8 pass = _mm_cmp_ps_mask(d2, lim, _CMP_LT_OQ);
       _mm_storeu_si128(reinterpret_cast<__m128i*>(hits + n),
                        _mm_maskz_compress_epi32(pass, _mm_add_epi32(_mm_set1_epi32(int(k)), iota)));

@@ -17,17 +17,16 @@
 #include <array>
 #include <cstdint>
 #include <limits>
+#include <type_traits>
 #include <utility>
 #include <vector>
-#if defined(__AVX512VL__)
-#include <immintrin.h>
-#endif
 
 #include "hardsphere/always_inline.hpp"
 #include "hardsphere/collision.hpp"
 #include "hardsphere/contact_queue.hpp"
 #include "hardsphere/neighbour_entry.hpp"
 #include "hardsphere/vec3.hpp"
+#include "hardsphere/xyz4.hpp"
 
 namespace hardsphere {
 
@@ -203,7 +202,7 @@ class ContactResolver {
       const std::uint32_t k0 = a_.adj_start[s], k1 = a_.adj_start[s + 1];
       const std::uint32_t plain = a_.adj_plain_end ? a_.adj_plain_end[s] : k0;
       std::uint32_t k = k0;
-#if defined(__AVX512VL__)
+#ifdef HS_XYZ4
       if constexpr (Mono && Speeds && sizeof(Real) == sizeof(float)) {
         // Four partners at a time: one masked three-lane load per position, a 4x4 transpose,
         // vector arithmetic and one compress of the passing entries. |dr|^2 may round
@@ -217,14 +216,9 @@ class ContactResolver {
           const __m128i q = _mm_srli_epi32(_mm_maskz_loadu_epi32(live, adj + k), int(kAdjImageBits));
           alignas(16) std::uint32_t qs[4];
           _mm_store_si128(reinterpret_cast<__m128i*>(qs), q);  // dead lanes: sphere 0, masked below
-          const __m128 r0 = _mm_maskz_loadu_ps(0x7, pbase + 3 * std::size_t(qs[0]));
-          const __m128 r1 = _mm_maskz_loadu_ps(0x7, pbase + 3 * std::size_t(qs[1]));
-          const __m128 r2 = _mm_maskz_loadu_ps(0x7, pbase + 3 * std::size_t(qs[2]));
-          const __m128 r3 = _mm_maskz_loadu_ps(0x7, pbase + 3 * std::size_t(qs[3]));
-          const __m128 t0 = _mm_unpacklo_ps(r0, r1), t1 = _mm_unpackhi_ps(r0, r1);
-          const __m128 t2 = _mm_unpacklo_ps(r2, r3), t3 = _mm_unpackhi_ps(r2, r3);
-          const __m128 dx = _mm_sub_ps(px, _mm_movelh_ps(t0, t2)), dy = _mm_sub_ps(py, _mm_movehl_ps(t2, t0));
-          const __m128 dz = _mm_sub_ps(pz, _mm_movelh_ps(t1, t3));
+          const Xyz4 r = transpose_xyz4(load_xyz(pbase + 3 * std::size_t(qs[0])), load_xyz(pbase + 3 * std::size_t(qs[1])),
+                                        load_xyz(pbase + 3 * std::size_t(qs[2])), load_xyz(pbase + 3 * std::size_t(qs[3])));
+          const __m128 dx = _mm_sub_ps(px, r.x), dy = _mm_sub_ps(py, r.y), dz = _mm_sub_ps(pz, r.z);
           const __m128 d2 = _mm_fmadd_ps(dz, dz, _mm_fmadd_ps(dx, dx, _mm_mul_ps(dy, dy)));
           const __m128 sq = _mm_setr_ps(a_.speed[qs[0]], a_.speed[qs[1]], a_.speed[qs[2]], a_.speed[qs[3]]);
           const __m128 far = _mm_fmadd_ps(sq, w4, near4);
@@ -237,20 +231,20 @@ class ContactResolver {
         k = plain;
       }
 #endif
-      for (; k < plain; ++k) {  // no image: no shift (the same dr bit for bit)
-        const std::uint32_t q = adj_partner(adj[k]);
-        const Vec3<Real> dr = ps - pos[q];
-        const Real far = Speeds ? (sigma(s, q) + reach_s) + a_.speed[q] * w : sigma(s, q) + reach;
-        hits[m] = k;
-        m += (dot(dr, dr) < far * far) & (q != skip_s);
-      }
-      for (std::uint32_t k = plain; k < k1; ++k) {
-        const std::uint32_t e = adj[k], q = adj_partner(e);
-        const Vec3<Real> dr = ps - pos[q] - shift[adj_image(e)];
-        const Real far = Speeds ? (sigma(s, q) + reach_s) + a_.speed[q] * w : sigma(s, q) + reach;
-        hits[m] = k;
-        m += (dot(dr, dr) < far * far) & (q != skip_s);
-      }
+      // Entries [from, to); Shifted: with their images (entries without one need no shift, and
+      // skipping the zero shift gives the same dr bit for bit).
+      auto scalar = [&](auto shifted, std::uint32_t from, std::uint32_t to) {
+        for (std::uint32_t k = from; k < to; ++k) {
+          const std::uint32_t e = adj[k], q = adj_partner(e);
+          Vec3<Real> dr = ps - pos[q];
+          if constexpr (decltype(shifted)::value) dr -= shift[adj_image(e)];
+          const Real far = Speeds ? (sigma(s, q) + reach_s) + a_.speed[q] * w : sigma(s, q) + reach;
+          hits[m] = k;
+          m += (dot(dr, dr) < far * far) & (q != skip_s);
+        }
+      };
+      scalar(std::false_type{}, k, plain);
+      scalar(std::true_type{}, plain, k1);
       return m;
     };
     std::uint32_t n[Count + 1] = {0};
