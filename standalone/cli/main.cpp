@@ -192,6 +192,7 @@ int main(int argc, char** argv) {
       spec.init.box = Box::from_lengths(len, spec.periodic);
     }
     const auto summary = run_simulation(spec);
+    for (const auto& w : summary["warnings"]) std::cerr << "hardsphere: warning: " << w.get<std::string>() << '\n';
     if (spec.json && *spec.json == "-") std::cout << summary.dump(2) << '\n';
     else print_summary(summary, std::cout);
     return 0;

@@ -3,6 +3,7 @@
 // blocks (for the error bar of Z and the collision rate), summary with the stepper's JSON keys
 // where they mean the same thing.
 #include <cmath>
+#include <limits>
 #include <optional>
 
 #include "hardsphere/errors.hpp"
@@ -86,7 +87,8 @@ nlohmann::json run_event_simulation(const RunSpec& spec) {
   (void)rate_mean;
 
   RunTotals totals{e0, p0, c.sim_time, c.collisions, c.wall_collisions, c.pair_virial, c.wall_impulse};
-  nlohmann::json j = physics_summary(fin, totals, !spec.read_data.has_value(), spec.init.seed, spec.histogram_bins);
+  nlohmann::json j = physics_summary(fin, totals, !spec.read_data.has_value(), spec.init.seed, spec.histogram_bins,
+                                     overlap_tolerance(fin, std::numeric_limits<double>::epsilon()));
   j["engine"] = "event";
   j["sim_time"] = c.sim_time;
   j["equilibrate_time"] = spec.equilibrate_time;

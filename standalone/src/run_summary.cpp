@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
+#include <sstream>
 
 #include "hardsphere/box.hpp"
 #include "hardsphere/observables.hpp"
@@ -12,8 +14,19 @@ namespace {
 nlohmann::json vec_json(Vec3d v) { return nlohmann::json::array({v.x, v.y, v.z}); }
 }  // namespace
 
+double overlap_tolerance(const ParticleSystem& sys, double eps) {
+  double len = 0, far = 0;
+  for (int d = 0; d < 3; ++d) {
+    len = std::max(len, sys.box.length(d));
+    far = std::max({far, std::abs(sys.box.lo[d]), std::abs(sys.box.hi[d])});
+  }
+  // A few roundings of a coordinate in the engine's type, and of the absolute coordinates in
+  // double when the distance is computed here.
+  return 16 * (eps * (len + 2 * sys.max_radius()) + std::numeric_limits<double>::epsilon() * far);
+}
+
 nlohmann::json physics_summary(const ParticleSystem& fin, const RunTotals& t, bool com_removed, std::uint64_t seed,
-                               int histogram_bins) {
+                               int histogram_bins, double tolerance) {
   const std::size_t n = fin.size();
   const double e0 = t.kinetic_energy_initial, e1 = kinetic_energy(fin);
   const double t_final = temperature(fin);
@@ -47,7 +60,18 @@ nlohmann::json physics_summary(const ParticleSystem& fin, const RunTotals& t, bo
     else wall_p.push_back(t.wall_impulse[d] / (2.0 * fin.box.volume() / fin.box.length(d) * t.sim_time));
   }
   j["wall_pressure"] = wall_p;
-  j["max_overlap"] = max_overlap(fin);
+  const double overlap = max_overlap(fin);
+  j["max_overlap"] = overlap;
+  j["overlap_tolerance"] = tolerance;
+  nlohmann::json warnings = nlohmann::json::array();
+  if (overlap > tolerance) {
+    std::ostringstream m;
+    m << "spheres overlap by up to " << overlap << " at the end of the run (rounding accounts for " << tolerance
+      << "): contacts were missed, e.g. grazes or fast spheres passing through each other within one step under "
+         "--detect overlap; rerun with --detect sweep or a smaller --dt";
+    warnings.push_back(m.str());
+  }
+  j["warnings"] = warnings;
   j["speed_ks_distance"] = maxwell_ks_distance(fin, t_final);
   j["speed_histogram"] = {{"lo", h.lo}, {"hi", h.hi}, {"counts", h.counts}};
   j["seed"] = seed;

@@ -2,6 +2,7 @@
 
 #include <ctime>
 #include <fstream>
+#include <limits>
 
 #include "hardsphere/errors.hpp"
 #include "hardsphere/lammps_io.hpp"
@@ -61,7 +62,10 @@ nlohmann::json run_simulation(const RunSpec& spec) {
   const StepCounters& c = engine->counters();
 
   RunTotals totals{e0, p0, c.sim_time, c.collisions, c.wall_collisions, c.pair_virial, c.wall_impulse};
-  nlohmann::json j = physics_summary(fin, totals, !spec.read_data.has_value(), spec.init.seed, spec.histogram_bins);
+  const double eps = spec.precision == Precision::Float ? double(std::numeric_limits<float>::epsilon())
+                                                         : std::numeric_limits<double>::epsilon();
+  nlohmann::json j = physics_summary(fin, totals, !spec.read_data.has_value(), spec.init.seed, spec.histogram_bins,
+                                     overlap_tolerance(fin, eps));
   j["engine"] = "stepper";
   j["steps"] = c.steps;
   j["equilibrate_steps"] = spec.equilibrate;

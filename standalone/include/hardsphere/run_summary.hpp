@@ -26,9 +26,15 @@ struct RunTotals {
 //! Keys n, packing_fraction, box, collisions, wall_collisions, collision_rate_per_particle,
 //! kinetic_energy_*, energy_rel_drift, momentum_*, temperature, com_removed, pair_virial,
 //! compressibility_factor, pressure, wall_pressure, max_overlap, speed_ks_distance,
-//! speed_histogram, seed (documented in README). T in Z is the mean of initial and final T.
+//! speed_histogram, seed, overlap_tolerance, warnings (documented in README). T in Z is the mean
+//! of initial and final T. A final overlap above `overlap_tolerance` (the rounding level of the
+//! engine's arithmetic, see overlap_tolerance()) adds a warning naming its cause and remedy.
 nlohmann::json physics_summary(const ParticleSystem& final_state, const RunTotals& totals, bool com_removed,
-                               std::uint64_t seed, int histogram_bins);
+                               std::uint64_t seed, int histogram_bins, double overlap_tolerance);
+
+//! The largest pair overlap that rounding alone can leave in `sys` when an engine computes in a
+//! type with machine epsilon `eps` relative to the box origin (and the state is kept in double).
+double overlap_tolerance(const ParticleSystem& sys, double eps);
 
 //! Writes the JSON file and the final data file, and commits the dump: only after success.
 void commit_outputs(const nlohmann::json& summary, const ParticleSystem& final_state,

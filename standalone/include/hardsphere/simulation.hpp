@@ -31,6 +31,10 @@ struct RunSpec {
   double equilibrate_time = 0;  //!< simulated time run first, not measured (event engine)
   int blocks = 20;              //!< block averages for the error bar of Z (event engine)
 
+  //! The most work a run may take before it is refused: particle-steps for the stepper (sub-steps
+  //! included), events for the event engine. The default refuses only runs that would take years.
+  double work_limit = 1e15;
+
   std::optional<std::string> write_data, dump, json;
   std::int64_t dump_every = 100;
   int histogram_bins = 40;
