@@ -127,7 +127,7 @@ class Stepper final : public StepperBase {
   }
   void copy_state(Vec3d* pos, Vec3d* vel) const override {
     for (std::size_t k = 0; k < pos_.size(); ++k) {
-      pos[k] = {double(pos_[k].x), double(pos_[k].y), double(pos_[k].z)};
+      pos[k] = user_position(k);
       vel[k] = {double(vel_[k].x), double(vel_[k].y), double(vel_[k].z)};
     }
   }
@@ -140,7 +140,8 @@ class Stepper final : public StepperBase {
       }
       double* xo = x + 3 * std::size_t(dest[k]);
       double* vo = v + 3 * std::size_t(dest[k]);
-      xo[0] = double(pos_[k].x) + shift[k].x, xo[1] = double(pos_[k].y) + shift[k].y, xo[2] = double(pos_[k].z) + shift[k].z;
+      const Vec3d p = user_position(k);
+      xo[0] = p.x + shift[k].x, xo[1] = p.y + shift[k].y, xo[2] = p.z + shift[k].z;
       vo[0] = double(vel_[k].x), vo[1] = double(vel_[k].y), vo[2] = double(vel_[k].z);
     }
   }
@@ -160,6 +161,16 @@ class Stepper final : public StepperBase {
   }
 
  private:
+  //! Sphere k's position (internal order) in the caller's coordinates.
+  Vec3d user_position(std::size_t k) const {
+    return {double(pos_[k].x) + origin_[0], double(pos_[k].y) + origin_[1], double(pos_[k].z) + origin_[2]};
+  }
+  static Box relative_box(const Box& b) {
+    Box r = b;
+    for (int d = 0; d < 3; ++d) r.lo[d] = 0, r.hi[d] = b.length(d);
+    return r;
+  }
+
   //! What the shared resolver needs from this engine after each collision.
   struct Hooks {
     Stepper& s;
@@ -216,7 +227,11 @@ class Stepper final : public StepperBase {
   template <class Push>
   void for_each_threat(std::uint32_t i, Push& push) const;
 
-  Box box_;
+  // The engine works in coordinates relative to the box's lower corner (box_ runs from 0 to
+  // L), so single precision resolves a box far from the origin as well as one at it; user_box_
+  // and origin_ restore the caller's coordinates on the way out.
+  Box box_, user_box_;
+  std::array<double, 3> origin_{};
   CellGrid grid_;
   bool all_periodic_, sweep_;
   Real dt_, skin_;
@@ -279,7 +294,7 @@ class Stepper final : public StepperBase {
 
 template <class Real, bool Mono>
 Stepper<Real, Mono>::Stepper(const ParticleSystem& sys, const StepperConfig& cfg)
-    : box_(sys.box), all_periodic_(cfg.specialise && sys.box.all_periodic()), sweep_(detects_by_sweep(cfg.detect, sys, cfg.dt)), dt_(Real(cfg.dt)) {
+    : box_(relative_box(sys.box)), user_box_(sys.box), origin_(sys.box.lo), all_periodic_(cfg.specialise && sys.box.all_periodic()), sweep_(detects_by_sweep(cfg.detect, sys, cfg.dt)), dt_(Real(cfg.dt)) {
   if (!(std::isfinite(cfg.dt) && cfg.dt > 0)) {
     std::ostringstream m;
     m << "time step dt = " << cfg.dt << " must be positive and finite";
@@ -333,7 +348,7 @@ Stepper<Real, Mono>::Stepper(const ParticleSystem& sys, const StepperConfig& cfg
     slot_[i] = std::uint32_t(i);
     id_[i] = sys.id[s];
     type_[i] = sys.type[s];
-    pos_[i] = {Real(sys.pos[s].x), Real(sys.pos[s].y), Real(sys.pos[s].z)};
+    pos_[i] = {Real(sys.pos[s].x - origin_[0]), Real(sys.pos[s].y - origin_[1]), Real(sys.pos[s].z - origin_[2])};
     vel_[i] = {Real(sys.vel[s].x), Real(sys.vel[s].y), Real(sys.vel[s].z)};
     r_[i] = Real(sys.radius[s]);
     m_[i] = Real(sys.mass[s]);
@@ -656,12 +671,14 @@ ParticleSystem Stepper<Real, Mono>::state() const {
   std::vector<std::size_t> by_id(n);  // slots are id ranks
   for (std::size_t k = 0; k < n; ++k) by_id[slot_[k]] = k;
   ParticleSystem out;
-  out.box = box_;
+  out.box = user_box_;
   out.reserve(n);
   for (std::size_t s = 0; s < n; ++s) {
     const std::size_t k = by_id[s];
-    out.push_back(id_[s], type_[s], double(r_[k]), double(m_[k]), {double(pos_[k].x), double(pos_[k].y), double(pos_[k].z)},
-                  {double(vel_[k].x), double(vel_[k].y), double(vel_[k].z)});
+    Vec3d p = user_position(k);
+    for (int d = 0; d < 3; ++d)  // rounding back to the caller's coordinates must not leave a wall
+      if (!user_box_.periodic[d]) p[d] = std::clamp(p[d], user_box_.lo[d] + double(r_[k]), user_box_.hi[d] - double(r_[k]));
+    out.push_back(id_[s], type_[s], double(r_[k]), double(m_[k]), p, {double(vel_[k].x), double(vel_[k].y), double(vel_[k].z)});
   }
   wrap_periodic(out);
   return out;

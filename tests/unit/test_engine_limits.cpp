@@ -1,0 +1,65 @@
+// Inputs at the edges of what the arithmetic carries: boxes far from the origin, long steps,
+// extreme speeds, masses and run lengths. Each is simulated correctly or refused.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "hardsphere/errors.hpp"
+#include "hardsphere/event_engine.hpp"
+#include "hardsphere/observables.hpp"
+#include "hardsphere/stepper.hpp"
+#include "scenes.hpp"
+
+using namespace hardsphere;
+
+namespace {
+
+StepCounters run_stepper(const ParticleSystem& sys, double dt, std::int64_t steps, Precision p, ParticleSystem* out,
+                         Detect detect = Detect::Auto) {
+  StepperConfig cfg;
+  cfg.dt = dt;
+  cfg.detect = detect;
+  auto st = make_stepper(sys, cfg, p);
+  st->run(steps);
+  if (out) *out = st->state();
+  return st->counters();
+}
+
+ParticleSystem shifted(ParticleSystem s, double offset) {
+  for (int d = 0; d < 3; ++d) s.box.lo[d] += offset, s.box.hi[d] += offset;
+  for (auto& p : s.pos) p = p + Vec3d{offset, offset, offset};
+  return s;
+}
+
+}  // namespace
+
+TEST(FarFromOrigin, FloatStepperResolvesABoxAMillionDiametersAway) {
+  // Single precision resolves 0.06 at 1e6: in absolute coordinates contacts were lost and
+  // spheres ended overlapping. Relative to the box corner the run is the one at the origin.
+  const auto s = test::gas(200, 0.2, 3);
+  ParticleSystem near, far;
+  const auto c0 = run_stepper(s, 0.01, 2000, Precision::Float, &near);
+  const auto c1 = run_stepper(shifted(s, 1e6), 0.01, 2000, Precision::Float, &far);
+  EXPECT_GT(c0.collisions, 5000);
+  EXPECT_NEAR(double(c1.collisions) / double(c0.collisions), 1.0, 0.05);
+  EXPECT_EQ(max_overlap(far), 0.0);
+  EXPECT_LT(std::abs(kinetic_energy(far) / kinetic_energy(s) - 1), 1e-4);
+  for (std::size_t i = 0; i < far.size(); ++i)
+    for (int d = 0; d < 3; ++d) {
+      EXPECT_GE(far.pos[i][d], far.box.lo[d]);
+      EXPECT_LT(far.pos[i][d], far.box.hi[d]);
+    }
+}
+
+TEST(FarFromOrigin, DoubleStepperGivesTheSameRunAwayFromTheOrigin) {
+  // The shifted input differs only by the rounding of the shift, so a short run keeps the same
+  // collisions and positions to round-off.
+  const auto s = test::binary_mixture_with_walls(300);
+  ParticleSystem a, b;
+  const auto c0 = run_stepper(s, 0.01, 100, Precision::Double, &a);
+  const auto c1 = run_stepper(shifted(s, 1e6), 0.01, 100, Precision::Double, &b);
+  EXPECT_EQ(c0.collisions, c1.collisions);
+  EXPECT_EQ(c0.wall_collisions, c1.wall_collisions);
+  EXPECT_NEAR(c0.pair_virial / c1.pair_virial, 1.0, 1e-6);
+  for (std::size_t i = 0; i < a.size(); ++i) EXPECT_NEAR(a.pos[i].x + 1e6, b.pos[i].x, 1e-6) << "sphere " << i;
+}
