@@ -489,7 +489,7 @@ struct FixHardSphere::Hooks {
     __builtin_prefetch(&f.tags[k]);
   }
   bool must_rescan() const { return false; }  // lists cannot be rebuilt inside a LAMMPS step
-  void rescan() {}
+  bool rescan(double) { return true; }
 };
 
 void FixHardSphere::post_run()

@@ -53,6 +53,11 @@ class ListGuard {
 
   Real* displacements() { return d2_.data(); }  //!< d^2 per sphere, raised by the engine's drift
   Real max_displacement2() const { return max_d2_; }
+  //! After the engine wrote displacements() itself: their largest. Right after reset() every
+  //! d^2 written must stay below skin^2 / 4 (no movers yet), e.g. the paths of the current step
+  //! before a rebuild, which the resolver may still look back along.
+  void set_max_displacement2(Real max_d2) { max_d2_ = max_d2; }
+  Real quarter_skin2() const { return quarter_skin2_; }
   //! What note(k) will read (for engines that request it ahead, see always_inline.hpp).
   HS_ALWAYS_INLINE void prefetch(std::uint32_t k) const {
     __builtin_prefetch(&d2_[k]);

@@ -147,14 +147,20 @@ class Stepper final : public StepperBase {
   }
   void set_velocities(const Vec3d* vel) override {
     for (std::size_t k = 0; k < vel_.size(); ++k) vel_[k] = {Real(vel[k].x), Real(vel[k].y), Real(vel[k].z)};
+    refresh_speed_bound();
   }
   void gather_velocities(const std::uint32_t* src, const double* v) override {
     for (std::size_t k = 0; k < vel_.size(); ++k) {
       const double* vi = v + 3 * std::size_t(src[k]);
       vel_[k] = {Real(vi[0]), Real(vi[1]), Real(vi[2])};
     }
+    refresh_speed_bound();
   }
   bool sweep_detection() const override { return sweep_; }
+  std::int64_t substeps_per_step() const override {
+    const double m = std::ceil(double(resolver_.speed_bound()) * double(dt_) / double(half_skin_));
+    return m >= 1 ? (m < 9e18 ? std::int64_t(m) : std::numeric_limits<std::int64_t>::max()) : 1;
+  }
   std::string scene_kernel() const override {
     return std::string(all_periodic_ ? "periodic" : "walls") + (Mono ? ",mono" : ",poly") +
            (sizeof(Real) == sizeof(float) ? ",float" : ",double") + (sweep_ ? ",sweep" : ",overlap");
@@ -181,10 +187,15 @@ class Stepper final : public StepperBase {
       s.guard_.prefetch(k);
     }
     bool must_rescan() const { return s.list_expired(); }
-    void rescan() {
-      // Collisions moved spheres past the skin: rebuild (indices change) and re-predict all.
+    bool rescan(Real) {
+      // Collisions moved spheres past the skin: rebuild (indices change) and re-predict all
+      // over each sphere's window. A list made now covers the windows only if no sphere
+      // travels half the skin in its window; otherwise the step is cut here.
+      if (!s.windows_fit_skin()) return false;
       s.rebuild();
+      s.cover_windows(true);
       s.template scan_pair_list<true>();
+      return true;
     }
   };
 
@@ -193,6 +204,65 @@ class Stepper final : public StepperBase {
     for (std::int64_t s = 0; s < steps; ++s) step<AllPeriodic, Sweep>();
   }
   template <bool AllPeriodic, bool Sweep> void step();
+  template <bool AllPeriodic, bool Sweep> void split_step();
+  //! One sub-step of length h_; returns the time it covered (less than h_ if it was cut).
+  template <bool AllPeriodic, bool Sweep> Real substep();
+  void set_substep(Real h) {
+    h_ = h;
+    resolver_.set_step(h);
+  }
+  //! Refuses to go on if the sub-steps the current step needs would exceed the work limit.
+  void check_work(double substeps) const {
+    if ((substeps_total_ + substeps) * double(pos_.size()) > max_particle_steps_) {
+      std::ostringstream m;
+      m << "the run needs more than " << max_particle_steps_ << " particle-steps: with dt = " << double(dt_)
+        << " the fastest sphere (speed " << double(resolver_.speed_bound()) << ") needs " << substeps
+        << " sub-steps per step to move less than half the pair-list skin (" << double(skin_)
+        << ") in each; use a smaller dt";
+      throw InputError(m.str());
+    }
+  }
+  void refresh_speed_bound() {
+    Real v2 = 0;
+    for (const auto& v : vel_) v2 = std::max(v2, dot(v, v));
+    resolver_.set_speed_bound(std::sqrt(v2));
+  }
+  //! Whether every sphere's path over its window (back to its last velocity change in the
+  //! step) stays within half the skin of where it is now.
+  bool windows_fit_skin() const {
+    const Real limit = guard_.quarter_skin2();
+    for (std::uint32_t k = 0; k < pos_.size(); ++k) {
+      const Real w = resolver_.window(k);
+      if (dot(vel_[k], vel_[k]) * w * w >= limit) return false;
+    }
+    return true;
+  }
+  //! After a rebuild inside a step: the resolver may still look back along each sphere's path
+  //! over its window (the whole sub-step, or per sphere), so the guard starts from those lengths.
+  void cover_windows(bool per_sphere) {
+    Real* d2 = guard_.displacements();
+    Real mx = 0;
+    for (std::uint32_t k = 0; k < pos_.size(); ++k) {
+      const Real w = per_sphere ? resolver_.window(k) : h_;
+      d2[k] = dot(vel_[k], vel_[k]) * w * w;
+      mx = std::max(mx, d2[k]);
+    }
+    guard_.set_max_displacement2(mx);
+    rebuilt_in_step_ = true;
+  }
+  //! At the end of a step that rebuilt: the paths before the rebuild are behind us, so each
+  //! displacement is again the distance from the rebuild position.
+  void uncover_windows() {
+    Real* d2 = guard_.displacements();
+    Real mx = 0;
+    for (std::size_t k = 0; k < pos_.size(); ++k) {
+      const V3<Real> d = pos_[k] - pos0_[k];
+      d2[k] = dot(d, d);
+      mx = std::max(mx, d2[k]);
+    }
+    guard_.set_max_displacement2(mx);
+    rebuilt_in_step_ = false;
+  }
   void drift() {
     if (speeds_) drift_impl<true>();
     else drift_impl<false>();
@@ -235,6 +305,12 @@ class Stepper final : public StepperBase {
   CellGrid grid_;
   bool all_periodic_, sweep_;
   Real dt_, skin_;
+  Real h_;  // the current sub-step (dt_ unless steps are split)
+  // Sub-steps are at most this over the speed bound: a list built at a sub-step's end then
+  // covers every path of the sub-step (kept under skin / 2 for rounding).
+  Real half_skin_;
+  bool rebuilt_in_step_ = false;
+  double substeps_total_ = 0, max_particle_steps_;
   detail::ListGuard<Real> guard_;
   std::vector<std::uint32_t> flagged_;  // drift(): spheres past the guard's skin / 2
   Real sigma_ = 0;  // monodisperse diameter
@@ -323,6 +399,9 @@ Stepper<Real, Mono>::Stepper(const ParticleSystem& sys, const StepperConfig& cfg
     throw InputError(m.str());
   }
   skin_ = Real(skin);
+  half_skin_ = Real(0.4995) * skin_;
+  h_ = dt_;
+  max_particle_steps_ = cfg.max_particle_steps;
   for (int d = 0; d < 3; ++d) length_[d] = Real(box_.length(d));
   for (int kx = -1; kx <= 1; ++kx)
     for (int ky = -1; ky <= 1; ++ky)
@@ -370,6 +449,7 @@ Stepper<Real, Mono>::Stepper(const ParticleSystem& sys, const StepperConfig& cfg
   speeds_ = sys.packing_fraction() >= 0.3 && double(n) * double(sizeof(V3<Real>) + sizeof(Real)) <= 1048576.0;
   rebuild();
   counters_.rebuilds = 0;
+  refresh_speed_bound();
 }
 
 template <class Real, bool Mono>
@@ -589,7 +669,7 @@ void Stepper<Real, Mono>::drift_impl() {
   flagged_.resize(pos_.size());
   std::size_t n_flagged = 0;
   const auto mx = detail::drift_spheres<Real>(&pos_.data()->x, &vel_.data()->x, &pos0_.data()->x, guard_.displacements(),
-                                              Speeds ? speed_.data() : nullptr, pos_.size(), dt_, guard_.max_displacement2(),
+                                              Speeds ? speed_.data() : nullptr, pos_.size(), h_, guard_.max_displacement2(),
                                               guard_.candidate_d2(), flagged_.data(), n_flagged);
   const Real m = mx.d2, v2max = mx.v2;
   guard_.valid_after_drift(m, flagged_.data(), n_flagged, threats_of());  // list_expired() tells the step
@@ -609,7 +689,7 @@ void Stepper<Real, Mono>::scan_pair_list() {
   if constexpr (Sweep) {
     Real v2 = 0;
     for (const auto& v : vel_) v2 = std::max(v2, dot(v, v));
-    reach = Real(2) * std::sqrt(v2) * dt_;
+    reach = Real(2) * std::sqrt(v2) * h_;
   }
   auto test = [&](std::uint32_t i, std::uint32_t j, std::uint8_t image, V3<Real> d) {
     const Real sg = Mono ? sigma_ : r_[i] + r_[j];
@@ -652,17 +732,61 @@ void Stepper<Real, Mono>::scan_pair_list() {
 template <class Real, bool Mono>
 template <bool AllPeriodic, bool Sweep>
 void Stepper<Real, Mono>::step() {
-  drift();
-  if (list_expired()) rebuild();
-  scan_pair_list<Sweep>();
-  if constexpr (!AllPeriodic) resolver_.predict_all_walls();
-  if (resolver_.has_candidates()) {
-    Hooks hooks{*this};
-    resolver_.resolve(hooks, tally_);
+  // The speed bound is an upper bound of every speed now (set at the drift, raised by each
+  // collision), so one comparison tells whether a whole step keeps every path within half
+  // the skin; only long steps for the skin are split.
+  if (!(resolver_.speed_bound() * dt_ >= half_skin_)) {
+    check_work(1);
+    if (h_ != dt_) set_substep(dt_);
+    substep<AllPeriodic, Sweep>();
+  } else {
+    split_step<AllPeriodic, Sweep>();
   }
-  resolver_.end_step();
   ++counters_.steps;
   counters_.sim_time += double(dt_);
+}
+
+template <class Real, bool Mono>
+template <bool AllPeriodic, bool Sweep>
+void Stepper<Real, Mono>::split_step() {
+  double left = double(dt_);
+  while (left > 0) {
+    // Collisions may raise the bound: take the sub-step count afresh for what is left.
+    const double m = std::max(1.0, std::ceil(left * double(resolver_.speed_bound()) / double(half_skin_)));
+    check_work(m);
+    const Real h = Real(left / m);
+    if (!(h > Real(0))) throw InputError("time step dt = " + std::to_string(double(dt_)) + " cannot be split finely enough in this precision");
+    set_substep(h);
+    const Real done = substep<AllPeriodic, Sweep>();
+    left = (m == 1 && done == h) ? 0.0 : left - double(done);
+  }
+}
+
+template <class Real, bool Mono>
+template <bool AllPeriodic, bool Sweep>
+Real Stepper<Real, Mono>::substep() {
+  drift();
+  if (list_expired()) {
+    rebuild();
+    cover_windows(false);
+  }
+  scan_pair_list<Sweep>();
+  if constexpr (!AllPeriodic) resolver_.predict_all_walls();
+  Real cut = ContactResolver<Real, Mono>::kWholeStep;
+  if (resolver_.has_candidates()) {
+    Hooks hooks{*this};
+    cut = resolver_.resolve(hooks, tally_);
+  }
+  if (cut != ContactResolver<Real, Mono>::kWholeStep) {
+    // The step ends at the collision that stopped it: every sphere goes back along its path.
+    for (std::size_t k = 0; k < pos_.size(); ++k) pos_[k] -= cut * vel_[k];
+    ++counters_.step_cuts;
+  }
+  if (rebuilt_in_step_) uncover_windows();
+  resolver_.end_step();
+  ++counters_.substeps;
+  ++substeps_total_;
+  return cut == ContactResolver<Real, Mono>::kWholeStep ? h_ : h_ - cut;
 }
 
 template <class Real, bool Mono>

@@ -27,7 +27,7 @@ struct Recorder {
   void after_bounce(std::uint32_t) {}
   void prefetch(std::uint32_t) const {}
   bool must_rescan() const { return false; }
-  void rescan() {}
+  bool rescan(double) { return true; }
 };
 
 TEST(ContactResolver, TakesContactsEarliestFirstWithTiesByAtomIds) {

@@ -143,9 +143,10 @@ TEST(StepperTwoBody, WallBouncesTakeTheirTurnWithContacts) {
   // event engine. (1) A (speed 4) hits B at t = 0.025; B, sent to the wall, touches C at
   // t = 0.266 on its way there. (2) D heads for the wall and touches E (by the wall) at
   // t = 0.182 first. Mirroring B or D at the wall before sweeping the path to it missed the
-  // contact with C or E and left them overlapping.
+  // contact with C or E and left them overlapping. One cell in a box 20 long on the periodic
+  // axes gives a skin of 9, so the step of 0.5 (paths of 2) is not split into sub-steps.
   ParticleSystem s;
-  s.box = Box::from_lengths({10, 10, 10}, {false, true, true});
+  s.box = Box::from_lengths({10, 20, 20}, {false, true, true});
   s.push_back(1, 1, 0.5, 1.0, {6.9, 2, 5}, {4, 0, 0});    // A
   s.push_back(2, 1, 0.5, 1.0, {8.0, 2, 5}, {0, 0, 0});    // B
   s.push_back(3, 1, 0.5, 1.0, {9.4, 2.9, 5}, {0, 0, 0});  // C
@@ -158,8 +159,10 @@ TEST(StepperTwoBody, WallBouncesTakeTheirTurnWithContacts) {
   for (const Detect detect : {Detect::Overlap, Detect::Sweep}) {
     StepperConfig cfg;
     cfg.detect = detect;
+    cfg.cells = {1, 1, 1};
     StepCounters c;
     const auto out = run(s, 0.5, 1, cfg, Precision::Double, &c);
+    EXPECT_EQ(c.substeps, 1);
     EXPECT_EQ(c.collisions, 3);
     EXPECT_EQ(c.wall_collisions, exact.counters().wall_collisions);
     EXPECT_EQ(max_overlap(out), 0.0);

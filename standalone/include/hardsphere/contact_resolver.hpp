@@ -93,6 +93,20 @@ class ContactResolver {
     change_.assign(n, Change{dt, 0});
     changed_.clear();
   }
+  //! Between steps: the next steps last `dt` (an engine that splits a step into sub-steps).
+  void set_step(Real dt) {
+    dt_ = dt;
+    for (Change& c : change_) c.back = dt;
+    changed_.clear();
+  }
+  Real step() const { return dt_; }
+  //! Sphere k's straight-line window: time back from the end of the step to its last velocity
+  //! change in this step (the whole step if none).
+  Real window(std::uint32_t k) const { return change_[k].back; }
+  //! The spheres whose velocity changed in this step so far.
+  const std::vector<std::uint32_t>& changed() const { return changed_; }
+  //! No contact was left unresolved: resolve() ran the whole step.
+  static constexpr Real kWholeStep = Real(-1);
   void set_uniform(Real sigma, Real mass) {
     sigma_ = sigma;
     mass_ = mass;
@@ -111,6 +125,7 @@ class ContactResolver {
   //! collision). It lets neighbour sweeps reject distant partners early; +inf (the default)
   //! disables that, which is always correct.
   void set_speed_bound(Real v_max) { speed_bound_ = v_max; }
+  Real speed_bound() const { return speed_bound_; }
   void bind(const ContactArrays<Real>& a) { a_ = a; }
 
   //! After the engine reorders its spheres (new[k] = old[order[k]]), reorder the records too.
@@ -272,11 +287,15 @@ class ContactResolver {
   //!   void prefetch(std::uint32_t k) const  request what the two above will read of sphere k
   //!                        (called a few contacts ahead; must be forced inline, see always_inline.hpp)
   //!   bool must_rescan()   the neighbour lists are no longer valid (e.g. skin exceeded)
-  //!   void rescan()        rebuild them, bind() again and consider() every touching pair
+  //!   bool rescan(Real back)  rebuild them, bind() again and consider() every touching pair;
+  //!                        false if lists cannot cover the spheres' windows (a sphere too fast)
+  //! Returns kWholeStep, or the back time of the collision after which rescan() refused: the
+  //! step then ends there, with every contact after it dropped; the engine moves every sphere
+  //! back by that time (its positions are end-of-step positions) and runs the rest again.
   template <class Hooks>
-  void resolve(Hooks& hooks, ContactTally& tally) {
-    if (n_wall_axes_ > 0) resolve_impl<true>(hooks, tally);
-    else resolve_impl<false>(hooks, tally);  // periodic scenes skip every wall test
+  Real resolve(Hooks& hooks, ContactTally& tally) {
+    if (n_wall_axes_ > 0) return resolve_impl<true>(hooks, tally);
+    return resolve_impl<false>(hooks, tally);  // periodic scenes skip every wall test
   }
 
   //! Every sphere starts the next step with a whole-step straight-line window.
@@ -287,7 +306,7 @@ class ContactResolver {
 
  private:
   template <bool Walls, class Hooks>
-  void resolve_impl(Hooks& hooks, ContactTally& tally) {
+  Real resolve_impl(Hooks& hooks, ContactTally& tally) {
     // The contacts found by the scan are sorted once; those predicted after collisions go to
     // a queue (contact_queue.hpp), and the earlier of the two fronts is taken each time.
     auto cmp = [this](const Candidate& x, const Candidate& y) { return later(x, y); };
@@ -299,6 +318,7 @@ class ContactResolver {
     };
     std::size_t next = start_run();
     std::int64_t events = 0;
+    Real cut = kWholeStep;
     while (next < sorted_.size() || !queue_.empty()) {
       Candidate c;
       if (queue_.empty() || (next < sorted_.size() && !later(sorted_[next], queue_.top()))) {
@@ -321,8 +341,11 @@ class ContactResolver {
         continue;
       }
       if (hooks.must_rescan()) {
-        hooks.rescan();  // refills candidates_ from the rebuilt lists
-        predict_all_walls();
+        if (!hooks.rescan(c.back)) {
+          cut = c.back;
+          break;
+        }
+        predict_all_walls();  // rescan() refilled candidates_ from the rebuilt lists
         next = start_run();
         continue;
       }
@@ -338,6 +361,7 @@ class ContactResolver {
     candidates_.clear();
     sorted_.clear();
     queue_.reset(dt_);
+    return cut;
   }
 
   //! In a large system the scan's contacts, taken in time order, land anywhere in memory, and a

@@ -14,6 +14,7 @@
 //! ever missed.
 #include <array>
 #include <cstdint>
+#include <limits>
 #include <memory>
 #include <string>
 
@@ -52,6 +53,9 @@ struct StepperConfig {
   //! when any sphere has moved half the skin. false keeps that classic test: only for measuring
   //! what the pairwise test gains; the collisions are the same.
   bool pairwise_list_check = true;
+  //! The most particle-steps (sub-steps included) the engine may take before it refuses to go
+  //! on (InputError); a guard against runs that would not end.
+  double max_particle_steps = std::numeric_limits<double>::infinity();
 };
 
 struct StepCounters {
@@ -61,6 +65,12 @@ struct StepCounters {
   std::int64_t wall_collisions = 0;   //!< wall reflections
   std::int64_t rebuilds = 0;          //!< cell sorts + pair-list builds
   std::int64_t unresolved_steps = 0;  //!< steps that hit max_events_per_step with contacts left
+  //! Sub-steps taken: a step in which the fastest sphere would move half the skin or more is
+  //! split, so the pair list covers every path (equal to steps when no step needed it).
+  std::int64_t substeps = 0;
+  //! Sub-steps ended early, at a collision that sent a sphere too fast for the list's skin
+  //! (the rest of the sub-step is run again in shorter pieces).
+  std::int64_t step_cuts = 0;
   double pair_virial = 0;             //!< sum over collisions of r_ij . dp_i (>= 0)
   std::array<double, 6> pair_virial_tensor{0, 0, 0, 0, 0, 0};  //!< r_ij (x) dp_i: xx yy zz xy xz yz
   std::array<double, 3> wall_impulse{0, 0, 0};  //!< momentum given to the walls of each axis
@@ -78,6 +88,8 @@ class StepperBase {
   virtual double skin() const = 0;
   virtual std::string scene_kernel() const = 0;  //!< which specialisation runs, e.g. "periodic,mono"
   virtual bool sweep_detection() const = 0;      //!< the detection mode in use (Auto resolved) is sweep
+  //! Sub-steps the next step needs at the current speeds (1 unless dt is long for the skin).
+  virtual std::int64_t substeps_per_step() const = 0;
 
   //! For adapters that keep their own copy of the spheres (the LAMMPS fix): the spheres in the
   //! engine's internal order, which changes only when counters().rebuilds does. Positions are
