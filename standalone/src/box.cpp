@@ -20,10 +20,10 @@ Box Box::from_lengths(std::array<double, 3> lengths, std::array<bool, 3> periodi
 void validate_box(const Box& box, const std::string& source) {
   static const char* axis = "xyz";
   for (int d = 0; d < 3; ++d) {
-    if (!std::isfinite(box.lo[d]) || !std::isfinite(box.hi[d]) || !(box.length(d) > 0)) {
+    if (!std::isfinite(box.lo[d]) || !std::isfinite(box.hi[d]) || !std::isfinite(box.length(d)) || !(box.length(d) > 0)) {
       std::ostringstream m;
       m << source << ": box " << axis[d] << " extent [" << box.lo[d] << ", " << box.hi[d]
-        << "] must be finite with positive length";
+        << "] must be finite with a finite positive length";
       throw InputError(m.str());
     }
   }

@@ -17,7 +17,9 @@ CellGrid::CellGrid(const Box& box, std::array<int, 3> counts) : counts_(counts) 
 
 CellGrid CellGrid::with_min_width(const Box& box, double min_width, std::int64_t max_cells) {
   std::array<int, 3> k{};
-  for (int d = 0; d < 3; ++d) k[d] = std::max(1, int(std::floor(box.length(d) / min_width)));
+  // Counts are capped in floating point first: a huge box over a tiny width must not overflow int.
+  const double cap = double(std::max<std::int64_t>(max_cells, 1));
+  for (int d = 0; d < 3; ++d) k[d] = int(std::clamp(std::floor(box.length(d) / min_width), 1.0, std::min(cap, 1e6)));
   // Too many nearly empty cells cost more to sort and scan than they save: widen them.
   while (std::int64_t(k[0]) * k[1] * k[2] > std::max<std::int64_t>(max_cells, 1)) {
     int widest = 0;

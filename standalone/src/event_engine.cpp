@@ -3,11 +3,13 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <sstream>
 
 #include "hardsphere/collision.hpp"
 #include "hardsphere/errors.hpp"
 #include "hardsphere/event_calendar.hpp"
 #include "hardsphere/neighbour_entry.hpp"
+#include "hardsphere/scene_limits.hpp"
 
 namespace hardsphere {
 
@@ -679,8 +681,19 @@ struct EventEngine::Impl {
 
   void run_until(double t_end_abs) {
     // t_end_abs is measured from construction; the calendar from `base`.
-    while (!calendar.empty() && calendar.top_key() <= t_end_abs - base) step();
+    while (!calendar.empty() && calendar.top_key() <= t_end_abs - base) {
+      if (++total_events > max_events) refuse_more_events(t_end_abs);
+      step();
+    }
     now = t_end_abs - base;
+  }
+
+  double total_events = 0, max_events = kInf;  // all events since construction, and the cap
+  [[noreturn]] void refuse_more_events(double t_end_abs) const {
+    std::ostringstream m;
+    m << "event engine: the run needs more than " << max_events << " events (it had reached time " << base + now
+      << " of " << t_end_abs << "); shorten the run";
+    throw InputError(m.str());
   }
 };
 
@@ -701,6 +714,9 @@ EventEngine::EventEngine(const ParticleSystem& sys, const EventConfig& cfg) : im
   if (n > kMaxAdjIndex) throw InputError("too many spheres for the event engine");
   if (sys.radius.size() != n || sys.mass.size() != n || sys.vel.size() != n)
     throw InputError("event engine: inconsistent particle arrays");
+  check_engine_numbers<double>(sys, 0, "event engine");
+  if (!(cfg.max_events > 0)) throw InputError("event engine: max_events must be positive");
+  m.max_events = cfg.max_events;
   if (!(cfg.shell >= 0) || !std::isfinite(cfg.shell))
     throw InputError("event engine: shell " + std::to_string(cfg.shell) + " must be positive (or 0 for auto)");
   m.proto = sys;

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <limits>
 #include <optional>
+#include <sstream>
 
 #include "hardsphere/errors.hpp"
 #include "hardsphere/event_engine.hpp"
@@ -30,6 +31,22 @@ std::pair<double, double> mean_error(const std::vector<double>& x) {
   return {m, std::sqrt(s / (n - 1) / n)};
 }
 
+//! A sphere re-lists its neighbours each time it has moved half the shell: at least
+//! sum |v_i| t / (shell / 2) events, whatever collisions add. Refuse up front what the engine's
+//! event limit would stop later.
+void refuse_too_many_events(const ParticleSystem& sys, double shell, double time, double limit) {
+  double speeds = 0;
+  for (const Vec3d& v : sys.vel) speeds += norm(v);
+  const double events = speeds * time / (0.5 * shell);
+  if (events > limit) {
+    std::ostringstream m;
+    m << "the run would take at least " << events << " events (" << sys.size() << " spheres moving " << speeds * time
+      << " in all over time " << time << ", a neighbour-list event every " << 0.5 * shell
+      << "), more than the limit of " << limit << "; shorten --time or lower the speeds";
+    throw InputError(m.str());
+  }
+}
+
 }  // namespace
 
 nlohmann::json run_event_simulation(const RunSpec& spec) {
@@ -41,7 +58,10 @@ nlohmann::json run_event_simulation(const RunSpec& spec) {
   if (spec.histogram_bins < 1) throw InputError("--histogram-bins " + std::to_string(spec.histogram_bins) + " must be >= 1");
 
   ParticleSystem sys = initial_state(spec);
-  EventEngine engine(sys, spec.event);
+  EventConfig cfg = spec.event;
+  cfg.max_events = spec.work_limit;
+  EventEngine engine(sys, cfg);
+  refuse_too_many_events(sys, engine.shell(), spec.time + spec.equilibrate_time, spec.work_limit);
   std::optional<DumpWriter> dump;
   if (spec.dump) dump.emplace(*spec.dump);
   std::optional<AtomicFile> json_file;

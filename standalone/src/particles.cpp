@@ -7,6 +7,7 @@
 
 #include "hardsphere/cell_grid.hpp"
 #include "hardsphere/errors.hpp"
+#include "hardsphere/scene_limits.hpp"
 
 namespace hardsphere {
 
@@ -138,6 +139,7 @@ void validate_and_wrap(ParticleSystem& sys, const std::string& source) {
       }
     }
   }
+  check_scene_numbers(sys, source);
   const double diameter = 2 * sys.max_radius();
   for (int d = 0; d < 3; ++d)
     if (sys.box.periodic[d] && sys.box.length(d) < 2 * diameter) {

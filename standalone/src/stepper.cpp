@@ -12,6 +12,7 @@
 #include "hardsphere/collision.hpp"
 #include "hardsphere/contact_resolver.hpp"
 #include "hardsphere/errors.hpp"
+#include "hardsphere/scene_limits.hpp"
 #include "close_pairs_row.hpp"
 #include "default_init_allocator.hpp"
 #include "distance_filter.hpp"
@@ -52,7 +53,7 @@ bool detects_by_sweep(Detect d, const ParticleSystem& sys, double dt) {
   // for the long steps.
   double smallest = std::numeric_limits<double>::infinity();
   for (const double r : sys.radius) smallest = std::min(smallest, 2 * r);
-  return rms_speed(sys) * dt > 0.1 * smallest;
+  return rms_speed(sys) * dt > kOverlapDetectionLimit * smallest;
 }
 
 double auto_skin(const ParticleSystem& sys, double dt) {
@@ -157,9 +158,8 @@ class Stepper final : public StepperBase {
     refresh_speed_bound();
   }
   bool sweep_detection() const override { return sweep_; }
-  std::int64_t substeps_per_step() const override {
-    const double m = std::ceil(double(resolver_.speed_bound()) * double(dt_) / double(half_skin_));
-    return m >= 1 ? (m < 9e18 ? std::int64_t(m) : std::numeric_limits<std::int64_t>::max()) : 1;
+  double substeps_per_step() const override {
+    return std::max(1.0, std::ceil(double(resolver_.speed_bound()) * double(dt_) / double(half_skin_)));
   }
   std::string scene_kernel() const override {
     return std::string(all_periodic_ ? "periodic" : "walls") + (Mono ? ",mono" : ",poly") +
@@ -377,6 +377,7 @@ Stepper<Real, Mono>::Stepper(const ParticleSystem& sys, const StepperConfig& cfg
     throw InputError(m.str());
   }
   if (cfg.max_events_per_step < 1) throw InputError("max events per step must be >= 1");
+  check_engine_numbers<Real>(sys, cfg.dt, sizeof(Real) == sizeof(float) ? "stepper in single precision" : "stepper");
   const std::size_t n = sys.size();
   if (n > kMaxAdjIndex) throw InputError("too many particles for one stepper: " + std::to_string(n) + " (at most " + std::to_string(kMaxAdjIndex + 1) + ")");
   const double diameter = 2 * sys.max_radius();

@@ -98,3 +98,60 @@ TEST(LongSteps, OverlapDetectionInLongStepsMissesOnlyGrazes) {
     EXPECT_NEAR(double(c.collisions) / double(exact.counters().collisions), 1.0, 0.08) << "dt " << dt;
   }
 }
+
+namespace {
+template <class F>
+std::string refusal(F&& f) {
+  try {
+    f();
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "";
+}
+}  // namespace
+
+TEST(Arithmetic, ValidationRefusesWhatDoublesCannotCarry) {
+  auto base = test::two({5, 5, 5}, {1, 0, 0}, {7, 5, 5}, {0, 0, 0});
+  auto wide = base;
+  wide.box.lo[0] = -1e308, wide.box.hi[0] = 1e308;
+  EXPECT_NE(refusal([&] { validate_and_wrap(wide, "t"); }).find("finite positive length"), std::string::npos);
+  auto far = base;
+  far.pos[0].x = 1e17;  // wrapping it into [0, 10) cannot be exact
+  EXPECT_NE(refusal([&] { validate_and_wrap(far, "t"); }).find("x = 1e+17 cannot be resolved"), std::string::npos);
+  auto fast = base;
+  fast.vel[0].x = 1e200;
+  EXPECT_NE(refusal([&] { validate_and_wrap(fast, "t"); }).find("speed 1e+200"), std::string::npos);
+  auto light = base;
+  light.mass[0] = 1e-300;
+  EXPECT_NE(refusal([&] { validate_and_wrap(light, "t"); }).find("mass 1e-300"), std::string::npos);
+  auto ok = base;
+  EXPECT_EQ(refusal([&] { validate_and_wrap(ok, "t"); }), "");
+}
+
+TEST(Arithmetic, EnginesRefuseWhatTheirPrecisionCannotCarry) {
+  const auto s = test::gas(100, 0.2, 1);
+  StepperConfig cfg;
+  cfg.dt = 1e-10;  // moves a sphere by less than 100 roundings of a float coordinate
+  EXPECT_NE(refusal([&] { make_stepper(s, cfg, Precision::Float); }).find("dt = 1e-10"), std::string::npos);
+  EXPECT_EQ(refusal([&] { make_stepper(s, cfg, Precision::Double); }), "");
+  auto fast = s;
+  fast.vel[0].x = 1e12;  // beyond what float squares and multiplies safely
+  cfg.dt = 0.01;
+  EXPECT_NE(refusal([&] { make_stepper(fast, cfg, Precision::Float); }).find("speed 1e+12"), std::string::npos);
+  fast.vel[0].x = 1e101;
+  EXPECT_NE(refusal([&] { EventEngine e(fast); }).find("speed 1e+101"), std::string::npos);
+}
+
+TEST(WorkLimits, EnginesStopWhenARunOutgrowsItsLimit) {
+  const auto s = test::gas(200, 0.2, 5);
+  StepperConfig cfg;
+  cfg.max_particle_steps = 200 * 50;
+  auto st = make_stepper(s, cfg);
+  st->run(50);  // exactly the limit
+  EXPECT_NE(refusal([&] { st->run(1); }).find("particle-steps"), std::string::npos);
+  EventConfig ec;
+  ec.max_events = 1000;
+  EventEngine e(s, ec);
+  EXPECT_NE(refusal([&] { e.advance(1e6); }).find("more than 1000 events"), std::string::npos);
+}

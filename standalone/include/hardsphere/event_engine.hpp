@@ -19,6 +19,7 @@
 //! spheres renumbered in Morton order of their cells) so long runs keep full precision.
 #include <array>
 #include <cstdint>
+#include <limits>
 #include <memory>
 #include <string>
 #include <vector>
@@ -55,6 +56,9 @@ struct EventConfig {
   //! Events per sphere between re-basings of the clock (all spheres brought to the current time,
   //! times shifted to zero).
   std::int64_t rebase_events_per_sphere = 64;
+  //! The most events the engine may process since construction before it refuses to go on
+  //! (InputError); a guard against runs that would not end.
+  double max_events = std::numeric_limits<double>::infinity();
 };
 
 struct EventCounters {

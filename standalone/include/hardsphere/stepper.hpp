@@ -31,6 +31,9 @@ Precision parse_precision(const std::string& s);
 //! the step, so grazes and pass-throughs inside one step are caught too. Auto: sweep when steps
 //! are long enough for grazes to matter (v_rms dt > 0.1 of the smallest diameter), otherwise overlap.
 enum class Detect { Overlap, Sweep, Auto };
+//! Auto sweeps when a sphere at the rms speed moves more than this many smallest diameters per
+//! step; overlap detection's missed grazes are measurable beyond it.
+constexpr double kOverlapDetectionLimit = 0.1;
 Detect parse_detect(const std::string& s);
 //! Whether mode d detects by sweeping for this system and step (Auto decided from its speeds).
 bool detects_by_sweep(Detect d, const ParticleSystem& sys, double dt);
@@ -89,7 +92,7 @@ class StepperBase {
   virtual std::string scene_kernel() const = 0;  //!< which specialisation runs, e.g. "periodic,mono"
   virtual bool sweep_detection() const = 0;      //!< the detection mode in use (Auto resolved) is sweep
   //! Sub-steps the next step needs at the current speeds (1 unless dt is long for the skin).
-  virtual std::int64_t substeps_per_step() const = 0;
+  virtual double substeps_per_step() const = 0;
 
   //! For adapters that keep their own copy of the spheres (the LAMMPS fix): the spheres in the
   //! engine's internal order, which changes only when counters().rebuilds does. Positions are

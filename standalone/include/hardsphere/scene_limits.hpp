@@ -1,0 +1,31 @@
+#pragma once
+//! The numbers a scene makes the engines carry. Every one must stay finite, and coordinates must
+//! resolve the spheres; what cannot be simulated is refused with an InputError naming the value
+//! and where it came from, instead of overflowing into NaN or wrapping spheres onto each other.
+#include <string>
+
+#include "hardsphere/particles.hpp"
+
+namespace hardsphere {
+
+//! Coordinates (and box bounds) must be resolved to this fraction of the smallest diameter: a
+//! double is spaced wider than that beyond ~4.5e7 smallest diameters from the origin.
+constexpr double kCoordinateResolution = 1e-8;
+
+//! Checks in double arithmetic, before any wrapping: finite box lengths, box bounds and
+//! coordinates resolved to kCoordinateResolution, masses whose products neither overflow nor
+//! underflow, speeds whose squares and kinetic energies stay finite (also summed).
+void check_scene_numbers(const ParticleSystem& sys, const std::string& source);
+
+//! What an engine computing in a type with machine epsilon `eps` and largest value `largest`
+//! (coordinates relative to the box corner) needs on top: speeds, masses and sizes within
+//! its range, final overlaps from rounding below 1e-3 of the smallest diameter, and, for a
+//! time step dt > 0, a step that moves a sphere at the rms speed by at least 100 roundings of
+//! a coordinate. `what` names the engine and precision in messages.
+void check_engine_numbers(const ParticleSystem& sys, double eps, double largest, double dt, const std::string& what);
+
+//! The same for a type T (float or double).
+template <class T>
+void check_engine_numbers(const ParticleSystem& sys, double dt, const std::string& what);
+
+}  // namespace hardsphere

@@ -1,0 +1,153 @@
+#include "hardsphere/scene_limits.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <sstream>
+
+#include "hardsphere/errors.hpp"
+
+namespace hardsphere {
+
+namespace {
+
+const char* const kAxis = "xyz";
+
+//! Distance from |x| to the next double: the resolution of a coordinate there.
+double spacing(double x) {
+  const double a = std::abs(x);
+  return std::nextafter(a, std::numeric_limits<double>::infinity()) - a;
+}
+
+//! |v| without overflow in the squares.
+double speed(Vec3d v) { return std::hypot(std::hypot(v.x, v.y), v.z); }
+
+double smallest_diameter(const ParticleSystem& sys) {
+  double d = std::numeric_limits<double>::infinity();
+  for (const double r : sys.radius) d = std::min(d, 2 * r);
+  return d;
+}
+
+[[noreturn]] void refuse(const std::string& source, const std::ostringstream& what) {
+  throw InputError(source + ": " + what.str());
+}
+
+std::ostringstream message() {
+  std::ostringstream m;
+  m.precision(6);
+  return m;
+}
+
+}  // namespace
+
+void check_scene_numbers(const ParticleSystem& sys, const std::string& source) {
+  for (int d = 0; d < 3; ++d) {
+    const double lo = sys.box.lo[d], hi = sys.box.hi[d], len = hi - lo;
+    if (!std::isfinite(lo) || !std::isfinite(hi) || !std::isfinite(len) || !(len > 0)) {
+      auto m = message();
+      m << "box " << kAxis[d] << " extent [" << lo << ", " << hi << "] must be finite with a finite positive length";
+      refuse(source, m);
+    }
+  }
+  if (sys.size() == 0) return;
+  for (std::size_t i = 0; i < sys.size(); ++i)
+    if (!(std::isfinite(sys.radius[i]) && sys.radius[i] > 0)) return;  // validate_and_wrap names it
+  const double dmin = smallest_diameter(sys), tol = kCoordinateResolution * dmin;
+  for (int d = 0; d < 3; ++d)
+    for (const double bound : {sys.box.lo[d], sys.box.hi[d]})
+      if (spacing(bound) > tol) {
+        auto m = message();
+        m << "box bound " << kAxis[d] << " = " << bound << " is too far from the origin for spheres of diameter "
+          << dmin << ": doubles there are " << spacing(bound) << " apart, more than " << kCoordinateResolution
+          << " of a diameter; shift the box towards the origin";
+        refuse(source, m);
+      }
+  // Masses: reduced masses m1 m2 / (m1 + m2) must neither overflow nor underflow.
+  const double mass_lo = 1e-150, mass_hi = 1e150, speed_hi = 1e150;
+  double sum_mv2 = 0;
+  for (std::size_t i = 0; i < sys.size(); ++i) {
+    const double m_i = sys.mass[i];
+    if (!std::isfinite(m_i) || !(m_i > 0)) continue;  // validate_and_wrap names it
+    auto atom = [&] {
+      auto m = message();
+      m << "atom " << sys.id[i] << ": ";
+      return m;
+    };
+    for (int d = 0; d < 3; ++d)
+      if (std::isfinite(sys.pos[i][d]) && spacing(sys.pos[i][d]) > tol) {
+        auto m = atom();
+        m << kAxis[d] << " = " << sys.pos[i][d] << " cannot be resolved: doubles there are " << spacing(sys.pos[i][d])
+          << " apart, more than " << kCoordinateResolution << " of the smallest diameter " << dmin
+          << " (wrapping it into a periodic box would move it by that much)";
+        refuse(source, m);
+      }
+    if (m_i < mass_lo || m_i > mass_hi) {
+      auto m = atom();
+      m << "mass " << m_i << " is outside [" << mass_lo << ", " << mass_hi
+        << "], where the collision arithmetic (products of masses) stays finite and nonzero";
+      refuse(source, m);
+    }
+    const Vec3d v = sys.vel[i];
+    if (!(std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z))) continue;  // named elsewhere
+    const double v2 = dot(v, v);
+    if (!(v2 <= speed_hi * speed_hi)) {
+      auto m = atom();
+      m << "speed " << speed(v) << " (velocity " << v.x << " " << v.y << " " << v.z << ") is above " << speed_hi
+        << ": its square would overflow";
+      refuse(source, m);
+    }
+    sum_mv2 += m_i * v2;
+    if (!(sum_mv2 <= 1e300)) {
+      auto m = atom();
+      m << "the kinetic energy (sum of m v^2 up to this atom: " << sum_mv2 << ") overflows double precision";
+      refuse(source, m);
+    }
+  }
+}
+
+void check_engine_numbers(const ParticleSystem& sys, double eps, double largest, double dt, const std::string& what) {
+  if (sys.size() == 0) return;
+  // Squares and products of speeds, masses and lengths must stay inside the type's range.
+  const double big = std::cbrt(largest) / 1e3, small = 1 / big;
+  double len = 0, v2sum = 0, m_sum = 0;
+  for (int d = 0; d < 3; ++d) len = std::max(len, sys.box.length(d));
+  const double dmin = smallest_diameter(sys);
+  auto fail = [&](auto&&... parts) {
+    auto m = message();
+    (m << ... << parts);
+    throw InputError(what + ": " + m.str());
+  };
+  if (len > big) fail("box length ", len, " is above ", big, ", the largest this precision carries");
+  if (dmin < small) fail("diameter ", dmin, " is below ", small, ", the smallest this precision carries");
+  for (std::size_t i = 0; i < sys.size(); ++i) {
+    const double v2 = dot(sys.vel[i], sys.vel[i]);
+    if (!(speed(sys.vel[i]) <= big))
+      fail("atom ", sys.id[i], ": speed ", speed(sys.vel[i]), " is above ", big,
+           ", the largest this precision carries");
+    if (sys.mass[i] > big || sys.mass[i] < small)
+      fail("atom ", sys.id[i], ": mass ", sys.mass[i], " is outside [", small, ", ", big,
+           "], the range this precision carries");
+    v2sum += sys.mass[i] * v2;
+    m_sum += sys.mass[i];
+  }
+  // Rounding of coordinates relative to the box corner shows up as overlaps of ~16 eps L.
+  if (16 * eps * len > 1e-3 * dmin)
+    fail("a box ", len, " long resolves spheres of diameter ", dmin, " to only ", 16 * eps * len / dmin,
+         " of a diameter in this precision (at most 1e-3); use double precision");
+  if (dt > 0 && v2sum > 0) {
+    const double v_rms = std::sqrt(v2sum / m_sum);
+    if (v_rms * dt < 100 * eps * len)
+      fail("time step dt = ", dt, " moves a sphere at the rms speed ", v_rms, " by ", v_rms * dt,
+           ", less than 100 roundings (", 100 * eps * len, ") of a coordinate in a box ", len,
+           " long: positions would not resolve the motion; use a longer dt", eps > 1e-10 ? " or double precision" : "");
+  }
+}
+
+template <class T>
+void check_engine_numbers(const ParticleSystem& sys, double dt, const std::string& what) {
+  check_engine_numbers(sys, double(std::numeric_limits<T>::epsilon()), double(std::numeric_limits<T>::max()), dt, what);
+}
+template void check_engine_numbers<float>(const ParticleSystem&, double, const std::string&);
+template void check_engine_numbers<double>(const ParticleSystem&, double, const std::string&);
+
+}  // namespace hardsphere

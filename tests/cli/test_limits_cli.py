@@ -1,0 +1,145 @@
+"""Inputs at the edges of the arithmetic, through the command line: each is simulated correctly
+or refused (exit 2, `hardsphere: error:` naming the value), and a run that ends with spheres
+overlapping says so."""
+import json
+import math
+from pathlib import Path
+
+import pytest
+
+from hs_run import run, run_json
+
+DENSITY = 6 / math.pi  # unit mass for unit diameter
+
+
+def write_data(path, atoms, box=((0, 20),) * 3):
+    """atoms: (x, y, z, vx, vy, vz[, diameter]) rows; ids from 1."""
+    lines = ["limits test", "", f"{len(atoms)} atoms", "1 atom types", ""]
+    lines += [f"{lo!r} {hi!r} {a}lo {a}hi" for (lo, hi), a in zip(box, "xyz")]
+    lines += ["", "Atoms # sphere", ""]
+    for i, a in enumerate(atoms, 1):
+        d = a[6] if len(a) > 6 else 1.0
+        lines.append(f"{i} 1 {d!r} {DENSITY!r} {a[0]!r} {a[1]!r} {a[2]!r}")
+    lines += ["", "Velocities", ""]
+    lines += [f"{i} {a[3]!r} {a[4]!r} {a[5]!r}" for i, a in enumerate(atoms, 1)]
+    Path(path).write_text("\n".join(lines) + "\n")
+    return path
+
+
+def refused(p, *needles):
+    assert p.returncode == 2, (p.returncode, p.stdout, p.stderr)
+    assert p.stderr.startswith("hardsphere: error: "), p.stderr
+    for n in needles:
+        assert n in p.stderr, (n, p.stderr)
+
+
+def gas_file(hs, path, *args):
+    p = run(hs, "--steps", 0, "--write-data", path, *args)
+    assert p.returncode == 0, p.stderr
+    return path
+
+
+def edit_rows(path, section, edit):
+    """Applies edit(words) to every row of a section of a data file."""
+    out, current = [], None
+    for line in Path(path).read_text().splitlines():
+        w = line.split()
+        if w and w[0] in ("Atoms", "Velocities"):
+            current = w[0]
+        elif current == section and len(w) > 3:
+            line = " ".join(edit(w))
+        out.append(line)
+    Path(path).write_text("\n".join(out) + "\n")
+
+
+# --- arithmetic overflow: refused, naming the value ----------------------------------------
+
+def test_box_whose_length_overflows_is_refused(hs, tmp_path):
+    f = write_data(tmp_path / "b.data", [(0, 0, 0, 1, 0, 0)], box=((-1e308, 1e308), (0, 20), (0, 20)))
+    refused(run(hs, "--read-data", f, "--steps", 1), "box x extent", "finite")
+
+
+def test_coordinate_that_cannot_be_wrapped_exactly_is_refused(hs, tmp_path):
+    f = write_data(tmp_path / "c.data", [(1e17, 5, 5, 0, 0, 0), (5, 5, 5, 0, 0, 0)])
+    refused(run(hs, "--read-data", f, "--steps", 1), "atom 1", "x = 1e+17", "cannot be resolved")
+
+
+def test_box_far_beyond_double_resolution_is_refused(hs, tmp_path):
+    f = write_data(tmp_path / "f.data", [(1e12 + 5, 1e12 + 5, 1e12 + 5, 0, 0, 0)],
+                   box=((1e12, 1e12 + 20),) * 3)
+    refused(run(hs, "--read-data", f, "--steps", 1), "box bound x = 1e+12", "origin")
+
+
+@pytest.mark.parametrize("args,needle", [
+    (["--dt", "1e300"], "dt = 1e+300"),
+    (["--mass", "1e-300"], "mass 1e-300"),
+    (["--temperature", "1e308"], "temperature"),
+    (["--dt", "1e-10", "--precision", "float"], "dt = 1e-10"),
+])
+def test_options_that_overflow_are_refused(hs, tmp_path, args, needle):
+    p = run(hs, "--n", 100, "--phi", 0.2, "--steps", 10, *args, "--json", "out.json", cwd=tmp_path)
+    refused(p, needle)
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_speed_whose_square_overflows_is_refused(hs, tmp_path):
+    f = write_data(tmp_path / "v.data", [(5, 5, 5, 1e200, 0, 0), (10, 10, 10, 0, 0, 0)])
+    refused(run(hs, "--read-data", f, "--steps", 1), "atom 1", "speed 1e+200")
+
+
+@pytest.mark.parametrize("engine", [["--engine", "event", "--time", "1e300"], ["--dt", "0.01", "--steps", "100000000000000"]])
+def test_runs_that_would_not_end_are_refused(hs, engine):
+    refused(run(hs, "--n", 100, "--phi", 0.2, *engine), "more than the limit")
+
+
+def test_event_engine_refuses_a_sphere_too_fast_to_follow(hs, tmp_path):
+    f = write_data(tmp_path / "e.data", [(5, 5, 5, 1e90, 0, 0), (10, 10, 10, 0, 0, 0)])
+    refused(run(hs, "--read-data", f, "--engine", "event", "--time", 1), "events")
+
+
+# --- far from the origin, long steps: simulated correctly ----------------------------------
+
+def test_float_run_far_from_the_origin_matches_the_run_at_the_origin(hs, tmp_path):
+    base = gas_file(hs, tmp_path / "g.data", "--n", 200, "--box", 8.06)
+    far = tmp_path / "far.data"
+    text = []
+    for line in Path(base).read_text().splitlines():
+        w = line.split()
+        if len(w) == 4 and w[2] in ("xlo", "ylo", "zlo"):
+            line = f"{float(w[0]) + 1e6!r} {float(w[1]) + 1e6!r} {w[2]} {w[3]}"
+        text.append(line)
+    far.write_text("\n".join(text) + "\n")
+    edit_rows(far, "Atoms", lambda w: w[:4] + [repr(float(x) + 1e6) for x in w[4:7]] + w[7:])
+    near = run_json(hs, "--read-data", base, "--steps", 2000, "--precision", "float")
+    moved = run_json(hs, "--read-data", far, "--steps", 2000, "--precision", "float")
+    assert moved["collisions"] == pytest.approx(near["collisions"], rel=0.05)
+    assert moved["max_overlap"] == 0 and moved["warnings"] == []
+    assert moved["box"]["lo"] == [1e6] * 3
+
+
+def test_long_steps_keep_the_event_engines_collision_rate(hs, tmp_path):
+    f = gas_file(hs, tmp_path / "g.data", "--n", 200, "--box", 8.06, "--seed", 2)
+    ref = run_json(hs, "--read-data", f, "--engine", "event", "--time", 100)
+    for dt in (2, 5):
+        j = run_json(hs, "--read-data", f, "--dt", dt, "--time", 100)
+        assert j["collision_rate_per_particle"] == pytest.approx(ref["collision_rate_per_particle"], rel=0.03), dt
+        assert j["substeps"] > j["steps"] and j["max_overlap"] == 0 and j["warnings"] == []
+
+
+# --- a run that ends overlapping warns ------------------------------------------------------
+
+def test_overlap_left_by_a_missed_graze_is_reported(hs, tmp_path):
+    # A (speed 2) grazes B within the step (overlap detection cannot see it) and stops at
+    # t = 0.5, head-on against C, while inside B: the run ends with A and B overlapping by 0.1.
+    atoms = [(5, 5, 5, 2, 0, 0), (6, 5.9, 5, 0, 0, 0), (7, 5, 5, 0, 0, 0)]
+    f = write_data(tmp_path / "g.data", atoms)
+    p = run(hs, "--read-data", f, "--dt", 1, "--steps", 1, "--detect", "overlap", "--json", "s.json", cwd=tmp_path)
+    assert p.returncode == 0, p.stderr
+    j = json.loads((tmp_path / "s.json").read_text())
+    assert j["max_overlap"] == pytest.approx(0.1, abs=1e-9)
+    assert any("overlap by up to" in w for w in j["warnings"])
+    assert "hardsphere: warning: spheres overlap by up to 0.1" in p.stderr
+    assert "--detect sweep" in p.stderr
+    # Sweep detection sees the graze: no overlap, no warning.
+    clean = run_json(hs, "--read-data", f, "--dt", 1, "--steps", 1, "--detect", "sweep")
+    assert clean["max_overlap"] == 0 and clean["warnings"] == [] and clean["collisions"] >= 2
