@@ -714,6 +714,7 @@ EventEngine::EventEngine(const ParticleSystem& sys, const EventConfig& cfg) : im
   if (n > kMaxAdjIndex) throw InputError("too many spheres for the event engine");
   if (sys.radius.size() != n || sys.mass.size() != n || sys.vel.size() != n)
     throw InputError("event engine: inconsistent particle arrays");
+  check_scene_numbers(sys, "event engine");
   check_engine_numbers<double>(sys, 0, "event engine");
   if (!(cfg.max_events > 0)) throw InputError("event engine: max_events must be positive");
   m.max_events = cfg.max_events;

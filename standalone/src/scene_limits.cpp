@@ -50,8 +50,19 @@ void check_scene_numbers(const ParticleSystem& sys, const std::string& source) {
     }
   }
   if (sys.size() == 0) return;
-  for (std::size_t i = 0; i < sys.size(); ++i)
-    if (!(std::isfinite(sys.radius[i]) && sys.radius[i] > 0)) return;  // validate_and_wrap names it
+  if (sys.radius.size() != sys.size() || sys.mass.size() != sys.size() || sys.vel.size() != sys.size() ||
+      sys.id.size() != sys.size())
+    throw InputError(source + ": inconsistent particle arrays");
+  for (std::size_t i = 0; i < sys.size(); ++i) {
+    const Vec3d p = sys.pos[i], v = sys.vel[i];
+    if (!(std::isfinite(sys.radius[i]) && sys.radius[i] > 0) || !(std::isfinite(sys.mass[i]) && sys.mass[i] > 0) ||
+        !(std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z)) ||
+        !(std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z))) {
+      auto m = message();
+      m << "atom " << sys.id[i] << ": radius, mass, position and velocity must be finite (radius and mass positive)";
+      refuse(source, m);
+    }
+  }
   const double dmin = smallest_diameter(sys), tol = kCoordinateResolution * dmin;
   for (int d = 0; d < 3; ++d)
     for (const double bound : {sys.box.lo[d], sys.box.hi[d]})
@@ -67,14 +78,13 @@ void check_scene_numbers(const ParticleSystem& sys, const std::string& source) {
   double sum_mv2 = 0;
   for (std::size_t i = 0; i < sys.size(); ++i) {
     const double m_i = sys.mass[i];
-    if (!std::isfinite(m_i) || !(m_i > 0)) continue;  // validate_and_wrap names it
     auto atom = [&] {
       auto m = message();
       m << "atom " << sys.id[i] << ": ";
       return m;
     };
     for (int d = 0; d < 3; ++d)
-      if (std::isfinite(sys.pos[i][d]) && spacing(sys.pos[i][d]) > tol) {
+      if (spacing(sys.pos[i][d]) > tol) {
         auto m = atom();
         m << kAxis[d] << " = " << sys.pos[i][d] << " cannot be resolved: doubles there are " << spacing(sys.pos[i][d])
           << " apart, more than " << kCoordinateResolution << " of the smallest diameter " << dmin
@@ -88,7 +98,6 @@ void check_scene_numbers(const ParticleSystem& sys, const std::string& source) {
       refuse(source, m);
     }
     const Vec3d v = sys.vel[i];
-    if (!(std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z))) continue;  // named elsewhere
     const double v2 = dot(v, v);
     if (!(v2 <= speed_hi * speed_hi)) {
       auto m = atom();

@@ -377,6 +377,7 @@ Stepper<Real, Mono>::Stepper(const ParticleSystem& sys, const StepperConfig& cfg
     throw InputError(m.str());
   }
   if (cfg.max_events_per_step < 1) throw InputError("max events per step must be >= 1");
+  check_scene_numbers(sys, "stepper");
   check_engine_numbers<Real>(sys, cfg.dt, sizeof(Real) == sizeof(float) ? "stepper in single precision" : "stepper");
   const std::size_t n = sys.size();
   if (n > kMaxAdjIndex) throw InputError("too many particles for one stepper: " + std::to_string(n) + " (at most " + std::to_string(kMaxAdjIndex + 1) + ")");
@@ -586,9 +587,11 @@ void Stepper<Real, Mono>::rebuild() {
       if (!box_.periodic[d] || (p >= lo[d] && p < lo[d] + len)) continue;
       const Real wraps = std::floor((p - lo[d]) / len);
       p -= len * wraps;
-      std::int32_t& image = image_[slot_[i]][std::size_t(d)];
-      image += std::int32_t(wraps);
+      // Sub-steps keep |wraps| <= 1 between rebuilds; counts wrap around modulo 2^32 (as
+      // LAMMPS's image flags do modulo 1024) in runs long enough to pass that.
+      std::uint32_t image = std::uint32_t(image_[slot_[i]][std::size_t(d)]) + std::uint32_t(std::int32_t(wraps));
       if (p >= lo[d] + len) p -= len, ++image;  // floor rounding at the top edge
+      image_[slot_[i]][std::size_t(d)] = std::int32_t(image);
     }
   }
   grid_.sort(n, [this](std::size_t i) { return pos_[i]; }, cell_, cell_start_, order_);
