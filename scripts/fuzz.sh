@@ -34,6 +34,8 @@ cmake -S "$root" -B "$build" -DCMAKE_CXX_COMPILER=clang++-14 -DCMAKE_BUILD_TYPE=
   -DHS_BUILD_FUZZ=ON -DHS_BUILD_TESTS=OFF -DHS_BUILD_BENCH=OFF -DHS_BUILD_PLUGIN=OFF >/dev/null
 cmake --build "$build" -j"$(nproc)" --target "${targets[@]/#/hs_fuzz_}"
 
+# Stack traces for UBSan findings too (ASan prints them by default).
+export UBSAN_OPTIONS=${UBSAN_OPTIONS:-print_stacktrace=1}
 status=0
 summary=()
 for t in "${targets[@]}"; do

@@ -191,6 +191,7 @@ struct Header {
   std::int64_t natoms = -1, ntypes = -1;
   Box box;
   bool have_box[3] = {false, false, false};
+  long box_line[3] = {0, 0, 0};
 };
 
 // Header lines up to the first section name: "N atoms", "N atom types", "lo hi xlo xhi", ...
@@ -222,6 +223,7 @@ bool read_header(LineReader& r, Header& h, Words& w, std::string& raw) {
       h.box.lo[d] = lo;
       h.box.hi[d] = hi;
       h.have_box[d] = true;
+      h.box_line[d] = r.line();
     } else if (w.size() == 6 && w[3] == "xy" && w[4] == "xz" && w[5] == "yz") {
       r.fail("triclinic boxes (xy xz yz) are not supported");
     } else if (w.size() == 2 && (w[1] == "bonds" || w[1] == "angles" || w[1] == "dihedrals" || w[1] == "impropers")) {
@@ -324,6 +326,20 @@ class DataFile {
     }
   }
 
+  //! A periodic axis shorter than two largest diameters makes the minimum image ambiguous;
+  //! checked here (validate_and_wrap checks it too) so the message names both lines.
+  void check_periodic_lengths() const {
+    static const char* axis = "xyz";
+    for (int d = 0; d < 3; ++d) {
+      if (!sys_.box.periodic[d] || !(sys_.box.length(d) < 4 * max_radius_)) continue;
+      throw FormatError(r_.name(), h_.box_line[d],
+                        std::string("periodic box length ") + fmt(sys_.box.length(d)) + " along " + axis[d] +
+                            " is less than twice the largest diameter " + fmt(2 * max_radius_) + " (atom " +
+                            std::to_string(sys_.id[widest_]) + ", line " + std::to_string(atom_line_[widest_]) +
+                            "): the minimum image would be ambiguous");
+    }
+  }
+
   ParticleSystem take() { return std::move(sys_); }
 
  private:
@@ -358,6 +374,10 @@ class DataFile {
       if (!sys_.box.periodic[d] && (p[d] - radius < sys_.box.lo[d] || p[d] + radius > sys_.box.hi[d]))
         r_.fail(std::string(1, axis[d]) + " = " + w[4 + d] + " of atom " + id_s + " with radius " + fmt(radius) +
                 " is outside the wall-bounded box [" + fmt(sys_.box.lo[d]) + ", " + fmt(sys_.box.hi[d]) + "]");
+    if (radius > max_radius_) {
+      max_radius_ = radius;
+      widest_ = sys_.size();
+    }
     atom_line_.push_back(r_.line());
     sys_.push_back(id, int(type), radius, mass, p, {});
   }
@@ -368,6 +388,8 @@ class DataFile {
   ParticleSystem sys_;
   std::unordered_map<std::int64_t, std::size_t> index_;  // atom id -> row
   std::vector<long> atom_line_;
+  double max_radius_ = 0;
+  std::size_t widest_ = 0;  // row of the largest sphere
 };
 
 }  // namespace
@@ -407,6 +429,7 @@ ParticleSystem read_data(std::istream& in, const std::string& name, std::array<b
       r.fail("expected a section name, found '" + join(w) + "' (more rows than the header's " + unit + "?)");
   }
   if (!seen.count("Atoms")) r.fail("no Atoms section");
+  data.check_periodic_lengths();
   ParticleSystem sys = data.take();
   validate_and_wrap(sys, name);
   return sys;

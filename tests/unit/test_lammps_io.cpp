@@ -210,6 +210,10 @@ TEST(ReadData, GeometryIsCheckedWithTheLine) {
   refused(join(with(base_lines(), 19, "4 2 4 1e308 1 1 3")), 19, {"mass inf"});
   refused(join(with(base_lines(), 19, "4 2 -1 1 1 1 3")), 19, {"diameter -1 of atom 4"});
   refused(join(with(base_lines(), 18, "1 2 1 1 1 3 1 0 0 0")), 18, {"atom id 1 appears twice", "line 16"});
+  // A periodic y of length 8 against a sphere of diameter 4.5: both lines named; walls in y are fine.
+  const auto wide = with(with(base_lines(), 6, "0 8 ylo yhi"), 18, "3 2 4.5 1 1 5 5 0 0 0");
+  refused(join(wide), 6, {"along y", "largest diameter 4.5", "atom 3, line 18"});
+  EXPECT_NO_THROW(read(join(wide), {true, false, true}));
 }
 
 TEST(ReadData, LongLinesAndEmptyInputAreRefused) {
