@@ -81,12 +81,15 @@ nlohmann::json physics_summary(const ParticleSystem& fin, const RunTotals& t, bo
 void commit_outputs(const nlohmann::json& summary, const ParticleSystem& fin,
                     const std::optional<std::string>& write_data_path, const std::string& title,
                     std::optional<DumpWriter>& dump, std::optional<AtomicFile>& json_file) {
-  if (write_data_path) write_data(*write_data_path, fin, title);
-  if (dump) dump->commit();
-  if (json_file) {
-    json_file->stream() << summary.dump(2) << '\n';
-    json_file->commit();
+  // Everything is written to temporaries first and renamed together at the end, so an error
+  // in any of them (or a signal) leaves none of the outputs behind.
+  std::optional<AtomicFile> data_file;
+  if (write_data_path) {
+    data_file.emplace(*write_data_path);
+    write_data(data_file->stream(), fin, title);
   }
+  if (json_file) json_file->stream() << summary.dump(2) << '\n';
+  commit_together({data_file ? &*data_file : nullptr, dump ? &dump->file() : nullptr, json_file ? &*json_file : nullptr});
 }
 
 }  // namespace hardsphere

@@ -36,7 +36,8 @@ nlohmann::json physics_summary(const ParticleSystem& final_state, const RunTotal
 //! type with machine epsilon `eps` relative to the box origin (and the state is kept in double).
 double overlap_tolerance(const ParticleSystem& sys, double eps);
 
-//! Writes the JSON file and the final data file, and commits the dump: only after success.
+//! Writes the JSON file and the final data file, and commits them with the dump: only after
+//! success, and all together (commit_together), so an error leaves none of them.
 void commit_outputs(const nlohmann::json& summary, const ParticleSystem& final_state,
                     const std::optional<std::string>& write_data_path, const std::string& title,
                     std::optional<DumpWriter>& dump, std::optional<AtomicFile>& json_file);

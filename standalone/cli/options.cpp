@@ -1,0 +1,280 @@
+// The `hardsphere run` options. Every value is taken as text and converted here, not by CLI11:
+// its integer conversion reads "010" as octal, "0x10" as hex and saturates on overflow, and its
+// errors carry no option context. Here each refusal is an InputError naming option and value.
+#include "options.hpp"
+
+#include <CLI/CLI.hpp>
+#include <cctype>
+#include <cerrno>
+#include <climits>
+#include <cmath>
+#include <cstdlib>
+#include <sstream>
+
+#include "hardsphere/atomic_file.hpp"
+#include "hardsphere/errors.hpp"
+#include "hardsphere/limits.hpp"
+
+namespace hardsphere::cli {
+
+namespace {
+
+constexpr std::int64_t kMaxBins = 1000000;    // speed histogram bins: more is a JSON of megabytes
+constexpr std::int64_t kMaxBlocks = 1000000;  // event-engine blocks: one vector entry and one advance each
+
+std::string fmt(double v) {
+  std::ostringstream s;
+  s << v;
+  return s.str();
+}
+
+//! A whole number written in decimal ("-?[0-9]+") within [lo, hi].
+std::int64_t whole(const std::string& option, const std::string& s, std::int64_t lo, std::int64_t hi,
+                   const std::string& why_hi = "") {
+  bool digits = !s.empty();
+  for (std::size_t i = 0; i < s.size(); ++i)
+    if (!std::isdigit(static_cast<unsigned char>(s[i])) && !(i == 0 && s[i] == '-' && s.size() > 1)) digits = false;
+  if (!digits) throw InputError(option + " '" + s + "' is not a whole number");
+  errno = 0;
+  const long long v = std::strtoll(s.c_str(), nullptr, 10);
+  if (errno == ERANGE)
+    throw InputError(option + " '" + s + "' is out of range (" + std::to_string(lo) + " to " + std::to_string(hi) +
+                     ")");
+  if (v < lo) throw InputError(option + " " + s + " must be >= " + std::to_string(lo));
+  if (v > hi)
+    throw InputError(option + " " + s + " is more than " + std::to_string(hi) +
+                     (why_hi.empty() ? "" : " (" + why_hi + ")"));
+  return v;
+}
+
+//! A finite real number (strtod syntax, the whole text).
+double real(const std::string& option, const std::string& s) {
+  char* end = nullptr;
+  errno = 0;
+  const double v = std::strtod(s.c_str(), &end);
+  if (s.empty() || end != s.c_str() + s.size()) throw InputError(option + " '" + s + "' is not a number");
+  if (!std::isfinite(v)) {
+    if (errno == ERANGE) throw InputError(option + " " + s + " is too large for a double");
+    throw InputError(option + " " + s + " must be finite");
+  }
+  return v;
+}
+
+std::vector<double> parse_list(const std::string& s, const char* what) {
+  std::vector<double> out;
+  std::stringstream in(s);
+  std::string item;
+  while (std::getline(in, item, ',')) {
+    char* end = nullptr;
+    errno = 0;
+    const double v = std::strtod(item.c_str(), &end);
+    if (item.empty() || end != item.c_str() + item.size())
+      throw InputError(std::string(what) + " '" + s + "': '" + item + "' is not a number");
+    if (!std::isfinite(v)) throw InputError(std::string(what) + " '" + s + "': '" + item + "' is not a finite number");
+    out.push_back(v);
+  }
+  if ((out.size() != 1 && out.size() != 3) || s.back() == ',')
+    throw InputError(std::string(what) + " '" + s + "' needs one value or three (x,y,z)");
+  if (out.size() == 1) out = {out[0], out[0], out[0]};
+  return out;
+}
+
+//! A seed is any whole number 0 .. 2^64-1; strtoull alone would wrap "-1" to 2^64-1.
+std::uint64_t parse_seed(const std::string& s) {
+  char* end = nullptr;
+  errno = 0;
+  const unsigned long long v = std::strtoull(s.c_str(), &end, 10);
+  if (s.empty() || !std::isdigit(static_cast<unsigned char>(s[0])) || end != s.c_str() + s.size() || errno == ERANGE)
+    throw InputError("--seed '" + s + "' must be a whole number from 0 to 18446744073709551615");
+  return v;
+}
+
+std::array<int, 3> parse_cells(const std::string& s) {
+  if (s == "auto") return {0, 0, 0};
+  const auto v = parse_list(s, "--cells");
+  std::array<int, 3> k{};
+  for (int d = 0; d < 3; ++d) {
+    if (!(v[d] >= 1) || v[d] != std::floor(v[d]) || v[d] > 1e6)
+      throw InputError("--cells '" + s + "': cell counts must be whole numbers from 1 to 1000000 (or auto)");
+    k[d] = int(v[d]);
+  }
+  return k;
+}
+
+//! CLI11's message, reworded where it reads like an internal check ("--n: 1 required INT missing").
+std::string parse_error_text(const CLI::ParseError& e) {
+  const std::string m = e.what();
+  const auto colon = m.find(": ");
+  if (dynamic_cast<const CLI::ArgumentMismatch*>(&e) && colon != std::string::npos && m.rfind("--", 0) == 0) {
+    const std::string option = m.substr(0, colon);
+    if (m.find("missing") != std::string::npos) return option + " needs a value";
+    if (m.find("At Most") != std::string::npos) return option + " is given more than once";
+  }
+  return m;
+}
+
+//! The first argument must be the command; CLI11 would report "A subcommand is required" for
+//! anything else, which names neither what was given nor what is expected.
+void check_command(int argc, const char* const* argv) {
+  if (argc < 2) throw InputError("no command given: use 'hardsphere run [options]' (hardsphere --help lists them)");
+  const std::string first = argv[1];
+  if (first != "run" && first != "--help" && first != "-h")
+    throw InputError("unknown command '" + first + "': the command is 'run', e.g. 'hardsphere run --n 1000'");
+}
+
+}  // namespace
+
+CommandLine parse_command_line(int argc, const char* const* argv) {
+  check_command(argc, argv);
+  CLI::App app{"hardsphere: time-stepped hard-sphere molecular dynamics with cell lists", "hardsphere"};
+  app.require_subcommand(1);
+  auto* run = app.add_subcommand("run", "run a simulation and report a summary");
+
+  CommandLine cmd;
+  RunSpec& spec = cmd.spec;
+  std::string n_s = "1000", phi_s = "0.2", box_s, radius_s, mass_s, t_s, speed_s, dt_s, steps_s, equil_s;
+  std::string boundary_s = "p", cells_s = "auto", precision_s = "double", init_s = "auto", json_s, detect_s = "auto";
+  std::string read_data_s, write_data_s, dump_s, seed_s = "1", engine_s = "stepper", time_s, etime_s, blocks_s;
+  std::string dump_every_s, bins_s;
+
+  auto* o_n = run->add_option("--n", n_s, "number of spheres (default 1000)")->type_name("INT");
+  auto* o_phi =
+      run->add_option("--phi", phi_s, "packing fraction: sets the cubic box from n (default 0.2)")->type_name("FLOAT");
+  auto* o_box = run->add_option("--box", box_s, "box length L or Lx,Ly,Lz (box from 0 to L)");
+  auto* o_radius = run->add_option("--radius", radius_s, "sphere radius (default 0.5)")->type_name("FLOAT");
+  auto* o_mass = run->add_option("--mass", mass_s, "sphere mass (default 1)")->type_name("FLOAT");
+  run->add_option("--boundary", boundary_s, "p (periodic) or w (wall) per axis, e.g. p,p,w (default p)");
+  auto* o_t = run->add_option("--temperature", t_s, "initial temperature, k_B = 1 (default 1)")->type_name("FLOAT");
+  auto* o_speed = run->add_option("--init-speed", speed_s, "give every sphere this speed, isotropic directions")
+                      ->type_name("FLOAT");
+  auto* o_init =
+      run->add_option("--init", init_s, "initial positions: auto, random (insertion) or lattice (dense route)");
+  auto* o_seed = run->add_option("--seed", seed_s, "random seed, 0 .. 2^64-1 (default 1)")->type_name("INT");
+  auto* o_dt = run->add_option("--dt", dt_s, "time step (default 0.01)")->type_name("FLOAT");
+  auto* o_steps = run->add_option("--steps", steps_s, "measured steps (default 1000)")->type_name("INT");
+  auto* o_equil =
+      run->add_option("--equilibrate", equil_s, "steps run first and not measured (default 0)")->type_name("INT");
+  run->add_option("--cells", cells_s, "cells per axis: auto, K or Kx,Ky,Kz (1 = one box, O(N^2))");
+  run->add_option("--precision", precision_s, "double or float (default double)");
+  auto* o_detect = run->add_option("--detect", detect_s,
+                                   "contact detection: auto (default: sweep for steps with v_rms dt > 0.1 diameters, "
+                                   "else overlap), overlap (a posteriori) or sweep (whole step)");
+  run->add_option("--engine", engine_s, "stepper (time-stepped, default) or event (exact event-driven)");
+  auto* o_time = run->add_option("--time", time_s, "simulated time measured (event engine; stepper: steps = time/dt)")
+                     ->type_name("FLOAT");
+  auto* o_etime =
+      run->add_option("--equilibrate-time", etime_s, "simulated time run first and not measured")->type_name("FLOAT");
+  auto* o_blocks = run->add_option("--blocks", blocks_s, "event engine: block averages for the error bars (default 20)")
+                       ->type_name("INT");
+  auto* o_read = run->add_option("--read-data", read_data_s, "start from a LAMMPS data file (atom_style sphere)");
+  auto* o_write = run->add_option("--write-data", write_data_s, "write the final state as a LAMMPS data file");
+  auto* o_dump = run->add_option("--dump", dump_s, "write a LAMMPS text dump");
+  auto* o_dump_every = run->add_option("--dump-every", dump_every_s, "steps between dump frames (default 100)")
+                           ->type_name("INT")
+                           ->needs(o_dump);
+  auto* o_json = run->add_option("--json", json_s, "write the JSON summary to FILE (- for stdout)");
+  auto* o_bins = run->add_option("--histogram-bins", bins_s, "bins of the speed histogram in the JSON (default 40)")
+                     ->type_name("INT");
+  for (auto* o : {o_n, o_phi, o_box, o_radius, o_mass, o_t, o_speed, o_init, o_seed}) o_read->excludes(o);
+  o_t->excludes(o_speed);
+
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::CallForHelp&) {
+    return {true, app.help(), {}};
+  } catch (const CLI::CallForAllHelp&) {
+    return {true, app.help("", CLI::AppFormatMode::All), {}};
+  } catch (const CLI::ParseError& e) {
+    throw InputError(parse_error_text(e));
+  }
+
+  spec.periodic = parse_boundary(boundary_s);
+  spec.stepper.cells = parse_cells(cells_s);
+  spec.init.seed = parse_seed(seed_s);
+  spec.precision = parse_precision(precision_s);
+  spec.stepper.detect = parse_detect(detect_s);
+  spec.engine = parse_engine(engine_s);
+  if (o_dt->count()) spec.stepper.dt = real("--dt", dt_s);
+  if (o_steps->count()) spec.steps = whole("--steps", steps_s, 0, LLONG_MAX);
+  if (o_equil->count()) spec.equilibrate = whole("--equilibrate", equil_s, 0, LLONG_MAX);
+  if (o_blocks->count()) spec.blocks = int(whole("--blocks", blocks_s, 1, kMaxBlocks));
+  if (o_dump_every->count()) spec.dump_every = whole("--dump-every", dump_every_s, 1, LLONG_MAX);
+  if (o_bins->count()) spec.histogram_bins = int(whole("--histogram-bins", bins_s, 1, kMaxBins));
+  const double time = o_time->count() ? real("--time", time_s) : 0.0;
+  const double etime = o_etime->count() ? real("--equilibrate-time", etime_s) : 0.0;
+
+  if (spec.engine == Engine::Event) {
+    for (auto* o : {o_dt, o_steps, o_equil, o_detect, o_dump_every})
+      if (o->count())
+        throw InputError(o->get_name() + " is a stepper option; the event engine runs for --time (simulated time)");
+    if (spec.precision != Precision::Double)
+      throw InputError("--precision " + precision_s + ": the event engine runs in double only");
+    if (!o_time->count()) throw InputError("--engine event needs --time T (simulated time to run)");
+    spec.time = time;
+    spec.equilibrate_time = etime;
+    spec.event.cells = spec.stepper.cells;
+  } else {
+    if (o_blocks->count()) throw InputError("--blocks is an event-engine option (use with --engine event)");
+    // A bad --dt is reported by the stepper itself; only a valid one converts times to steps.
+    const double dt = spec.stepper.dt;
+    const bool dt_ok = dt > 0;
+    if (o_time->count() && dt_ok) {
+      if (o_steps->count()) throw InputError("--steps and --time both set the run length; give one");
+      if (!(time >= 0)) throw InputError("--time " + time_s + " must be >= 0");
+      if (time / dt > 1e15) throw InputError("--time " + time_s + " / --dt is more than 1e15 steps");
+      spec.steps = std::llround(time / dt);
+    }
+    if (o_etime->count() && dt_ok) {
+      if (o_equil->count())
+        throw InputError("--equilibrate and --equilibrate-time both set the equilibration; give one");
+      if (!(etime >= 0)) throw InputError("--equilibrate-time " + etime_s + " must be >= 0");
+      if (etime / dt > 1e15) throw InputError("--equilibrate-time " + etime_s + " / --dt is more than 1e15 steps");
+      spec.equilibrate = std::llround(etime / dt);
+    }
+  }
+
+  // Outputs: an empty name is refused (not silently "no output"), and two outputs may not be
+  // the same file under any spelling; checked before anything is read, run or created.
+  std::vector<std::pair<std::string, std::string>> outputs;
+  if (o_write->count()) outputs.emplace_back("--write-data", write_data_s);
+  if (o_dump->count()) outputs.emplace_back("--dump", dump_s);
+  if (o_json->count() && json_s != "-") outputs.emplace_back("--json", json_s);
+  if (o_json->count() && json_s.empty()) throw InputError("--json: empty file name (use - for standard output)");
+  check_output_paths(outputs);
+  if (o_write->count()) spec.write_data = write_data_s;
+  if (o_dump->count()) spec.dump = dump_s;
+  if (o_json->count()) spec.json = json_s;
+  if (o_read->count()) {
+    if (read_data_s.empty()) throw InputError("--read-data: empty file name");
+    spec.read_data = read_data_s;
+    return cmd;
+  }
+
+  const std::int64_t n = whole("--n", n_s, 1, kMaxSpheres, "the largest system hardsphere simulates");
+  spec.init.n = n;
+  spec.init.method = parse_init_method(init_s);
+  if (o_radius->count()) spec.init.radius = real("--radius", radius_s);
+  if (o_mass->count()) spec.init.mass = real("--mass", mass_s);
+  if (o_t->count()) spec.init.temperature = real("--temperature", t_s);
+  if (o_speed->count()) spec.init.speed = real("--init-speed", speed_s);
+  const double r = spec.init.radius;
+  if (!(r > 0)) throw InputError("--radius " + radius_s + " must be positive and finite");
+  std::array<double, 3> len{};
+  if (o_box->count()) {
+    if (o_phi->count()) throw InputError("--phi and --box both set the box size; give one");
+    const auto v = parse_list(box_s, "--box");
+    for (int d = 0; d < 3; ++d) len[d] = v[d];
+  } else {
+    const double phi = real("--phi", phi_s);
+    if (!(phi > 0)) throw InputError("--phi " + phi_s + " must be positive");
+    const double l = std::cbrt(double(n) * 4.0 / 3.0 * M_PI * r * r * r / phi);
+    if (!(std::isfinite(l) && l > 0))
+      throw InputError("--phi " + phi_s + " with --radius " + fmt(r) + " and --n " + n_s + " gives a box length " +
+                       fmt(l) + " that is not a positive finite number");
+    len = {l, l, l};
+  }
+  spec.init.box = Box::from_lengths(len, spec.periodic);
+  return cmd;
+}
+
+}  // namespace hardsphere::cli

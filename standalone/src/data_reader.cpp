@@ -1,0 +1,447 @@
+// LAMMPS data files (atom_style sphere) in: every header line, section and row is checked where
+// it is read, so each refusal names the value and its file:line. Whole-system checks (overlaps,
+// a periodic box too short) follow in validate_and_wrap.
+#include <sys/stat.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <climits>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <fstream>
+#include <map>
+#include <sstream>
+#include <unordered_map>
+#include <vector>
+
+#include "hardsphere/errors.hpp"
+#include "hardsphere/lammps_io.hpp"
+#include "hardsphere/limits.hpp"
+
+namespace hardsphere {
+
+namespace {
+
+using Words = std::vector<std::string>;
+
+bool is_blank(char c) { return c == ' ' || c == '\t' || c == '\r' || c == '\v' || c == '\f'; }
+
+Words split(const std::string& line) {
+  Words words;
+  std::size_t i = 0;
+  while (i < line.size()) {
+    while (i < line.size() && is_blank(line[i])) ++i;
+    const std::size_t start = i;
+    while (i < line.size() && !is_blank(line[i])) ++i;
+    if (i > start) words.push_back(line.substr(start, i - start));
+  }
+  return words;
+}
+
+std::string strip_comment(const std::string& line) {
+  const auto hash = line.find('#');
+  return hash == std::string::npos ? line : line.substr(0, hash);
+}
+
+std::string shown(const std::string& w);
+
+std::string join(const Words& w) {
+  std::string all;
+  for (const auto& x : w) all += (all.empty() ? "" : " ") + x;
+  return shown(all);
+}
+
+std::string fmt(double v) {
+  std::ostringstream s;
+  s.precision(17);
+  s << v;
+  return s.str();
+}
+
+//! Control characters escaped: a NUL from the file would cut the message short.
+std::string escaped(const std::string& m) {
+  std::string out;
+  for (const char ch : m) {
+    const unsigned char c = static_cast<unsigned char>(ch);
+    if (c < 0x20 || c == 0x7f) {
+      char hex[8];
+      std::snprintf(hex, sizeof hex, "\\x%02x", c);
+      out += hex;
+    } else {
+      out += ch;
+    }
+  }
+  return out;
+}
+
+//! A value as messages show it: long words shortened (a 64 KiB "number" is not worth repeating).
+std::string shown(const std::string& w) { return w.size() > 64 ? w.substr(0, 64) + "..." : w; }
+
+bool is_section_name(const std::string& w) {
+  static const char* names[] = {"Atoms",
+                                "Velocities",
+                                "Masses",
+                                "Bonds",
+                                "Angles",
+                                "Dihedrals",
+                                "Impropers",
+                                "Ellipsoids",
+                                "Lines",
+                                "Triangles",
+                                "Bodies",
+                                "Pair",
+                                "PairIJ",
+                                "Bond",
+                                "Angle",
+                                "Dihedral",
+                                "Improper",
+                                "BondBond",
+                                "BondAngle",
+                                "MiddleBondTorsion",
+                                "EndBondTorsion",
+                                "AngleTorsion",
+                                "AngleAngleTorsion",
+                                "BondBond13",
+                                "AngleAngle"};
+  for (const char* n : names)
+    if (w == n) return true;
+  return false;
+}
+
+class LineReader {
+ public:
+  LineReader(std::istream& in, std::string name) : in_(in), name_(std::move(name)) {}
+
+  //! The next line without its '\n'; false at end of input. Lines are bounded (kMaxDataLine),
+  //! so a file without newlines cannot grow one string without limit.
+  bool next(std::string& line) {
+    line.clear();
+    std::streambuf* buf = in_.rdbuf();
+    bool any = false;
+    for (;;) {
+      const int c = buf ? buf->sbumpc() : std::char_traits<char>::eof();
+      if (c == std::char_traits<char>::eof()) break;
+      any = true;
+      if (c == '\n') break;
+      if (line.size() >= kMaxDataLine) {
+        ++line_no_;
+        fail("line is longer than " + std::to_string(kMaxDataLine) + " characters (not a LAMMPS data file?)");
+      }
+      line.push_back(char(c));
+    }
+    if (!any) return false;
+    ++line_no_;
+    return true;
+  }
+
+  //! The next line with words (comments removed); false at end of input.
+  bool next_content(Words& words, std::string* raw = nullptr) {
+    std::string line;
+    while (next(line)) {
+      words = split(strip_comment(line));
+      if (raw) *raw = line;
+      if (!words.empty()) return true;
+    }
+    return false;
+  }
+
+  [[noreturn]] void fail(const std::string& what) const { throw FormatError(name_, line_no_, escaped(what)); }
+  //! "<what> [<who>] '<w>' <why>", e.g. "x of atom 7 '1.2.3' is not a number".
+  [[noreturn]] void fail_value(const char* what, const std::string* who, const std::string& w,
+                               const std::string& why) const {
+    fail(std::string(what) + (who ? " " + *who : "") + " '" + shown(w) + "' " + why);
+  }
+
+  //! A finite double. Values that underflow to a subnormal or zero are what strtod rounds them
+  //! to (hardsphere writes subnormals itself); overflow is refused.
+  double real(const std::string& w, const char* what, const std::string* who = nullptr) const {
+    char* end = nullptr;
+    errno = 0;
+    const double v = std::strtod(w.c_str(), &end);
+    if (w.empty() || end != w.c_str() + w.size()) fail_value(what, who, w, "is not a number");
+    if (!std::isfinite(v)) fail_value(what, who, w, errno == ERANGE ? "is too large for a double" : "is not finite");
+    return v;
+  }
+
+  //! A decimal integer in [lo, hi]; `range` explains the bounds when it is outside.
+  //! The message is built only on failure: these run six times per atom.
+  std::int64_t integer(const std::string& w, const char* what, std::int64_t lo = LLONG_MIN, std::int64_t hi = LLONG_MAX,
+                       const std::string& range = {}, const std::string* who = nullptr) const {
+    char* end = nullptr;
+    errno = 0;
+    const long long v = std::strtoll(w.c_str(), &end, 10);
+    if (w.empty() || end != w.c_str() + w.size()) fail_value(what, who, w, "is not an integer");
+    if (errno == ERANGE || v < lo || v > hi)
+      fail_value(what, who, w, range.empty() ? "is out of range" : "is out of range (" + range + ")");
+    return v;
+  }
+
+  long line() const { return line_no_; }
+  const std::string& name() const { return name_; }
+
+ private:
+  std::istream& in_;
+  std::string name_;
+  long line_no_ = 0;
+};
+
+struct Header {
+  std::int64_t natoms = -1, ntypes = -1;
+  Box box;
+  bool have_box[3] = {false, false, false};
+  long box_line[3] = {0, 0, 0};
+};
+
+// Header lines up to the first section name: "N atoms", "N atom types", "lo hi xlo xhi", ...
+// Returns false if the file ends without a section.
+bool read_header(LineReader& r, Header& h, Words& w, std::string& raw) {
+  std::map<std::string, long> seen;  // keyword -> line, so a repeated line is refused
+  auto once = [&](const std::string& key) {
+    const auto [it, fresh] = seen.emplace(key, r.line());
+    if (!fresh) r.fail("header line '" + key + "' appears twice (first at line " + std::to_string(it->second) + ")");
+  };
+  bool have_section = r.next_content(w, &raw);
+  while (have_section && !is_section_name(w[0])) {
+    if (w.size() == 2 && w[1] == "atoms") {
+      once("atoms");
+      h.natoms = r.integer(w[0], "atom count", 1, kMaxSpheres,
+                           "1 to " + std::to_string(kMaxSpheres) + ", the largest system hardsphere simulates");
+    } else if (w.size() == 3 && w[1] == "atom" && w[2] == "types") {
+      once("atom types");
+      h.ntypes = r.integer(w[0], "atom type count", 1, INT_MAX, "1 to " + std::to_string(INT_MAX));
+    } else if (w.size() == 4 && (w[2] == "xlo" || w[2] == "ylo" || w[2] == "zlo")) {
+      const char axis = w[2][0];
+      const int d = axis - 'x';
+      if (w[3] != std::string(1, axis) + "hi") r.fail("expected '" + std::string(1, axis) + "hi' after '" + w[2] + "'");
+      once(w[2] + " " + w[3]);
+      const double lo = r.real(w[0], "box lower bound"), hi = r.real(w[1], "box upper bound");
+      if (!(hi > lo)) r.fail("box " + w[2] + " " + w[3] + " is empty: " + w[0] + " >= " + w[1]);
+      if (!std::isfinite(hi - lo))
+        r.fail("box " + w[2] + " " + w[3] + " length " + w[0] + " .. " + w[1] + " overflows a double");
+      h.box.lo[d] = lo;
+      h.box.hi[d] = hi;
+      h.have_box[d] = true;
+      h.box_line[d] = r.line();
+    } else if (w.size() == 6 && w[3] == "xy" && w[4] == "xz" && w[5] == "yz") {
+      r.fail("triclinic boxes (xy xz yz) are not supported");
+    } else if (w.size() == 2 && (w[1] == "bonds" || w[1] == "angles" || w[1] == "dihedrals" || w[1] == "impropers")) {
+      once(w[1]);
+      if (r.integer(w[0], "topology count", 0) != 0)
+        r.fail("molecular topology (" + w[0] + " " + w[1] + ") is not supported for hard spheres");
+    } else if (w.size() == 3 && w[2] == "types" &&
+               (w[1] == "bond" || w[1] == "angle" || w[1] == "dihedral" || w[1] == "improper")) {
+      once(w[1] + " types");
+      r.integer(w[0], "topology type count", 0);  // harmless without bonds, but must be a count
+    } else {
+      r.fail("unknown header line '" + join(w) + "'");
+    }
+    have_section = r.next_content(w, &raw);
+  }
+  if (h.natoms < 0) r.fail("header has no 'N atoms' line");
+  if (h.ntypes < 0) r.fail("header has no 'N atom types' line");
+  for (int d = 0; d < 3; ++d)
+    if (!h.have_box[d]) r.fail(std::string("header has no '") + char('x' + d) + "lo " + char('x' + d) + "hi' line");
+  return have_section;
+}
+
+// Reads the next row of a section that must have `rows` of them; refuses end of file or a
+// section name in its place, naming how many rows came.
+void next_row(LineReader& r, Words& w, const char* section, std::int64_t k, std::int64_t rows, const char* unit) {
+  const std::string count = std::to_string(k) + " of " + std::to_string(rows) + " " + unit;
+  if (!r.next_content(w)) r.fail(std::string(section) + " section ends after " + count + " (end of file)");
+  if (w.size() == 1 && is_section_name(w[0]))
+    r.fail(std::string(section) + " section ends after " + count + ": found section '" + w[0] + "'");
+}
+
+class DataFile {
+ public:
+  DataFile(LineReader& r, const Header& h, std::array<bool, 3> periodic)
+      : r_(r), h_(h), type_range_("1.." + std::to_string(h.ntypes) + " from the header") {
+    sys_.box = h.box;
+    sys_.box.periodic = periodic;
+    // Never trust a header count for allocation: a lying header must not reserve gigabytes.
+    const std::size_t guess = std::size_t(std::min<std::int64_t>(h.natoms, 1 << 20));
+    sys_.reserve(guess);
+    atom_line_.reserve(guess);
+    index_.reserve(guess);
+  }
+
+  void atoms(const std::string& raw) {
+    // The optional style hint ("Atoms # sphere") must say sphere if present.
+    const auto hash = raw.find('#');
+    if (hash != std::string::npos) {
+      const auto hint = split(raw.substr(hash + 1));
+      if (!hint.empty() && hint[0] != "sphere")
+        r_.fail("Atoms section is for atom_style '" + hint[0] + "'; hardsphere reads atom_style sphere");
+    }
+    Words w;
+    for (std::int64_t k = 0; k < h_.natoms; ++k) {
+      next_row(r_, w, "Atoms", k, h_.natoms, "atoms");
+      atom_row(w);
+    }
+  }
+
+  void velocities() {
+    std::vector<long> given(sys_.size(), 0);  // line of each atom's velocity row, 0 = none yet
+    Words w;
+    for (std::int64_t k = 0; k < h_.natoms; ++k) {
+      next_row(r_, w, "Velocities", k, h_.natoms, "atoms");
+      if (w.size() != 4 && w.size() != 7)
+        r_.fail("velocity line has " + std::to_string(w.size()) + " columns; expected id vx vy vz [wx wy wz]");
+      const std::int64_t id = r_.integer(w[0], "atom id");
+      const auto it = index_.find(id);
+      if (it == index_.end()) r_.fail("velocity for unknown atom id " + w[0]);
+      if (given[it->second])
+        r_.fail("velocity for atom id " + w[0] + " given twice (first at line " + std::to_string(given[it->second]) +
+                ")");
+      given[it->second] = r_.line();
+      const Vec3d v{r_.real(w[1], "vx of atom", &w[0]), r_.real(w[2], "vy of atom", &w[0]),
+                    r_.real(w[3], "vz of atom", &w[0])};
+      for (std::size_t c = 4; c < w.size(); ++c) r_.real(w[c], "angular velocity of atom", &w[0]);  // unused
+      sys_.vel[it->second] = v;
+    }
+    // natoms distinct known ids cover every atom; kept as a guard against a future change above.
+    const auto missing = std::find(given.begin(), given.end(), 0L);
+    if (missing != given.end())
+      r_.fail("Velocities section has no row for atom id " + std::to_string(sys_.id[missing - given.begin()]));
+  }
+
+  // Per-type masses are not used (atom_style sphere takes mass from per-atom density), but the
+  // rows must still be well-formed: `type mass`, each type 1..ntypes once, mass positive.
+  void masses() {
+    std::unordered_map<std::int64_t, long> seen;
+    Words w;
+    for (std::int64_t k = 0; k < h_.ntypes; ++k) {
+      next_row(r_, w, "Masses", k, h_.ntypes, "atom types");
+      if (w.size() != 2) r_.fail("mass line has " + std::to_string(w.size()) + " columns; expected 'type mass'");
+      const std::int64_t type =
+          r_.integer(w[0], "atom type", 1, h_.ntypes, "the header has " + std::to_string(h_.ntypes) + " atom types");
+      const auto [it, fresh] = seen.emplace(type, r_.line());
+      if (!fresh)
+        r_.fail("mass of atom type " + w[0] + " given twice (first at line " + std::to_string(it->second) + ")");
+      if (!(r_.real(w[1], "mass of atom type", &w[0]) > 0))
+        r_.fail("mass " + w[1] + " of atom type " + w[0] + " must be positive");
+    }
+  }
+
+  //! A periodic axis shorter than two largest diameters makes the minimum image ambiguous;
+  //! checked here (validate_and_wrap checks it too) so the message names both lines.
+  void check_periodic_lengths() const {
+    static const char* axis = "xyz";
+    for (int d = 0; d < 3; ++d) {
+      if (!sys_.box.periodic[d] || !(sys_.box.length(d) < 4 * max_radius_)) continue;
+      throw FormatError(r_.name(), h_.box_line[d],
+                        std::string("periodic box length ") + fmt(sys_.box.length(d)) + " along " + axis[d] +
+                            " is less than twice the largest diameter " + fmt(2 * max_radius_) + " (atom " +
+                            std::to_string(sys_.id[widest_]) + ", line " + std::to_string(atom_line_[widest_]) +
+                            "): the minimum image would be ambiguous");
+    }
+  }
+
+  ParticleSystem take() { return std::move(sys_); }
+
+ private:
+  void atom_row(const Words& w) {
+    if (w.size() != 7 && w.size() != 10)
+      r_.fail("atom line has " + std::to_string(w.size()) +
+              " columns; atom_style sphere needs 7 (id type diameter density x y z) or 10 (with image flags)");
+    const std::string& id_s = w[0];
+    const std::int64_t id = r_.integer(id_s, "atom id", 1, LLONG_MAX, "ids are >= 1");
+    const auto [it, fresh] = index_.emplace(id, sys_.size());
+    if (!fresh)
+      r_.fail("atom id " + id_s + " appears twice (first at line " + std::to_string(atom_line_[it->second]) + ")");
+    const std::int64_t type = r_.integer(w[1], "atom type", 1, h_.ntypes, type_range_);
+    const double diameter = r_.real(w[2], "diameter of atom", &id_s);
+    const double density = r_.real(w[3], "density of atom", &id_s);
+    if (!(diameter > 0))
+      r_.fail("diameter " + w[2] + " of atom " + id_s + " must be positive (hard spheres have size)");
+    if (!(density > 0)) r_.fail("density " + w[3] + " of atom " + id_s + " must be positive");
+    const Vec3d p{r_.real(w[4], "x of atom", &id_s), r_.real(w[5], "y of atom", &id_s),
+                  r_.real(w[6], "z of atom", &id_s)};
+    // Image flags are checked, not applied: positions are wrapped into periodic boxes anyway.
+    for (std::size_t c = 7; c < w.size(); ++c)
+      r_.integer(w[c], "image flag of atom", INT32_MIN, INT32_MAX, "32-bit integers", &id_s);
+    const double radius = 0.5 * diameter;
+    // Same operation order as LAMMPS AtomVecSphere, so masses agree to the last bit.
+    const double mass = density * (4.0 * M_PI / 3.0 * radius * radius * radius);
+    if (!(radius > 0 && std::isfinite(mass) && mass > 0))
+      r_.fail("atom " + id_s + " with diameter " + w[2] + " and density " + w[3] + " has mass " + fmt(mass) +
+              ", not a positive finite number");
+    static const char* axis = "xyz";
+    for (int d = 0; d < 3; ++d)
+      if (!sys_.box.periodic[d] && (p[d] - radius < sys_.box.lo[d] || p[d] + radius > sys_.box.hi[d]))
+        r_.fail(std::string(1, axis[d]) + " = " + w[4 + d] + " of atom " + id_s + " with radius " + fmt(radius) +
+                " is outside the wall-bounded box [" + fmt(sys_.box.lo[d]) + ", " + fmt(sys_.box.hi[d]) + "]");
+    if (radius > max_radius_) {
+      max_radius_ = radius;
+      widest_ = sys_.size();
+    }
+    atom_line_.push_back(r_.line());
+    sys_.push_back(id, int(type), radius, mass, p, {});
+  }
+
+  LineReader& r_;
+  const Header& h_;
+  const std::string type_range_;  // for messages, built once
+  ParticleSystem sys_;
+  std::unordered_map<std::int64_t, std::size_t> index_;  // atom id -> row
+  std::vector<long> atom_line_;
+  double max_radius_ = 0;
+  std::size_t widest_ = 0;  // row of the largest sphere
+};
+
+}  // namespace
+
+ParticleSystem read_data(std::istream& in, const std::string& name, std::array<bool, 3> periodic) {
+  LineReader r(in, name);
+  std::string line;
+  if (!r.next(line)) throw InputError(name + ": empty file (a LAMMPS data file starts with a title line)");
+  Header h;
+  Words w;
+  std::string raw;
+  bool have_section = read_header(r, h, w, raw);
+  DataFile data(r, h, periodic);
+  std::map<std::string, long> seen;  // section -> line, so a repeated section is refused
+  while (have_section) {
+    const std::string name_w = w[0];
+    if (name_w != "Atoms" && name_w != "Velocities" && name_w != "Masses")
+      r.fail("section '" + join(w) +
+             "' is not supported (atom_style sphere needs Atoms and optional Velocities, Masses)");
+    if (w.size() != 1)
+      r.fail("unexpected '" + w[1] + "' after section name '" + name_w + "' (a style hint goes in a comment: '" +
+             name_w + " # sphere')");
+    const auto [it, fresh] = seen.emplace(name_w, r.line());
+    if (!fresh) r.fail("second " + name_w + " section (first at line " + std::to_string(it->second) + ")");
+    const char* unit = "atoms";
+    if (name_w == "Atoms") {
+      data.atoms(raw);
+    } else if (name_w == "Velocities") {
+      if (!seen.count("Atoms")) r.fail("Velocities section before Atoms section");
+      data.velocities();
+    } else {  // Masses
+      data.masses();
+      unit = "atom types";
+    }
+    have_section = r.next_content(w, &raw);
+    if (have_section && !is_section_name(w[0]))
+      r.fail("expected a section name, found '" + join(w) + "' (more rows than the header's " + unit + "?)");
+  }
+  if (!seen.count("Atoms")) r.fail("no Atoms section");
+  data.check_periodic_lengths();
+  ParticleSystem sys = data.take();
+  validate_and_wrap(sys, name);
+  return sys;
+}
+
+ParticleSystem read_data(const std::string& path, std::array<bool, 3> periodic) {
+  struct stat st {};
+  if (::stat(path.c_str(), &st) == 0 && S_ISDIR(st.st_mode))
+    throw InputError("data file '" + path + "' is a directory");
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw InputError("cannot open data file '" + path + "': " + std::strerror(errno));
+  return read_data(in, path, periodic);
+}
+
+}  // namespace hardsphere

@@ -1,0 +1,99 @@
+"""Data files through `hardsphere run --read-data`: each class of malformed file the reader used
+to accept silently (or to end with an internal error) is refused with status 2 and file:line.
+The reader's full rule set is tested in tests/unit/test_lammps_io.cpp.
+"""
+import pytest
+
+from hs_run import run, run_json
+
+
+def write_state(hs, path, *args):
+    p = run(hs, "--n", 30, "--phi", 0.1, "--steps", 0, "--write-data", path, *args)
+    assert p.returncode == 0, p.stderr
+    return path.read_text().splitlines()
+
+
+def line_of(lines, text):
+    return next(i for i, l in enumerate(lines) if l.split("#")[0].strip() == text)
+
+
+def edit(lines, index, new):
+    out = list(lines)
+    out[index] = new
+    return out
+
+
+def velocity_duplicate(lines):
+    v = line_of(lines, "Velocities") + 2
+    first_id = lines[v].split()[0]
+    return edit(lines, v + 1, " ".join([first_id] + lines[v + 1].split()[1:])), v + 2, [f"atom id {first_id}", "twice"]
+
+
+def image_flags(flags):
+    def f(lines):
+        a = line_of(lines, "Atoms") + 2
+        return edit(lines, a, " ".join(lines[a].split()[:7] + flags)), a + 1, ["image flag", flags[0]]
+    f.__name__ = "image_flags_" + "_".join(flags)
+    return f
+
+
+def repeated(header):
+    def f(lines):
+        at = line_of(lines, "Atoms")
+        out = lines[:at] + [header] + lines[at:]
+        return out, at + 1, ["appears twice"]
+    f.__name__ = "repeated_" + header.split()[-1]
+    return f
+
+
+def short_masses(lines):
+    at = line_of(lines, "Atoms")
+    out = lines[:at] + ["Masses", "", "1 1.0", "2 1.0", ""] + lines[at:]  # the header says 1 atom type
+    return out, at + 4, ["expected a section name", "'2 1.0'"]
+
+
+def masses_missing_rows(lines):
+    out = [l.replace("1 atom types", "3 atom types") for l in lines]
+    at = line_of(out, "Atoms")
+    out = out[:at] + ["Masses", "", "1 1.0", ""] + out[at:]
+    return out, at + 5, ["Masses section ends after 1 of 3 atom types"]
+
+
+def huge_count(lines):
+    i = next(i for i, l in enumerate(lines) if l.endswith(" atoms"))
+    return edit(lines, i, "99999999999999 atoms"), i + 1, ["atom count '99999999999999'", "134217728"]
+
+
+@pytest.mark.parametrize("mutate", [
+    velocity_duplicate,
+    image_flags(["a", "b", "c"]),
+    image_flags(["1e300", "-5", "7.5"]),
+    repeated("30 atoms"),
+    repeated("1 atom types"),
+    repeated("0 10 xlo xhi"),
+    short_masses,
+    masses_missing_rows,
+    huge_count,
+], ids=lambda f: getattr(f, "__name__", "case"))
+def test_malformed_data_files_are_refused_with_file_and_line(hs, tmp_path, mutate):
+    lines = write_state(hs, tmp_path / "s.data")
+    bad, line, needles = mutate(lines)
+    (tmp_path / "bad.data").write_text("\n".join(bad) + "\n")
+    p = run(hs, "--read-data", "bad.data", "--steps", 1, "--json", "out.json", cwd=tmp_path)
+    assert p.returncode == 2, (p.returncode, p.stderr)
+    assert p.stderr.startswith(f"hardsphere: error: bad.data:{line}: "), p.stderr
+    for needle in needles:
+        assert needle in p.stderr, (needle, p.stderr)
+    assert not (tmp_path / "out.json").exists()
+
+
+def test_subnormal_velocities_round_trip(hs, tmp_path):
+    # strtod reports ERANGE for subnormals; the reader refused what the writer had written.
+    write_state(hs, tmp_path / "s.data", "--init-speed", "1e-310")
+    j = run_json(hs, "--read-data", tmp_path / "s.data", "--steps", 1)
+    assert j["n"] == 30
+
+
+def test_a_directory_is_not_a_data_file(hs, tmp_path):
+    p = run(hs, "--read-data", tmp_path, "--steps", 1)
+    assert p.returncode == 2 and "is a directory" in p.stderr, p.stderr

@@ -1,0 +1,90 @@
+"""Output files: two outputs naming one file (under any spelling) are refused before anything is
+created, and a run killed by SIGTERM, SIGINT or SIGHUP removes its temporary files and dies by
+that signal.
+"""
+import os
+import signal
+import subprocess
+import time
+
+import pytest
+
+from hs_run import run
+
+
+@pytest.mark.parametrize("first,second", [
+    ("x", "x"),
+    ("x", "./x"),
+    ("x", "sub/../x"),
+    ("x", "link"),        # a symlink to x (x does not exist yet)
+    ("x", "{abs}/x"),
+    ("sub/y", "linkdir/y"),  # a symlink to the directory sub
+])
+@pytest.mark.parametrize("options", [("--json", "--write-data"), ("--json", "--dump"), ("--dump", "--write-data")])
+def test_two_outputs_naming_one_file_are_refused(hs, tmp_path, first, second, options):
+    (tmp_path / "sub").mkdir()
+    os.symlink("x", tmp_path / "link")
+    os.symlink("sub", tmp_path / "linkdir")
+    before = sorted(os.listdir(tmp_path))
+    second = second.format(abs=tmp_path)
+    p = run(hs, "--n", 20, "--phi", 0.1, "--steps", 1, options[0], first, options[1], second, cwd=tmp_path)
+    assert p.returncode == 2, (p.returncode, p.stderr)
+    assert "same file" in p.stderr and options[0] in p.stderr and options[1] in p.stderr, p.stderr
+    assert sorted(os.listdir(tmp_path)) == before and os.listdir(tmp_path / "sub") == []
+
+
+def test_outputs_that_cannot_be_files_are_refused_up_front(hs, tmp_path):
+    (tmp_path / "d").mkdir()
+    for args, needle in [(["--write-data", "d"], "is a directory"),
+                         (["--write-data", "missing/x.data"], "does not exist"),
+                         (["--json", "/dev/null"], "not a regular file")]:
+        p = run(hs, "--n", 20, "--phi", 0.1, "--steps", 1, *args, cwd=tmp_path)
+        assert p.returncode == 2 and needle in p.stderr, (args, p.stderr)
+    assert os.listdir(tmp_path) == ["d"] and os.listdir(tmp_path / "d") == []
+
+
+def test_reading_and_writing_one_data_file_is_allowed(hs, tmp_path):
+    assert run(hs, "--n", 20, "--phi", 0.1, "--steps", 0, "--write-data", "s.data", cwd=tmp_path).returncode == 0
+    p = run(hs, "--read-data", "s.data", "--steps", 3, "--write-data", "s.data", cwd=tmp_path)
+    assert p.returncode == 0, p.stderr
+    assert "after 3 steps" in (tmp_path / "s.data").read_text()
+
+
+def test_an_output_through_a_symlink_writes_its_target(hs, tmp_path):
+    os.symlink("target.json", tmp_path / "link.json")
+    assert run(hs, "--n", 20, "--phi", 0.1, "--steps", 1, "--json", "link.json", cwd=tmp_path).returncode == 0
+    assert os.path.islink(tmp_path / "link.json") and '"n": 20' in (tmp_path / "target.json").read_text()
+
+
+def default_signals():
+    # A child started from a shell without job control may inherit SIGINT ignored; the program
+    # rightly keeps an ignored signal ignored, so give it the default disposition a terminal has.
+    for s in (signal.SIGINT, signal.SIGHUP, signal.SIGTERM):
+        signal.signal(s, signal.SIG_DFL)
+
+
+@pytest.mark.parametrize("sig", [signal.SIGTERM, signal.SIGINT, signal.SIGHUP])
+def test_a_signal_removes_the_temporary_files_and_kills_with_that_signal(hs, tmp_path, sig):
+    cmd = [hs, "run", "--n", 20000, "--phi", 0.2, "--steps", 10 ** 7, "--dump", "t.dump", "--dump-every", 5,
+           "--json", "s.json", "--write-data", "f.data"]
+    p = subprocess.Popen(list(map(str, cmd)), cwd=tmp_path, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE,
+                         preexec_fn=default_signals)
+    try:
+        deadline = time.monotonic() + 60
+        # Wait until the run is under way: the dump's temporary exists and has frames in it.
+        while time.monotonic() < deadline:
+            tmp = [f for f in os.listdir(tmp_path) if ".tmp." in f]
+            if len(tmp) == 2 and (tmp_path / f"t.dump.tmp.{p.pid}").stat().st_size > 0:
+                break
+            assert p.poll() is None, p.stderr.read()
+            time.sleep(0.05)
+        else:
+            pytest.fail(f"no temporary files after 60 s: {os.listdir(tmp_path)}")
+        p.send_signal(sig)
+        p.wait(timeout=30)
+    finally:
+        if p.poll() is None:
+            p.kill()
+            p.wait()
+    assert p.returncode == -sig, p.returncode
+    assert os.listdir(tmp_path) == []
