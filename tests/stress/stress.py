@@ -415,7 +415,7 @@ def refused(ctx, needle, *args):
       "refused (exit 2, value named)")
 def overflow(ctx):
     wide = write_data(ctx.work / "wide.data", [(5, 5, 5, 0, 0, 0)], box=((-1e308, 1e308), (0, 10), (0, 10)))
-    refused(ctx, "box x extent", "--read-data", wide, "--steps", 1)
+    refused(ctx, "1e+308", "--read-data", wide, "--steps", 1)
     far = write_data(ctx.work / "far.data", [(1e17, 5, 5, 0, 0, 0), (5, 5, 5, 0, 0, 0)])
     refused(ctx, "x = 1e+17", "--read-data", far, "--steps", 1)
     fast = write_data(ctx.work / "fast.data", [(5, 5, 5, 1e200, 0, 0), (2, 2, 2, 0, 0, 0)])
