@@ -2,7 +2,11 @@
 #include "hardsphere/lammps_io.hpp"
 
 #include <algorithm>
+#include <cerrno>
 #include <cmath>
+#include <cstring>
+
+#include "hardsphere/errors.hpp"
 
 namespace hardsphere {
 
@@ -42,6 +46,10 @@ void DumpWriter::write_frame(std::int64_t timestep, const ParticleSystem& sys) {
   for (std::size_t i = 0; i < sys.size(); ++i)
     o << sys.id[i] << ' ' << sys.type[i] << ' ' << sys.radius[i] << ' ' << sys.pos[i].x << ' ' << sys.pos[i].y << ' '
       << sys.pos[i].z << ' ' << sys.vel[i].x << ' ' << sys.vel[i].y << ' ' << sys.vel[i].z << '\n';
+  // A full disk or a file size limit shows here, at the frame, not only after the whole run.
+  if (!o)
+    throw InputError("error while writing '" + file_.path() + "'" +
+                     (errno ? std::string(": ") + std::strerror(errno) : ""));
 }
 
 }  // namespace hardsphere

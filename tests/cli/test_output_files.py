@@ -3,6 +3,7 @@ created, and a run killed by SIGTERM, SIGINT or SIGHUP removes its temporary fil
 that signal.
 """
 import os
+import resource
 import signal
 import subprocess
 import time
@@ -87,4 +88,22 @@ def test_a_signal_removes_the_temporary_files_and_kills_with_that_signal(hs, tmp
             p.kill()
             p.wait()
     assert p.returncode == -sig, p.returncode
+    assert os.listdir(tmp_path) == []
+
+
+@pytest.mark.parametrize("xfsz", ["default", "ignored"])
+def test_a_file_size_limit_leaves_no_file(hs, tmp_path, xfsz):
+    # Beyond RLIMIT_FSIZE a write raises SIGXFSZ (the program cleans up and dies by it) or, with
+    # the signal ignored, fails with EFBIG (seen at the dump frame: exit 2).
+    def limit():
+        default_signals()
+        signal.signal(signal.SIGXFSZ, signal.SIG_DFL if xfsz == "default" else signal.SIG_IGN)
+        resource.setrlimit(resource.RLIMIT_FSIZE, (1 << 20, 1 << 20))
+    cmd = [hs, "run", "--n", 20000, "--phi", 0.2, "--steps", 100, "--dump", "t.dump", "--dump-every", 10,
+           "--json", "s.json"]
+    p = subprocess.run(list(map(str, cmd)), cwd=tmp_path, capture_output=True, text=True, preexec_fn=limit, timeout=120)
+    if xfsz == "default":
+        assert p.returncode == -signal.SIGXFSZ, (p.returncode, p.stderr)
+    else:
+        assert p.returncode == 2 and "error while writing 't.dump'" in p.stderr, (p.returncode, p.stderr)
     assert os.listdir(tmp_path) == []
