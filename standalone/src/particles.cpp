@@ -60,9 +60,13 @@ void wrap_periodic(ParticleSystem& sys) {
   for (auto& p : sys.pos)
     for (int d = 0; d < 3; ++d) {
       if (!sys.box.periodic[d]) continue;
-      const double len = sys.box.length(d);
-      p[d] -= len * std::floor((p[d] - sys.box.lo[d]) / len);
-      if (p[d] >= sys.box.hi[d]) p[d] = sys.box.lo[d];  // rounding at the top edge
+      const double lo = sys.box.lo[d], hi = sys.box.hi[d], len = sys.box.length(d);
+      if (p[d] >= lo && p[d] < hi) continue;
+      // fmod is exact, so even far coordinates land in the box (rounding can still reach hi).
+      double r = std::fmod(p[d] - lo, len);
+      if (r < 0) r += len;
+      p[d] = lo + r;
+      if (!(p[d] >= lo && p[d] < hi)) p[d] = lo;
     }
 }
 

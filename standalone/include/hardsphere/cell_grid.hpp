@@ -38,8 +38,8 @@ class CellGrid {
     return index(coord(x, 0), coord(y, 1), coord(z, 2));
   }
   int coord(double x, int d) const {
-    int c = int(std::floor((x - lo_[d]) * inv_width_[d]));
-    return c < 0 ? 0 : (c >= counts_[d] ? counts_[d] - 1 : c);
+    const double c = std::floor((x - lo_[d]) * inv_width_[d]);  // clamped before the int conversion
+    return c >= 0 ? (c < double(counts_[d]) ? int(c) : counts_[d] - 1) : 0;
   }
   int index(int cx, int cy, int cz) const { return (cz * counts_[1] + cy) * counts_[0] + cx; }
 
