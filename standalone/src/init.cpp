@@ -4,6 +4,7 @@
 #include <cmath>
 #include <sstream>
 
+#include "dense_packing.hpp"
 #include "hardsphere/cell_grid.hpp"
 #include "hardsphere/errors.hpp"
 #include "hardsphere/neighbour_entry.hpp"
@@ -17,7 +18,8 @@ InitMethod parse_init_method(const std::string& s) {
   if (s == "auto") return InitMethod::Auto;
   if (s == "random") return InitMethod::Random;
   if (s == "lattice") return InitMethod::Lattice;
-  throw InputError("unknown init method '" + s + "' (expected auto, random or lattice)");
+  if (s == "dense") return InitMethod::Dense;
+  throw InputError("unknown init method '" + s + "' (expected auto, random, lattice or dense)");
 }
 
 namespace {
@@ -31,6 +33,9 @@ std::string fmt(double v) {
   s << v;
   return s.str();
 }
+
+// A box made from a packing fraction (as the CLI's --phi does) gives it back with round-off.
+bool above(double phi, double limit) { return phi > limit * (1 + 1e-12); }
 
 void zero_momentum(ParticleSystem& sys) {
   Vec3d p{};
@@ -122,6 +127,12 @@ void lattice_route(ParticleSystem& sys, const InitSpec& spec, Rng& rng) {
   run_dynamics(sys, dt, 100);
 }
 
+void dense_route(ParticleSystem& sys, const InitSpec& spec, Rng& rng) {
+  const auto pos = dense_packing(spec.box, spec.n, spec.radius, rng);
+  sys.reserve(std::size_t(spec.n));
+  for (std::int64_t i = 0; i < spec.n; ++i) sys.push_back(i + 1, 1, spec.radius, spec.mass, pos[std::size_t(i)], {});
+}
+
 }  // namespace
 
 void place_random(ParticleSystem& sys, std::int64_t n, double radius, double mass, Rng& rng,
@@ -159,7 +170,8 @@ void place_random(ParticleSystem& sys, std::int64_t n, double radius, double mas
       const double phi = double(n) * 4.0 / 3.0 * M_PI * radius * radius * radius / box.volume();
       throw InputError("random insertion placed only " + std::to_string(placed) + " of " + std::to_string(n) +
                        " spheres (packing fraction " + fmt(phi) +
-                       " is too dense for it; use --init lattice, which reaches " + fmt(kLatticeRouteLimit) + ")");
+                       " is too dense for it; use --init lattice, which reaches " + fmt(kLatticeRouteLimit) +
+                       ", or --init dense, which reaches " + fmt(kDenseLimit) + ")");
     }
   }
 }
@@ -227,18 +239,31 @@ ParticleSystem make_initial_state(const InitSpec& spec) {
                        fmt(2 * spec.radius) + ")");
   }
   const double phi = double(spec.n) * 4.0 / 3.0 * M_PI * std::pow(spec.radius, 3) / spec.box.volume();
-  if (phi > kLatticeRouteLimit)
-    throw InputError("packing fraction " + fmt(phi) + " is above " + fmt(kLatticeRouteLimit) +
-                     ", the densest fluid state the initialiser can make (freezing is at 0.494, close packing 0.74)");
+  if (above(phi, kClosePacking))
+    throw InputError("packing fraction " + fmt(phi) + " is impossible: above close packing " + fmt(kClosePacking));
+  if (spec.method == InitMethod::Auto && above(phi, kDenseLimit))
+    throw InputError("packing fraction " + fmt(phi) + " is above " + fmt(kDenseLimit) +
+                     ", the densest state the initialiser promises (random close packing is near 0.64, close packing " +
+                     fmt(kClosePacking) + "); --init dense tries denser ones");
   InitMethod method = spec.method;
-  if (method == InitMethod::Auto) method = phi <= kRandomInsertionLimit ? InitMethod::Random : InitMethod::Lattice;
+  if (method == InitMethod::Auto) {
+    method = phi <= kRandomInsertionLimit      ? InitMethod::Random
+             : !above(phi, kLatticeRouteLimit) ? InitMethod::Lattice
+                                               : InitMethod::Dense;
+  }
+  if (method == InitMethod::Lattice && above(phi, kLatticeRouteLimit))
+    throw InputError("packing fraction " + fmt(phi) + " is above " + fmt(kLatticeRouteLimit) +
+                     ", the densest fluid the lattice route makes (freezing is at 0.494); --init dense reaches " +
+                     fmt(kDenseLimit));
   Rng rng(spec.seed);
   ParticleSystem sys;
   sys.box = spec.box;
   if (method == InitMethod::Random) {
     place_random(sys, spec.n, spec.radius, spec.mass, rng);
-  } else {
+  } else if (method == InitMethod::Lattice) {
     lattice_route(sys, spec, rng);
+  } else {
+    dense_route(sys, spec, rng);
   }
   assign_velocities(sys, spec.temperature, spec.speed, rng);
   validate_and_wrap(sys, "initial state");

@@ -1,6 +1,6 @@
 // Initial-state generation: the lattice route's sites for every N and box shape (the site
 // count loop used to cycle forever for most N), the end-to-end case that hung, and the
-// refusals of impossible requests.
+// refusals of impossible or unreachable requests.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -176,4 +176,37 @@ TEST(InitInput, MoreSpheresThanTheEnginesHoldAreRefusedUpFront) {
   } catch (const InputError& e) {
     EXPECT_NE(std::string(e.what()).find("1099511627776"), std::string::npos) << e.what();
   }
+}
+
+TEST(InitInput, RefusalsNameThePackingFractionAndTheLimit) {
+  auto message = [](InitSpec spec) {
+    try {
+      make_initial_state(spec);
+    } catch (const InputError& e) {
+      return std::string(e.what());
+    }
+    return std::string("accepted");
+  };
+  InitSpec spec;
+  spec.n = 1000;
+  spec.box = box_for(1000, 0.80, {1, 1, 1}, {true, true, true});
+  std::string m = message(spec);
+  EXPECT_NE(m.find("0.8"), std::string::npos) << m;
+  EXPECT_NE(m.find("close packing 0.74"), std::string::npos) << m;
+  spec.box = box_for(1000, 0.70, {1, 1, 1}, {true, true, true});
+  m = message(spec);
+  EXPECT_NE(m.find("0.7 "), std::string::npos) << m;
+  EXPECT_NE(m.find(std::to_string(kDenseLimit).substr(0, 4)), std::string::npos) << m;
+  spec.method = InitMethod::Lattice;
+  spec.box = box_for(1000, 0.60, {1, 1, 1}, {true, true, true});
+  m = message(spec);
+  EXPECT_NE(m.find("0.6 "), std::string::npos) << m;
+  EXPECT_NE(m.find("0.55"), std::string::npos) << m;
+  EXPECT_NE(m.find("--init dense"), std::string::npos) << m;
+  spec.method = InitMethod::Random;
+  spec.box = box_for(1000, 0.45, {1, 1, 1}, {true, true, true});
+  m = message(spec);
+  EXPECT_NE(m.find("--init lattice"), std::string::npos) << m;
+  EXPECT_EQ(parse_init_method("dense"), InitMethod::Dense);
+  EXPECT_THROW(parse_init_method("crystal"), InputError);
 }
