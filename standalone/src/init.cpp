@@ -4,10 +4,13 @@
 #include <cmath>
 #include <sstream>
 
+#include "dense_packing.hpp"
 #include "hardsphere/cell_grid.hpp"
 #include "hardsphere/errors.hpp"
+#include "hardsphere/neighbour_entry.hpp"
 #include "hardsphere/observables.hpp"
 #include "hardsphere/stepper.hpp"
+#include "lattice_sites.hpp"
 
 namespace hardsphere {
 
@@ -15,7 +18,8 @@ InitMethod parse_init_method(const std::string& s) {
   if (s == "auto") return InitMethod::Auto;
   if (s == "random") return InitMethod::Random;
   if (s == "lattice") return InitMethod::Lattice;
-  throw InputError("unknown init method '" + s + "' (expected auto, random or lattice)");
+  if (s == "dense") return InitMethod::Dense;
+  throw InputError("unknown init method '" + s + "' (expected auto, random, lattice or dense)");
 }
 
 namespace {
@@ -29,6 +33,9 @@ std::string fmt(double v) {
   s << v;
   return s.str();
 }
+
+// A box made from a packing fraction (as the CLI's --phi does) gives it back with round-off.
+bool above(double phi, double limit) { return phi > limit * (1 + 1e-12); }
 
 void zero_momentum(ParticleSystem& sys) {
   Vec3d p{};
@@ -56,56 +63,6 @@ Vec3d random_direction(Rng& rng) {
   return {s * std::cos(phi), s * std::sin(phi), z};
 }
 
-// FCC sites (4 per unit cell, counts proportional to the box), as many as needed for n.
-std::vector<Vec3d> fcc_sites(const Box& box, std::int64_t n, double radius) {
-  std::array<double, 3> avail{};
-  for (int d = 0; d < 3; ++d) avail[d] = span(box, d, radius);
-  const double cell_volume = avail[0] * avail[1] * avail[2] * 4.0 / double(n);
-  const double a = std::cbrt(cell_volume);
-  std::array<int, 3> k{};
-  for (;;) {
-    for (int d = 0; d < 3; ++d) k[d] = std::max(1, int(std::round(avail[d] / a)));
-    if (4LL * k[0] * k[1] * k[2] >= n) break;
-    int widest = 0;  // add a layer along the axis with the widest cells
-    for (int d = 1; d < 3; ++d)
-      if (avail[d] / k[d] > avail[widest] / k[widest]) widest = d;
-    k[widest] += 1;
-    if (4LL * k[0] * k[1] * k[2] >= n) break;
-  }
-  static const double basis[4][3] = {{0, 0, 0}, {0.5, 0.5, 0}, {0.5, 0, 0.5}, {0, 0.5, 0.5}};
-  std::vector<Vec3d> sites;
-  sites.reserve(std::size_t(4LL * k[0] * k[1] * k[2]));
-  for (int i = 0; i < k[0]; ++i)
-    for (int j = 0; j < k[1]; ++j)
-      for (int l = 0; l < k[2]; ++l)
-        for (const auto& b : basis) {
-          Vec3d p;
-          const int idx[3] = {i, j, l};
-          for (int d = 0; d < 3; ++d) {
-            const double w = avail[d] / k[d];
-            // A quarter-cell offset keeps wall-axis sites inside [lo + r, hi - r].
-            p[d] = lower(box, d, radius) + (idx[d] + b[d] + 0.25) * w;
-          }
-          sites.push_back(p);
-        }
-  return sites;
-}
-
-// Smallest centre distance between FCC sites with the given box and counts (conservative).
-double fcc_spacing(const std::vector<Vec3d>& sites, const Box& box) {
-  double best = 1e300;
-  const std::size_t m = std::min<std::size_t>(sites.size(), 64);
-  for (std::size_t i = 0; i < m; ++i)
-    for (std::size_t j = 0; j < sites.size(); ++j) {
-      if (i == j) continue;
-      Vec3d dr = sites[i] - sites[j];
-      for (int d = 0; d < 3; ++d)
-        if (box.periodic[d]) dr[d] -= box.length(d) * std::nearbyint(dr[d] / box.length(d));
-      best = std::min(best, norm(dr));
-    }
-  return best;
-}
-
 // Largest overlap with another sphere or with a wall (growth can leave either behind).
 double max_violation(const ParticleSystem& sys) {
   double worst = max_overlap(sys);
@@ -128,14 +85,20 @@ void run_dynamics(ParticleSystem& sys, double dt, std::int64_t steps) {
 
 void lattice_route(ParticleSystem& sys, const InitSpec& spec, Rng& rng) {
   const double target_r = spec.radius;
-  auto sites = fcc_sites(spec.box, spec.n, target_r);
-  const double spacing = fcc_spacing(sites, spec.box);
+  auto lattice = lattice_sites(spec.box, spec.n, target_r);
+  auto& sites = lattice.pos;
   // Start dilute enough to melt quickly: packing fraction at most 0.3, and fitting the lattice.
   const double phi = double(spec.n) * 4.0 / 3.0 * M_PI * std::pow(target_r, 3) / spec.box.volume();
   double r0 = target_r * std::min(1.0, std::cbrt(0.30 / phi));
-  r0 = std::min(r0, 0.49 * spacing);
+  r0 = std::min(r0, 0.49 * lattice.spacing);
+  // Sites this close only come from a box too narrow for n spheres of this size; growing from
+  // them would take unboundedly many steps.
+  if (!(r0 >= 1e-3 * target_r))
+    throw InputError("the box is too narrow for " + std::to_string(spec.n) + " spheres of radius " + fmt(target_r) +
+                     " on a lattice (sites " + fmt(lattice.spacing) + " apart)");
   // Choose which sites to fill (a partial Fisher-Yates shuffle) so vacancies are random.
-  for (std::int64_t i = 0; i < spec.n; ++i) std::swap(sites[std::size_t(i)], sites[std::size_t(i + std::int64_t(rng.below(sites.size() - std::size_t(i))))]);
+  for (std::int64_t i = 0; i < spec.n; ++i)
+    std::swap(sites[std::size_t(i)], sites[std::size_t(i + std::int64_t(rng.below(sites.size() - std::size_t(i))))]);
   sys.reserve(std::size_t(spec.n));
   for (std::int64_t i = 0; i < spec.n; ++i) sys.push_back(i + 1, 1, r0, spec.mass, sites[std::size_t(i)], {});
   assign_velocities(sys, spec.temperature, std::nullopt, rng);
@@ -147,20 +110,27 @@ void lattice_route(ParticleSystem& sys, const InitSpec& spec, Rng& rng) {
   // Compress by growing every sphere a little at a time; the collision rule pushes apart the
   // approaching pairs that growth makes overlap, and receding ones separate by themselves.
   const double growth = 0.002;
-  while (sys.radius[0] < target_r) {
-    const double r = std::min(target_r, sys.radius[0] * (1 + growth));
-    for (auto& x : sys.radius) x = r;
+  const auto stages = std::int64_t(std::ceil(std::log(target_r / r0) / std::log1p(growth)));
+  for (std::int64_t k = 1; k <= stages; ++k) {
+    const double r = std::min(target_r, r0 * std::pow(1 + growth, double(k)));
+    for (auto& x : sys.radius) x = k == stages ? target_r : r;
     run_dynamics(sys, dt, 4);
   }
   for (int attempt = 0; attempt < 200 && max_violation(sys) > 0; ++attempt) run_dynamics(sys, dt, 5);
   const double left = max_violation(sys);
   if (left > 0) {
-    throw InputError("lattice route could not reach packing fraction " + fmt(phi) + ": overlap " + fmt(left) +
-                     " remains after compression (too dense for a fluid; the route is for <= " +
-                     fmt(kLatticeRouteLimit) + ")");
+    throw InputError(
+        "lattice route could not reach packing fraction " + fmt(phi) + ": overlap " + fmt(left) +
+        " remains after compression (too dense for a fluid; the route is for <= " + fmt(kLatticeRouteLimit) + ")");
   }
   // Forget the compression: equilibrate briefly at the final density.
   run_dynamics(sys, dt, 100);
+}
+
+void dense_route(ParticleSystem& sys, const InitSpec& spec, Rng& rng) {
+  const auto pos = dense_packing(spec.box, spec.n, spec.radius, rng);
+  sys.reserve(std::size_t(spec.n));
+  for (std::int64_t i = 0; i < spec.n; ++i) sys.push_back(i + 1, 1, spec.radius, spec.mass, pos[std::size_t(i)], {});
 }
 
 }  // namespace
@@ -199,8 +169,9 @@ void place_random(ParticleSystem& sys, std::int64_t n, double radius, double mas
     if (!ok) {
       const double phi = double(n) * 4.0 / 3.0 * M_PI * radius * radius * radius / box.volume();
       throw InputError("random insertion placed only " + std::to_string(placed) + " of " + std::to_string(n) +
-                       " spheres (packing fraction " + fmt(phi) + " is too dense for it; use --init lattice, which reaches " +
-                       fmt(kLatticeRouteLimit) + ")");
+                       " spheres (packing fraction " + fmt(phi) +
+                       " is too dense for it; use --init lattice, which reaches " + fmt(kLatticeRouteLimit) +
+                       ", or --init dense, which reaches " + fmt(kDenseLimit) + ")");
     }
   }
 }
@@ -208,7 +179,8 @@ void place_random(ParticleSystem& sys, std::int64_t n, double radius, double mas
 void assign_velocities(ParticleSystem& sys, double t, std::optional<double> speed, Rng& rng) {
   const std::size_t n = sys.size();
   if (speed) {
-    const bool equal_mass = sys.monodisperse() || std::all_of(sys.mass.begin(), sys.mass.end(), [&](double m) { return m == sys.mass[0]; });
+    const bool equal_mass =
+        sys.monodisperse() || std::all_of(sys.mass.begin(), sys.mass.end(), [&](double m) { return m == sys.mass[0]; });
     if (equal_mass && n >= 2) {
       // Pairs with opposite velocities (a triple at 120 degrees if n is odd): every sphere has
       // exactly the given speed and the total momentum is exactly zero.
@@ -246,8 +218,13 @@ void assign_velocities(ParticleSystem& sys, double t, std::optional<double> spee
 ParticleSystem make_initial_state(const InitSpec& spec) {
   validate_box(spec.box, "initial state");
   if (spec.n < 1) throw InputError("number of particles n = " + std::to_string(spec.n) + " must be >= 1");
-  if (!(std::isfinite(spec.radius) && spec.radius > 0)) throw InputError("radius " + fmt(spec.radius) + " must be positive and finite");
-  if (!(std::isfinite(spec.mass) && spec.mass > 0)) throw InputError("mass " + fmt(spec.mass) + " must be positive and finite");
+  if (spec.n > std::int64_t(kMaxAdjIndex) + 1)
+    throw InputError("number of particles n = " + std::to_string(spec.n) + " is more than the engines hold (" +
+                     std::to_string(std::int64_t(kMaxAdjIndex) + 1) + ")");
+  if (!(std::isfinite(spec.radius) && spec.radius > 0))
+    throw InputError("radius " + fmt(spec.radius) + " must be positive and finite");
+  if (!(std::isfinite(spec.mass) && spec.mass > 0))
+    throw InputError("mass " + fmt(spec.mass) + " must be positive and finite");
   if (!(std::isfinite(spec.temperature) && spec.temperature > 0))
     throw InputError("temperature " + fmt(spec.temperature) + " must be positive and finite");
   if (spec.speed && !(std::isfinite(*spec.speed) && *spec.speed > 0))
@@ -260,23 +237,39 @@ ParticleSystem make_initial_state(const InitSpec& spec) {
                      " gives a kinetic energy (sum m v^2 = " + fmt(mv2) + ") that overflows double precision");
   for (int d = 0; d < 3; ++d) {
     if (spec.box.periodic[d] && spec.box.length(d) < 4 * spec.radius)
-      throw InputError("periodic box length " + fmt(spec.box.length(d)) + " is less than two diameters (" + fmt(4 * spec.radius) + ")");
-    if (!spec.box.periodic[d] && spec.box.length(d) < 2 * spec.radius)
-      throw InputError("box length " + fmt(spec.box.length(d)) + " between walls is less than one diameter");
+      throw InputError("periodic box length " + fmt(spec.box.length(d)) + " is less than two diameters (" +
+                       fmt(4 * spec.radius) + ")");
+    // A sphere pinched between two walls would bounce between them infinitely often.
+    if (!spec.box.periodic[d] && spec.box.length(d) <= 2 * spec.radius)
+      throw InputError("box length " + fmt(spec.box.length(d)) + " between walls is not more than one diameter (" +
+                       fmt(2 * spec.radius) + ")");
   }
   const double phi = double(spec.n) * 4.0 / 3.0 * M_PI * std::pow(spec.radius, 3) / spec.box.volume();
-  if (phi > kLatticeRouteLimit)
+  if (above(phi, kClosePacking))
+    throw InputError("packing fraction " + fmt(phi) + " is impossible: above close packing " + fmt(kClosePacking));
+  if (spec.method == InitMethod::Auto && above(phi, kDenseLimit))
+    throw InputError("packing fraction " + fmt(phi) + " is above " + fmt(kDenseLimit) +
+                     ", the densest state the initialiser promises (random close packing is near 0.64, close packing " +
+                     fmt(kClosePacking) + "); --init dense tries denser ones");
+  InitMethod method = spec.method;
+  if (method == InitMethod::Auto) {
+    method = phi <= kRandomInsertionLimit      ? InitMethod::Random
+             : !above(phi, kLatticeRouteLimit) ? InitMethod::Lattice
+                                               : InitMethod::Dense;
+  }
+  if (method == InitMethod::Lattice && above(phi, kLatticeRouteLimit))
     throw InputError("packing fraction " + fmt(phi) + " is above " + fmt(kLatticeRouteLimit) +
-                     ", the densest fluid state the initialiser can make (freezing is at 0.494, close packing 0.74)");
+                     ", the densest fluid the lattice route makes (freezing is at 0.494); --init dense reaches " +
+                     fmt(kDenseLimit));
   Rng rng(spec.seed);
   ParticleSystem sys;
   sys.box = spec.box;
-  InitMethod method = spec.method;
-  if (method == InitMethod::Auto) method = phi <= kRandomInsertionLimit ? InitMethod::Random : InitMethod::Lattice;
   if (method == InitMethod::Random) {
     place_random(sys, spec.n, spec.radius, spec.mass, rng);
-  } else {
+  } else if (method == InitMethod::Lattice) {
     lattice_route(sys, spec, rng);
+  } else {
+    dense_route(sys, spec, rng);
   }
   assign_velocities(sys, spec.temperature, spec.speed, rng);
   validate_and_wrap(sys, "initial state");

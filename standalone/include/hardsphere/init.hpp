@@ -1,6 +1,7 @@
 #pragma once
-//! Initial states: positions (random insertion, or lattice + melt + compression for dense
-//! states) and velocities (Maxwell-Boltzmann or one speed), deterministic per seed.
+//! Initial states: positions (random insertion; lattice + melt + compression for dense fluids;
+//! a soft-sphere quench for amorphous states beyond) and velocities (Maxwell-Boltzmann or one
+//! speed), deterministic per seed. See docs/initial_states.md.
 #include <cstdint>
 #include <optional>
 #include <string>
@@ -10,7 +11,7 @@
 
 namespace hardsphere {
 
-enum class InitMethod { Auto, Random, Lattice };
+enum class InitMethod { Auto, Random, Lattice, Dense };
 InitMethod parse_init_method(const std::string& s);
 
 struct InitSpec {
@@ -29,7 +30,14 @@ struct InitSpec {
 //! few hundred spheres (2000 attempts per sphere).
 constexpr double kRandomInsertionLimit = 0.25;
 //! The densest state the lattice route promises (freezing is at 0.494; 0.55 still melts).
+//! Auto uses the dense quench above it.
 constexpr double kLatticeRouteLimit = 0.55;
+//! The densest state the dense generator promises in a periodic box (random close packing is
+//! near 0.64): Auto refuses denser ones, --init dense tries them. Walls lower the reach; the
+//! generator then refuses after a bounded number of stages, naming the densest it reached.
+constexpr double kDenseLimit = 0.64;
+//! Close packing, pi / sqrt(18): no state of equal spheres is denser.
+constexpr double kClosePacking = 0.74048048969306104;
 
 //! A complete, validated initial state. Throws InputError for impossible requests.
 ParticleSystem make_initial_state(const InitSpec& spec);
@@ -42,6 +50,5 @@ void place_random(ParticleSystem& sys, std::int64_t n, double radius, double mas
 //! Maxwell-Boltzmann velocities at temperature T (or one speed, isotropic), total momentum
 //! zeroed and T = sum m v^2 / 3N set exactly.
 void assign_velocities(ParticleSystem& sys, double temperature, std::optional<double> speed, Rng& rng);
-
 
 }  // namespace hardsphere
