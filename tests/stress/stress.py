@@ -467,6 +467,82 @@ def overlap_warning(ctx):
     check("hardsphere: warning: spheres overlap by up to" in j["_stderr"], "no warning on stderr")
 
 
+
+@case("class 1: initial states finish", "n = 9, 10, 12, 50, 60 and 4500 at phi 0.3 and 0.45, and phi 0.62: made "
+      "within a minute each")
+def init_finishes(ctx):
+    for n in (9, 10, 12, 50, 60, 4500):
+        for phi in (0.3, 0.45):
+            ctx.run("--n", n, "--phi", phi, "--steps", 0, timeout=60)
+    ctx.run("--n", 4000, "--phi", 0.62, "--steps", 0, timeout=60)
+
+
+def data_with(ctx, name, edit):
+    """A valid data file of 4 spheres with one textual edit(text) -> text."""
+    src = gas(ctx, "four.data", "--n", 4, "--box", 4, "--init", "random")
+    path = ctx.work / name
+    path.write_text(edit(Path(src).read_text()))
+    return str(path)
+
+
+@case("class 6: data-file gaps", "duplicate Velocities id, non-integer image flags, a second 'atom types', a short "
+      "Masses section: refused with file:line")
+def reader_gaps(ctx):
+    def dup_velocity(t):
+        head, vel = t.split("Velocities")
+        rows = vel.strip().splitlines()
+        return head + "Velocities\n\n" + "\n".join([rows[0], rows[0]] + rows[2:]) + "\n"
+
+    def image_flags(t):
+        head, rest = t.split("Atoms # sphere")
+        rows = rest.strip().split("\n\n")[0].splitlines()
+        bad = rows[0].rsplit(" ", 3)[0] + " a b c"
+        return t.replace(rows[0], bad, 1)
+
+    cases = [
+        ("dup_vel.data", dup_velocity, "given twice"),
+        ("images.data", image_flags, "'a'"),
+        ("types.data", lambda t: t.replace("1 atom types", "1 atom types\n2 atom types"), "atom types"),
+        ("masses.data", lambda t: t.replace("\nAtoms # sphere", "\nMasses\n\n1\n\nAtoms # sphere"), "mass line"),
+    ]
+    for name, edit, needle in cases:
+        p = ctx.run("--read-data", data_with(ctx, name, edit), "--steps", 1, expect=2)
+        check(f"{name}:" in p.stderr and needle in p.stderr, f"{name}: {p.stderr.strip()!r}")
+
+
+@case("class 7: files left behind", "two outputs on one path refused before anything is written; SIGTERM and SIGINT "
+      "mid-run leave no temporary file")
+def files_left(ctx):
+    import signal
+    refused(ctx, "", "--n", 50, "--steps", 10, "--json", "x", "--write-data", "./x")
+    check(not (ctx.work / "x").exists(), "x was created")
+    for sig in (signal.SIGTERM, signal.SIGINT):
+        out = ctx.work / f"sig{int(sig)}"
+        out.mkdir()
+        args = ["--n", 20000, "--phi", 0.3, "--steps", 100000, "--dump", "t.dump", "--dump-every", 10, "--json", "s.json",
+                "--write-data", "f.data"]
+        p = subprocess.Popen([ctx.hs, "run", *map(str, args)], cwd=out,
+                             stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+        deadline = time.time() + 60
+        while time.time() < deadline and not any(".tmp." in f.name for f in out.iterdir()):
+            time.sleep(0.05)
+        time.sleep(0.3)
+        p.send_signal(sig)
+        rc = p.wait(timeout=60)
+        check(rc == -sig, f"exit {rc} after signal {int(sig)}")
+        check(list(out.iterdir()) == [], f"left behind: {[f.name for f in out.iterdir()]}")
+
+
+@case("class 8: exit status", "unknown option, bad number, --n 1e12, a header of 99999999999999 atoms: exit 2 with "
+      "'hardsphere: error:'")
+def exit_status(ctx):
+    refused(ctx, "--frobnicate", "--frobnicate", 3)
+    refused(ctx, "abc", "--n", "abc")
+    refused(ctx, "1000000000000", "--n", 1000000000000)
+    huge = data_with(ctx, "huge.data", lambda t: t.replace("4 atoms", "99999999999999 atoms"))
+    refused(ctx, "99999999999999", "--read-data", huge, "--steps", 1)
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--hardsphere", required=True)
