@@ -89,7 +89,8 @@ void commit_outputs(const nlohmann::json& summary, const ParticleSystem& fin,
     write_data(data_file->stream(), fin, title);
   }
   if (json_file) json_file->stream() << summary.dump(2) << '\n';
-  commit_together({data_file ? &*data_file : nullptr, dump ? &dump->file() : nullptr, json_file ? &*json_file : nullptr});
+  commit_together(
+      {data_file ? &*data_file : nullptr, dump ? &dump->file() : nullptr, json_file ? &*json_file : nullptr});
 }
 
 }  // namespace hardsphere

@@ -63,6 +63,14 @@ bool known_pending(const RunSpec& spec) {
   // CellGrid cell counts overflow int (UB) for boxes over ~2e8 diameters: ubsan_cell_grid_*.
   for (int d = 0; d < 3; ++d)
     if (!(in.box.length(d) / (2 * in.radius) < 1e8)) return true;
+  // Spheres crossing more than ~2^31 box lengths between rebuilds overflow the stepper's int32
+  // image counters (ubsan_stepper_image_*); the event engine runs without bound for such speeds
+  // until the work limit is enforced (hang_event_fast_spheres).
+  const double speed = in.speed ? *in.speed : std::sqrt(3 * in.temperature / in.mass);
+  const double run_time = spec.engine == Engine::Event ? spec.time + spec.equilibrate_time
+                                                       : spec.stepper.dt * double(spec.steps + spec.equilibrate);
+  const double box_min = std::min({in.box.length(0), in.box.length(1), in.box.length(2)});
+  if (!(speed * spec.stepper.dt / box_min < 1e6) || !(speed * run_time / (2 * in.radius) < 1e5)) return true;
   // fcc_sites recomputes the counts on every pass, so it loops forever when one added layer is
   // not enough: hang_init_lattice_*. Same arithmetic as init.cpp.
   const double phi = double(in.n) * 4.0 / 3.0 * M_PI * std::pow(in.radius, 3) / in.box.volume();
