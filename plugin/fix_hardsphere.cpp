@@ -298,7 +298,7 @@ void FixHardSphere::build_adjacency()
   // Both directions, CSR over owned + ghost atoms, from the half ghost list (ghost
   // coordinates are image-shifted already: every pair has image code kNoImage).
   const int nall = atom->nlocal + atom->nghost;
-  if (std::uint32_t(nall) > hardsphere::kMaxAdjIndex)
+  if (std::uint32_t(nall) > hardsphere::kMaxAdjIndex + 1)
     error->one(FLERR, "fix hardsphere: " + std::to_string(nall) + " owned + ghost atoms on one rank, at most " +
                           std::to_string(hardsphere::kMaxAdjIndex + 1));
   adj_start.assign(nall + 1, 0);

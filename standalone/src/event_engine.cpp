@@ -711,7 +711,9 @@ double auto_shell(double phi) {
 EventEngine::EventEngine(const ParticleSystem& sys, const EventConfig& cfg) : impl_(std::make_unique<Impl>()) {
   Impl& m = *impl_;
   const std::size_t n = sys.size();
-  if (n > kMaxAdjIndex) throw InputError("too many spheres for the event engine");
+  if (n > std::size_t(kMaxAdjIndex) + 1)  // indices 0 .. kMaxAdjIndex fit a list entry
+    throw InputError("too many spheres for the event engine: " + std::to_string(n) + " (at most " +
+                     std::to_string(std::size_t(kMaxAdjIndex) + 1) + ")");
   if (sys.radius.size() != n || sys.mass.size() != n || sys.vel.size() != n)
     throw InputError("event engine: inconsistent particle arrays");
   check_scene_numbers(sys, "event engine");

@@ -50,6 +50,7 @@ void refuse_too_many_events(const ParticleSystem& sys, double shell, double time
 }  // namespace
 
 nlohmann::json run_event_simulation(const RunSpec& spec) {
+  check_outputs(spec);
   if (!(spec.time > 0) || !std::isfinite(spec.time))
     throw InputError("time = " + std::to_string(spec.time) + " must be positive and finite (event engine runs for a simulated time)");
   if (!(spec.equilibrate_time >= 0) || !std::isfinite(spec.equilibrate_time))

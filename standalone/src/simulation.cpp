@@ -5,6 +5,7 @@
 #include <limits>
 #include <sstream>
 
+#include "hardsphere/atomic_file.hpp"
 #include "hardsphere/errors.hpp"
 #include "hardsphere/lammps_io.hpp"
 #include "hardsphere/observables.hpp"
@@ -25,8 +26,17 @@ ParticleSystem initial_state(const RunSpec& spec) {
   return make_initial_state(init);
 }
 
+void check_outputs(const RunSpec& spec) {
+  std::vector<std::pair<std::string, std::string>> out;
+  if (spec.json) out.emplace_back("--json", *spec.json);
+  if (spec.write_data) out.emplace_back("--write-data", *spec.write_data);
+  if (spec.dump) out.emplace_back("--dump", *spec.dump);
+  check_output_paths(out);
+}
+
 nlohmann::json run_simulation(const RunSpec& spec) {
   if (spec.engine == Engine::Event) return run_event_simulation(spec);
+  check_outputs(spec);  // before anything runs or is created, for library callers as for the CLI
   if (spec.steps < 0) throw InputError("steps = " + std::to_string(spec.steps) + " must be >= 0");
   if (spec.equilibrate < 0) throw InputError("equilibrate = " + std::to_string(spec.equilibrate) + " must be >= 0");
   if (spec.dump && spec.dump_every < 1) throw InputError("dump every = " + std::to_string(spec.dump_every) + " must be >= 1");
@@ -95,6 +105,11 @@ nlohmann::json run_simulation(const RunSpec& spec) {
   j["particle_steps_per_second"] = cpu > 0 ? double(fin.size()) * double(c.steps) / cpu : 0.0;
   j["list_rebuilds"] = c.rebuilds;
   j["unresolved_steps"] = c.unresolved_steps;
+  if (c.unresolved_steps > 0)
+    j["warnings"].push_back(std::to_string(c.unresolved_steps) + " steps stopped at the limit of " +
+                            std::to_string(spec.stepper.max_events_per_step) +
+                            " contact events per step with contacts left unresolved (spheres may overlap): the "
+                            "spheres are jammed or collapsing; use a smaller --dt or a less dense state");
   j["substeps"] = c.substeps;
   j["step_cuts"] = c.step_cuts;
   if (!engine->sweep_detection()) {

@@ -380,7 +380,7 @@ Stepper<Real, Mono>::Stepper(const ParticleSystem& sys, const StepperConfig& cfg
   check_scene_numbers(sys, "stepper");
   check_engine_numbers<Real>(sys, cfg.dt, sizeof(Real) == sizeof(float) ? "stepper in single precision" : "stepper");
   const std::size_t n = sys.size();
-  if (n > kMaxAdjIndex) throw InputError("too many particles for one stepper: " + std::to_string(n) + " (at most " + std::to_string(kMaxAdjIndex + 1) + ")");
+  if (n > std::size_t(kMaxAdjIndex) + 1) throw InputError("too many particles for one stepper: " + std::to_string(n) + " (at most " + std::to_string(std::size_t(kMaxAdjIndex) + 1) + ")");
   const double diameter = 2 * sys.max_radius();
 
   const bool auto_cells = cfg.cells[0] == 0 && cfg.cells[1] == 0 && cfg.cells[2] == 0;

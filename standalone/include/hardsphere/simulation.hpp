@@ -46,6 +46,9 @@ nlohmann::json run_simulation(const RunSpec& spec);
 //! The same for spec.engine == Engine::Event (run_simulation dispatches to it).
 nlohmann::json run_event_simulation(const RunSpec& spec);
 
+//! Refuses (InputError) output paths that collide or cannot be written (see check_output_paths).
+void check_outputs(const RunSpec& spec);
+
 //! The initial state a RunSpec describes (generated or read), validated.
 ParticleSystem initial_state(const RunSpec& spec);
 
