@@ -75,7 +75,8 @@ std::vector<Vec3d> dense_packing(const Box& box, std::int64_t n, double radius, 
 
   // First quench: straight to the target when it is low enough, else (or when that jams, as
   // walls can make it) to a looser packing, which is then compressed in stages.
-  double phi = target <= cfg.direct_limit ? target : std::min(target, cfg.anneal_start);
+  // (A box made from a packing fraction gives it back with round-off.)
+  double phi = target <= cfg.direct_limit * (1 + 1e-12) ? target : std::min(target, cfg.anneal_start);
   for (int retry = 0;; ++retry) {
     if (separate_spheres(box, x, radius_for(phi), cfg.quench, &st.quench)) break;
     if (retry == kRetries) throw fail("even the first quench at " + fmt(phi) + " failed");

@@ -21,7 +21,7 @@ namespace hardsphere {
 struct DensePackingConfig {
   QuenchConfig quench;                   //!< the first quench, from random centres
   std::int64_t stage_iterations = 2000;  //!< FIRE steps allowed per compression stage
-  double direct_limit = 0.62;            //!< targets up to this are quenched straight from random centres
+  double direct_limit = 0.60;            //!< targets up to this are quenched straight from random centres
   double anneal_start = 0.56;            //!< denser targets: first quench here, then compression stages
   double first_step = 0.005;             //!< packing-fraction step of the compression stages
   double min_step = 0.0005;              //!< give up when a stage fails with a step this small

@@ -75,12 +75,20 @@ double max_violation(const ParticleSystem& sys) {
   return worst;
 }
 
-void run_dynamics(ParticleSystem& sys, double dt, std::int64_t steps) {
+// Contact events the lattice route may spend per sphere: normal runs take 20-650 (phi 0.3-0.63),
+// but near the route's jamming point, which walls lower, the events per step grow without bound.
+constexpr std::int64_t kLatticeEventsPerSphere = 5000;
+
+// Runs the stepper, charging its contact events to `budget`; false once the budget is spent.
+bool run_dynamics(ParticleSystem& sys, double dt, std::int64_t steps, std::int64_t& budget) {
   StepperConfig cfg;
   cfg.dt = dt;
+  cfg.max_events_per_step = std::max<std::int64_t>(1, budget / steps);
   auto engine = make_stepper(sys, cfg);
   engine->run(steps);
+  budget -= engine->counters().collisions + engine->counters().wall_collisions;
   sys = engine->state();
+  return budget > 0 && engine->counters().unresolved_steps == 0;
 }
 
 void lattice_route(ParticleSystem& sys, const InitSpec& spec, Rng& rng) {
@@ -105,8 +113,14 @@ void lattice_route(ParticleSystem& sys, const InitSpec& spec, Rng& rng) {
 
   const double v_rms = std::sqrt(3 * spec.temperature / spec.mass);
   const double dt = 0.02 * 2 * target_r / v_rms;
+  std::int64_t budget = kLatticeEventsPerSphere * spec.n;
+  auto jammed = [&] {
+    return InputError("lattice route could not reach packing fraction " + fmt(phi) + ": the spheres jammed near " +
+                      fmt(sys.packing_fraction()) + " (" + std::to_string(kLatticeEventsPerSphere) +
+                      " collisions per sphere spent; walls lower the reach)");
+  };
   // Melt: about 40 collisions per sphere at the starting density.
-  run_dynamics(sys, dt, 300);
+  if (!run_dynamics(sys, dt, 300, budget)) throw jammed();
   // Compress by growing every sphere a little at a time; the collision rule pushes apart the
   // approaching pairs that growth makes overlap, and receding ones separate by themselves.
   const double growth = 0.002;
@@ -114,9 +128,10 @@ void lattice_route(ParticleSystem& sys, const InitSpec& spec, Rng& rng) {
   for (std::int64_t k = 1; k <= stages; ++k) {
     const double r = std::min(target_r, r0 * std::pow(1 + growth, double(k)));
     for (auto& x : sys.radius) x = k == stages ? target_r : r;
-    run_dynamics(sys, dt, 4);
+    if (!run_dynamics(sys, dt, 4, budget)) throw jammed();
   }
-  for (int attempt = 0; attempt < 200 && max_violation(sys) > 0; ++attempt) run_dynamics(sys, dt, 5);
+  for (int attempt = 0; attempt < 200 && max_violation(sys) > 0; ++attempt)
+    if (!run_dynamics(sys, dt, 5, budget)) throw jammed();
   const double left = max_violation(sys);
   if (left > 0) {
     throw InputError(
@@ -124,7 +139,7 @@ void lattice_route(ParticleSystem& sys, const InitSpec& spec, Rng& rng) {
         " remains after compression (too dense for a fluid; the route is for <= " + fmt(kLatticeRouteLimit) + ")");
   }
   // Forget the compression: equilibrate briefly at the final density.
-  run_dynamics(sys, dt, 100);
+  if (!run_dynamics(sys, dt, 100, budget)) throw jammed();
 }
 
 void dense_route(ParticleSystem& sys, const InitSpec& spec, Rng& rng) {
@@ -266,6 +281,16 @@ ParticleSystem make_initial_state(const InitSpec& spec) {
   sys.box = spec.box;
   if (method == InitMethod::Random) {
     place_random(sys, spec.n, spec.radius, spec.mass, rng);
+  } else if (method == InitMethod::Lattice && spec.method == InitMethod::Auto) {
+    // Walls can jam the lattice route below its limit (small boxes): the dense generator
+    // separates spheres without dynamics, so it is the fallback.
+    try {
+      lattice_route(sys, spec, rng);
+    } catch (const InputError&) {
+      sys = ParticleSystem{};
+      sys.box = spec.box;
+      dense_route(sys, spec, rng);
+    }
   } else if (method == InitMethod::Lattice) {
     lattice_route(sys, spec, rng);
   } else {

@@ -165,6 +165,32 @@ TEST(InitLatticeRoute, NarrowBoxesAndFewSpheres) {
   }
 }
 
+TEST(InitLatticeRoute, JammedSmallWalledBoxesAreRefusedNotRunForever) {
+  // Walls lower the packing fraction at which the route's compression jams; near it the
+  // collisions per step grow without bound (N = 20 between walls at 0.50 had not finished after
+  // a minute). A collision budget per sphere stops it; auto then tries the dense generator,
+  // which cannot reach these either and says how far it got.
+  InitSpec spec;
+  spec.n = 20;
+  spec.method = InitMethod::Lattice;
+  spec.box = box_for(20, 0.50, {1, 1, 1}, {false, false, false});
+  try {
+    make_initial_state(spec);
+    FAIL() << "accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("jammed near 0.4"), std::string::npos) << e.what();
+  }
+  spec.n = 50;
+  spec.method = InitMethod::Auto;
+  spec.box = box_for(50, 0.55, {1, 1, 1}, {false, false, false});
+  try {
+    make_initial_state(spec);
+    FAIL() << "accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("densest packing reached was 0.5"), std::string::npos) << e.what();
+  }
+}
+
 TEST(InitInput, MoreSpheresThanTheEnginesHoldAreRefusedUpFront) {
   // Refused before any site list or pair list is allocated.
   InitSpec spec;
