@@ -12,6 +12,7 @@
 #include "hardsphere/lammps_io.hpp"
 #include "hardsphere/observables.hpp"
 #include "hardsphere/run_summary.hpp"
+#include "hardsphere/scene_limits.hpp"
 #include "hardsphere/simulation.hpp"
 
 namespace hardsphere {
@@ -37,12 +38,14 @@ std::pair<double, double> mean_error(const std::vector<double>& x) {
 void refuse_too_many_events(const ParticleSystem& sys, double shell, double time, double limit) {
   double speeds = 0;
   for (const Vec3d& v : sys.vel) speeds += norm(v);
-  const double events = speeds * time / (0.5 * shell);
+  const double bounces = wall_bounce_rate(sys) * time;
+  const double events = speeds * time / (0.5 * shell) + bounces;
   if (events > limit) {
     std::ostringstream m;
     m << "the run would take at least " << events << " events (" << sys.size() << " spheres moving " << speeds * time
-      << " in all over time " << time << ", a neighbour-list event every " << 0.5 * shell
-      << "), more than the limit of " << limit << "; shorten --time or lower the speeds";
+      << " in all over time " << time << ", a neighbour-list event every " << 0.5 * shell;
+    if (bounces > 0) m << ", and " << bounces << " wall bounces";
+    m << "), more than the limit of " << limit << "; shorten --time or lower the speeds";
     throw InputError(m.str());
   }
 }

@@ -146,6 +146,14 @@ void validate_and_wrap(ParticleSystem& sys, const std::string& source) {
   check_scene_numbers(sys, source);
   const double diameter = 2 * sys.max_radius();
   for (int d = 0; d < 3; ++d)
+    if (!sys.box.periodic[d] && sys.size() && !(sys.box.length(d) > diameter)) {
+      std::ostringstream m;
+      m.precision(17);
+      m << source << ": walls along " << axis[d] << " are " << sys.box.length(d) << " apart, not more than the largest diameter "
+        << diameter << " (a sphere that fills the gap would bounce between them infinitely often)";
+      throw InputError(m.str());
+    }
+  for (int d = 0; d < 3; ++d)
     if (sys.box.periodic[d] && sys.box.length(d) < 2 * diameter) {
       std::ostringstream m;
       m << source << ": periodic box length " << sys.box.length(d) << " along " << axis[d]

@@ -152,6 +152,16 @@ void check_engine_numbers(const ParticleSystem& sys, double eps, double largest,
   }
 }
 
+double wall_bounce_rate(const ParticleSystem& sys) {
+  double rate = 0;
+  for (int d = 0; d < 3; ++d) {
+    if (sys.box.periodic[d]) continue;
+    for (std::size_t i = 0; i < sys.size(); ++i)
+      rate += std::abs(sys.vel[i][d]) / std::max(sys.box.length(d) - 2 * sys.radius[i], 0.0);
+  }
+  return rate;
+}
+
 template <class T>
 void check_engine_numbers(const ParticleSystem& sys, double dt, const std::string& what) {
   check_engine_numbers(sys, double(std::numeric_limits<T>::epsilon()), double(std::numeric_limits<T>::max()), dt, what);

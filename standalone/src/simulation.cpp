@@ -10,6 +10,7 @@
 #include "hardsphere/lammps_io.hpp"
 #include "hardsphere/observables.hpp"
 #include "hardsphere/run_summary.hpp"
+#include "hardsphere/scene_limits.hpp"
 
 namespace hardsphere {
 
@@ -47,7 +48,18 @@ nlohmann::json run_simulation(const RunSpec& spec) {
   cfg.max_particle_steps = spec.work_limit;
   auto engine = make_stepper(sys, cfg, spec.precision);
   // Refuse up front what the work limit would stop later (the engine also checks as it runs).
-  const double work = double(sys.size()) * (double(spec.steps) + double(spec.equilibrate)) * double(engine->substeps_per_step());
+  const double steps = double(spec.steps) + double(spec.equilibrate);
+  // Flights between walls barely wider than a sphere bounce many times per step: refuse steps
+  // that would run into the per-step event limit, and count the bounces as work.
+  const double bounces = wall_bounce_rate(sys) * spec.stepper.dt;
+  if (bounces > double(spec.stepper.max_events_per_step)) {
+    std::ostringstream m;
+    m << "spheres between walls barely wider than them would bounce " << bounces << " times per step of dt = "
+      << spec.stepper.dt << ", more than the limit of " << spec.stepper.max_events_per_step
+      << " events per step; use a smaller --dt or wider walls";
+    throw InputError(m.str());
+  }
+  const double work = double(sys.size()) * steps * double(engine->substeps_per_step()) + bounces * steps;
   if (work > spec.work_limit) {
     std::ostringstream m;
     m << "the run would take " << work << " particle-steps (" << sys.size() << " spheres, "

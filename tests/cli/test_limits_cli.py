@@ -143,3 +143,15 @@ def test_overlap_left_by_a_missed_graze_is_reported(hs, tmp_path):
     # Sweep detection sees the graze: no overlap, no warning.
     clean = run_json(hs, "--read-data", f, "--dt", 1, "--steps", 1, "--detect", "sweep")
     assert clean["max_overlap"] == 0 and clean["warnings"] == [] and clean["collisions"] >= 2
+
+
+def test_walls_that_leave_no_room_are_refused(hs, tmp_path):
+    # Exactly one diameter apart: a sphere moving across them would bounce infinitely often.
+    tight = write_data(tmp_path / "t.data", [(5, 5, 0.5, 0, 0, 1)], box=((0, 10), (0, 10), (0, 1)))
+    refused(run(hs, "--read-data", tight, "--boundary", "p,p,w", "--steps", 1), "walls along z", "1 apart")
+    # 1e-12 wider: 1e10 bounces per step of 0.01, more than the stepper's per-step limit.
+    gap = write_data(tmp_path / "g.data", [(5, 5, 0.5, 0, 0, 1)], box=((0, 10), (0, 10), (0, 1 + 1e-12)))
+    refused(run(hs, "--read-data", gap, "--boundary", "p,p,w", "--steps", 10), "bounce")
+    # One rounding wider: 4.5e15 bounces per unit time, more than the event engine's work limit.
+    gap = write_data(tmp_path / "h.data", [(5, 5, 0.5, 0, 0, 1)], box=((0, 10), (0, 10), (0, math.nextafter(1, 2))))
+    refused(run(hs, "--read-data", gap, "--boundary", "p,p,w", "--engine", "event", "--time", 1), "wall bounces")

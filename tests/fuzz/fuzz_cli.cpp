@@ -54,42 +54,6 @@ void shrink(RunSpec& spec) {
   spec.json.reset();
 }
 
-#ifdef HS_FUZZ_SKIP_PENDING
-//! Inputs of known findings whose fix belongs to the engines (tests/fuzz/regressions/pending/cli),
-//! skipped by the libFuzzer build so a run looks further instead of finding them again; the
-//! replay build still runs them. Remove each skip with its fix.
-bool known_pending(const RunSpec& spec) {
-  const InitSpec& in = spec.init;
-  // CellGrid cell counts overflow int (UB) for boxes over ~2e8 diameters: ubsan_cell_grid_*.
-  for (int d = 0; d < 3; ++d)
-    if (!(in.box.length(d) / (2 * in.radius) < 1e8)) return true;
-  // Spheres crossing more than ~2^31 box lengths between rebuilds overflow the stepper's int32
-  // image counters (ubsan_stepper_image_*); the event engine runs without bound for such speeds
-  // until the work limit is enforced (hang_event_fast_spheres).
-  const double speed = in.speed ? *in.speed : std::sqrt(3 * in.temperature / in.mass);
-  const double run_time = spec.engine == Engine::Event ? spec.time + spec.equilibrate_time
-                                                       : spec.stepper.dt * double(spec.steps + spec.equilibrate);
-  const double box_min = std::min({in.box.length(0), in.box.length(1), in.box.length(2)});
-  if (!(speed * spec.stepper.dt / box_min < 1e6) || !(speed * run_time / (2 * in.radius) < 1e5)) return true;
-  // fcc_sites recomputes the counts on every pass, so it loops forever when one added layer is
-  // not enough: hang_init_lattice_*. Same arithmetic as init.cpp.
-  const double phi = double(in.n) * 4.0 / 3.0 * M_PI * std::pow(in.radius, 3) / in.box.volume();
-  const bool lattice =
-      in.method == InitMethod::Lattice || (in.method == InitMethod::Auto && phi > kRandomInsertionLimit);
-  if (!lattice || !(phi <= kLatticeRouteLimit)) return false;
-  std::array<double, 3> avail{};
-  for (int d = 0; d < 3; ++d) avail[d] = spec.periodic[d] ? in.box.length(d) : in.box.length(d) - 2 * in.radius;
-  const double a = std::cbrt(avail[0] * avail[1] * avail[2] * 4.0 / double(in.n));
-  std::array<long long, 3> k{};
-  for (int d = 0; d < 3; ++d) k[d] = std::max(1LL, (long long)(std::round(avail[d] / a)));
-  if (4 * k[0] * k[1] * k[2] >= in.n) return false;
-  int widest = 0;
-  for (int d = 1; d < 3; ++d)
-    if (avail[d] / double(k[d]) > avail[widest] / double(k[widest])) widest = d;
-  k[widest] += 1;
-  return 4 * k[0] * k[1] * k[2] < in.n;
-}
-#endif
 
 double number(const nlohmann::json& j, const char* key) {
   const auto it = j.find(key);
@@ -164,9 +128,6 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   if (cmd.help || cmd.spec.read_data) return 0;
   RunSpec spec = cmd.spec;
   shrink(spec);
-#ifdef HS_FUZZ_SKIP_PENDING
-  if (known_pending(spec)) return 0;
-#endif
   nlohmann::json summary;
   try {
     summary = run_simulation(spec);

@@ -24,6 +24,11 @@ void check_scene_numbers(const ParticleSystem& sys, const std::string& source);
 //! a coordinate. `what` names the engine and precision in messages.
 void check_engine_numbers(const ParticleSystem& sys, double eps, double largest, double dt, const std::string& what);
 
+//! Wall bounces per unit time the spheres' straight flights between opposite walls imply,
+//! sum over spheres and wall axes of |v_d| / (L_d - 2 r): in a gap barely wider than a sphere
+//! they are endless, and both engines count them into the work a run will take.
+double wall_bounce_rate(const ParticleSystem& sys);
+
 //! The same for a type T (float or double).
 template <class T>
 void check_engine_numbers(const ParticleSystem& sys, double dt, const std::string& what);
