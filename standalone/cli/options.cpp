@@ -148,7 +148,10 @@ CommandLine parse_command_line(int argc, const char* const* argv) {
   auto* o_speed = run->add_option("--init-speed", speed_s, "give every sphere this speed, isotropic directions")
                       ->type_name("FLOAT");
   auto* o_init =
-      run->add_option("--init", init_s, "initial positions: auto, random (insertion) or lattice (dense route)");
+      run->add_option("--init", init_s,
+                      "initial positions: auto (random up to phi 0.25, lattice up to 0.55, dense up to 0.64), random "
+                      "(insertion), lattice (FCC melted and compressed, up to 0.55) or dense (amorphous quench and "
+                      "compression, up to 0.64; tries denser)");
   auto* o_seed = run->add_option("--seed", seed_s, "random seed, 0 .. 2^64-1 (default 1)")->type_name("INT");
   auto* o_dt = run->add_option("--dt", dt_s, "time step (default 0.01)")->type_name("FLOAT");
   auto* o_steps = run->add_option("--steps", steps_s, "measured steps (default 1000)")->type_name("INT");
