@@ -341,6 +341,7 @@ class DataFile {
   }
 
   ParticleSystem take() { return std::move(sys_); }
+  const std::vector<long>& atom_lines() const { return atom_line_; }
 
  private:
   void atom_row(const Words& w) {
@@ -430,8 +431,9 @@ ParticleSystem read_data(std::istream& in, const std::string& name, std::array<b
   }
   if (!seen.count("Atoms")) r.fail("no Atoms section");
   data.check_periodic_lengths();
+  const std::vector<long> lines = data.atom_lines();
   ParticleSystem sys = data.take();
-  validate_and_wrap(sys, name);
+  validate_and_wrap(sys, name, &lines);
   return sys;
 }
 

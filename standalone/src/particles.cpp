@@ -80,7 +80,8 @@ void for_each_close_pair(const ParticleSystem& sys, double cutoff, F&& f) {
   const CellGrid grid = CellGrid::with_min_width(sys.box, cutoff, std::int64_t(2 * n + 27));
   std::vector<int> cell;
   std::vector<std::uint32_t> start, order;
-  grid.sort(n, [&](std::size_t i) { return sys.pos[i]; }, cell, start, order);
+  grid.sort(
+      n, [&](std::size_t i) { return sys.pos[i]; }, cell, start, order);
   for (std::int64_t c = 0; c < grid.size(); ++c) {
     grid.for_each_neighbour(int(c), [&](int nb) {
       if (nb < c) return;
@@ -108,14 +109,20 @@ double max_overlap(const ParticleSystem& sys) {
   return worst;
 }
 
-void validate_and_wrap(ParticleSystem& sys, const std::string& source) {
+std::string atom_origin(const ParticleSystem& sys, std::size_t i, const std::string& source,
+                        const std::vector<long>* atom_lines) {
+  std::string where = source;
+  if (atom_lines && i < atom_lines->size()) where += ":" + std::to_string((*atom_lines)[i]);
+  return where + ": atom " + std::to_string(sys.id[i]);
+}
+
+void validate_and_wrap(ParticleSystem& sys, const std::string& source, const std::vector<long>* atom_lines) {
   validate_box(sys.box, source);
   static const char* axis = "xyz";
   std::unordered_set<std::int64_t> seen;
   for (std::size_t i = 0; i < sys.size(); ++i) {
-    std::ostringstream where;
-    where << source << ": atom " << sys.id[i];
-    auto fail = [&](const std::string& what) { throw InputError(where.str() + ": " + what); };
+    const std::string where = atom_origin(sys, i, source, atom_lines);
+    auto fail = [&](const std::string& what) { throw InputError(where + ": " + what); };
     if (!seen.insert(sys.id[i]).second) fail("duplicate atom id");
     if (sys.id[i] < 1) fail("atom id must be >= 1");
     if (sys.type[i] < 1) fail("atom type " + std::to_string(sys.type[i]) + " must be >= 1");
@@ -143,14 +150,15 @@ void validate_and_wrap(ParticleSystem& sys, const std::string& source) {
       }
     }
   }
-  check_scene_numbers(sys, source);
+  check_scene_numbers(sys, source, atom_lines);
   const double diameter = 2 * sys.max_radius();
   for (int d = 0; d < 3; ++d)
     if (!sys.box.periodic[d] && sys.size() && !(sys.box.length(d) > diameter)) {
       std::ostringstream m;
       m.precision(17);
-      m << source << ": walls along " << axis[d] << " are " << sys.box.length(d) << " apart, not more than the largest diameter "
-        << diameter << " (a sphere that fills the gap would bounce between them infinitely often)";
+      m << source << ": walls along " << axis[d] << " are " << sys.box.length(d)
+        << " apart, not more than the largest diameter " << diameter
+        << " (a sphere that fills the gap would bounce between them infinitely often)";
       throw InputError(m.str());
     }
   for (int d = 0; d < 3; ++d)
@@ -166,8 +174,10 @@ void validate_and_wrap(ParticleSystem& sys, const std::string& source) {
     if (dist < contact) {
       std::ostringstream m;
       m.precision(17);
-      m << source << ": atoms " << sys.id[i] << " and " << sys.id[j] << " overlap: distance " << dist
-        << " < contact distance " << contact;
+      // The atom met first names the line; the other's line follows.
+      m << atom_origin(sys, i, source, atom_lines) << " overlaps atom " << sys.id[j];
+      if (atom_lines && j < atom_lines->size()) m << " (line " << (*atom_lines)[j] << ")";
+      m << ": distance " << dist << " < contact distance " << contact;
       throw InputError(m.str());
     }
   });

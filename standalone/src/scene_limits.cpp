@@ -40,7 +40,7 @@ std::ostringstream message() {
 
 }  // namespace
 
-void check_scene_numbers(const ParticleSystem& sys, const std::string& source) {
+void check_scene_numbers(const ParticleSystem& sys, const std::string& source, const std::vector<long>* atom_lines) {
   for (int d = 0; d < 3; ++d) {
     const double lo = sys.box.lo[d], hi = sys.box.hi[d], len = hi - lo;
     if (!std::isfinite(lo) || !std::isfinite(hi) || !std::isfinite(len) || !(len > 0)) {
@@ -58,9 +58,8 @@ void check_scene_numbers(const ParticleSystem& sys, const std::string& source) {
     if (!(std::isfinite(sys.radius[i]) && sys.radius[i] > 0) || !(std::isfinite(sys.mass[i]) && sys.mass[i] > 0) ||
         !(std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z)) ||
         !(std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z))) {
-      auto m = message();
-      m << "atom " << sys.id[i] << ": radius, mass, position and velocity must be finite (radius and mass positive)";
-      refuse(source, m);
+      throw InputError(atom_origin(sys, i, source, atom_lines) +
+                       ": radius, mass, position and velocity must be finite (radius and mass positive)");
     }
   }
   const double dmin = smallest_diameter(sys), tol = kCoordinateResolution * dmin;
@@ -80,7 +79,7 @@ void check_scene_numbers(const ParticleSystem& sys, const std::string& source) {
     const double m_i = sys.mass[i];
     auto atom = [&] {
       auto m = message();
-      m << "atom " << sys.id[i] << ": ";
+      m << atom_origin(sys, i, source, atom_lines) << ": ";
       return m;
     };
     for (int d = 0; d < 3; ++d)
@@ -89,13 +88,13 @@ void check_scene_numbers(const ParticleSystem& sys, const std::string& source) {
         m << kAxis[d] << " = " << sys.pos[i][d] << " cannot be resolved: doubles there are " << spacing(sys.pos[i][d])
           << " apart, more than " << kCoordinateResolution << " of the smallest diameter " << dmin
           << " (wrapping it into a periodic box would move it by that much)";
-        refuse(source, m);
+        throw InputError(m.str());
       }
     if (m_i < mass_lo || m_i > mass_hi) {
       auto m = atom();
       m << "mass " << m_i << " is outside [" << mass_lo << ", " << mass_hi
         << "], where the collision arithmetic (products of masses) stays finite and nonzero";
-      refuse(source, m);
+      throw InputError(m.str());
     }
     const Vec3d v = sys.vel[i];
     const double v2 = dot(v, v);
@@ -103,13 +102,13 @@ void check_scene_numbers(const ParticleSystem& sys, const std::string& source) {
       auto m = atom();
       m << "speed " << speed(v) << " (velocity " << v.x << " " << v.y << " " << v.z << ") is above " << speed_hi
         << ": its square would overflow";
-      refuse(source, m);
+      throw InputError(m.str());
     }
     sum_mv2 += m_i * v2;
     if (!(sum_mv2 <= 1e300)) {
       auto m = atom();
       m << "the kinetic energy (sum of m v^2 up to this atom: " << sum_mv2 << ") overflows double precision";
-      refuse(source, m);
+      throw InputError(m.str());
     }
   }
 }

@@ -64,8 +64,23 @@ def huge_count(lines):
     return edit(lines, i, "99999999999999 atoms"), i + 1, ["atom count '99999999999999'", "134217728"]
 
 
+def overlapping(lines):
+    # The second atom moved onto the first: whole-state checks name the line too.
+    a = line_of(lines, "Atoms") + 2
+    first, second = lines[a].split(), lines[a + 1].split()
+    return edit(lines, a + 1, " ".join(second[:4] + first[4:7] + second[7:])), a + 1, [f"overlaps atom {second[0]}"]
+
+
+def coordinate_too_far(lines):
+    a = line_of(lines, "Atoms") + 2
+    w = lines[a].split()
+    return edit(lines, a, " ".join(w[:4] + ["1e17"] + w[5:])), a + 1, ["x = 1e+17 cannot be resolved"]
+
+
 @pytest.mark.parametrize("mutate", [
     velocity_duplicate,
+    overlapping,
+    coordinate_too_far,
     image_flags(["a", "b", "c"]),
     image_flags(["1e300", "-5", "7.5"]),
     repeated("30 atoms"),

@@ -12,8 +12,8 @@ namespace hardsphere {
 
 struct ParticleSystem {
   Box box;
-  std::vector<std::int64_t> id;   //!< LAMMPS atom IDs, kept through every engine
-  std::vector<int> type;          //!< LAMMPS atom types (>= 1)
+  std::vector<std::int64_t> id;  //!< LAMMPS atom IDs, kept through every engine
+  std::vector<int> type;         //!< LAMMPS atom types (>= 1)
   std::vector<double> radius;
   std::vector<double> mass;
   std::vector<Vec3d> pos;
@@ -33,7 +33,12 @@ struct ParticleSystem {
 //! non-positive or non-finite radius/mass, NaN/inf positions or velocities, particles outside
 //! a wall axis, duplicate ids, periodic box too short for the largest pair, overlapping pairs.
 //! Periodic coordinates are wrapped into the box first (as LAMMPS read_data does).
-void validate_and_wrap(ParticleSystem& sys, const std::string& source);
+//! `atom_lines` (optional): the line each atom came from, so messages name "source:line".
+void validate_and_wrap(ParticleSystem& sys, const std::string& source, const std::vector<long>* atom_lines = nullptr);
+
+//! "source: atom ID" or, with the atom's line known, "source:LINE: atom ID".
+std::string atom_origin(const ParticleSystem& sys, std::size_t i, const std::string& source,
+                        const std::vector<long>* atom_lines);
 
 //! Largest pair overlap max(0, R_i + R_j - |r_ij|) over all pairs (minimum image), via a cell grid.
 double max_overlap(const ParticleSystem& sys);

@@ -3,6 +3,7 @@
 //! resolve the spheres; what cannot be simulated is refused with an InputError naming the value
 //! and where it came from, instead of overflowing into NaN or wrapping spheres onto each other.
 #include <string>
+#include <vector>
 
 #include "hardsphere/particles.hpp"
 
@@ -15,7 +16,9 @@ constexpr double kCoordinateResolution = 1e-8;
 //! Checks in double arithmetic, before any wrapping: finite box lengths, box bounds and
 //! coordinates resolved to kCoordinateResolution, masses whose products neither overflow nor
 //! underflow, speeds whose squares and kinetic energies stay finite (also summed).
-void check_scene_numbers(const ParticleSystem& sys, const std::string& source);
+//! `atom_lines` (optional): each atom's line in the file `source`, for "file:line" in messages.
+void check_scene_numbers(const ParticleSystem& sys, const std::string& source,
+                         const std::vector<long>* atom_lines = nullptr);
 
 //! What an engine computing in a type with machine epsilon `eps` and largest value `largest`
 //! (coordinates relative to the box corner) needs on top: speeds, masses and sizes within
