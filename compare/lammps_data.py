@@ -35,3 +35,22 @@ def read_sphere_data(path):
     mass = a[:, 2] * (4.0 * math.pi / 3.0 * radius**3)
     vel = np.array([vels.get(k, [0, 0, 0])[:3] for k in ids])
     return dict(ids=ids, types=a[:, 0].astype(int), radius=radius, mass=mass, pos=a[:, 3:6], vel=vel, box=box)
+
+
+def write_sphere_data(path, atoms, box=((0, 10),) * 3, title="hardsphere state"):
+    """Writes atom_style sphere rows (x, y, z, vx, vy, vz[, diameter[, density]]) with ids from 1.
+
+    Diameter 1 and density 6/pi (unit mass) unless given; values as repr(), so every double round-trips.
+    """
+    unit_density = 6 / math.pi
+    lines = [title, "", f"{len(atoms)} atoms", "1 atom types", ""]
+    lines += [f"{lo!r} {hi!r} {a}lo {a}hi" for (lo, hi), a in zip(box, "xyz")]
+    lines += ["", "Atoms # sphere", ""]
+    for i, a in enumerate(atoms, 1):
+        d = a[6] if len(a) > 6 else 1.0
+        rho = a[7] if len(a) > 7 else unit_density
+        lines.append(f"{i} 1 {d!r} {rho!r} {a[0]!r} {a[1]!r} {a[2]!r}")
+    lines += ["", "Velocities", ""] + [f"{i} {a[3]!r} {a[4]!r} {a[5]!r}" for i, a in enumerate(atoms, 1)]
+    with open(path, "w") as f:
+        f.write("\n".join(lines) + "\n")
+    return str(path)

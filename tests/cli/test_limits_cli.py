@@ -3,27 +3,20 @@ or refused (exit 2, `hardsphere: error:` naming the value), and a run that ends 
 overlapping says so."""
 import json
 import math
+import sys
 from pathlib import Path
 
 import pytest
 
 from hs_run import run, run_json
 
-DENSITY = 6 / math.pi  # unit mass for unit diameter
+sys.path.insert(0, str(Path(__file__).resolve().parents[2] / "compare"))
+from lammps_data import write_sphere_data  # noqa: E402
 
 
 def write_data(path, atoms, box=((0, 20),) * 3):
     """atoms: (x, y, z, vx, vy, vz[, diameter]) rows; ids from 1."""
-    lines = ["limits test", "", f"{len(atoms)} atoms", "1 atom types", ""]
-    lines += [f"{lo!r} {hi!r} {a}lo {a}hi" for (lo, hi), a in zip(box, "xyz")]
-    lines += ["", "Atoms # sphere", ""]
-    for i, a in enumerate(atoms, 1):
-        d = a[6] if len(a) > 6 else 1.0
-        lines.append(f"{i} 1 {d!r} {DENSITY!r} {a[0]!r} {a[1]!r} {a[2]!r}")
-    lines += ["", "Velocities", ""]
-    lines += [f"{i} {a[3]!r} {a[4]!r} {a[5]!r}" for i, a in enumerate(atoms, 1)]
-    Path(path).write_text("\n".join(lines) + "\n")
-    return path
+    return write_sphere_data(path, atoms, box, title="limits test")
 
 
 def refused(p, *needles):

@@ -19,7 +19,9 @@ import tempfile
 import time
 from pathlib import Path
 
-DENSITY = 6 / math.pi  # unit diameter -> unit mass
+sys.path.insert(0, str(Path(__file__).resolve().parents[2] / "compare"))
+from lammps_data import write_sphere_data  # noqa: E402
+
 
 
 class Case:
@@ -75,16 +77,7 @@ def check(cond, what):
 
 def write_data(path, atoms, box=((0, 10),) * 3):
     """atoms: rows (x, y, z, vx, vy, vz[, diameter[, density]]), ids from 1."""
-    lines = ["stress case", "", f"{len(atoms)} atoms", "1 atom types", ""]
-    lines += [f"{lo!r} {hi!r} {a}lo {a}hi" for (lo, hi), a in zip(box, "xyz")]
-    lines += ["", "Atoms # sphere", ""]
-    for i, a in enumerate(atoms, 1):
-        d = a[6] if len(a) > 6 else 1.0
-        rho = a[7] if len(a) > 7 else DENSITY
-        lines.append(f"{i} 1 {d!r} {rho!r} {a[0]!r} {a[1]!r} {a[2]!r}")
-    lines += ["", "Velocities", ""] + [f"{i} {a[3]!r} {a[4]!r} {a[5]!r}" for i, a in enumerate(atoms, 1)]
-    Path(path).write_text("\n".join(lines) + "\n")
-    return str(path)
+    return write_sphere_data(path, atoms, box, title="stress case")
 
 
 def read_data(path):

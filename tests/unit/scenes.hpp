@@ -10,13 +10,14 @@ namespace hardsphere::test {
 //! n unit spheres at packing fraction phi in a cubic box (Maxwell-Boltzmann at T = 1, or all
 //! with one speed), generated deterministically from `seed`.
 inline ParticleSystem gas(std::int64_t n, double phi, std::uint64_t seed, std::optional<double> speed = std::nullopt,
-                          std::array<bool, 3> periodic = {true, true, true}) {
+                          std::array<bool, 3> periodic = {true, true, true}, InitMethod method = InitMethod::Auto) {
   InitSpec spec;
   spec.n = n;
   const double l = std::cbrt(double(n) * M_PI / 6.0 / phi);
   spec.box = Box::from_lengths({l, l, l}, periodic);
   spec.seed = seed;
   spec.speed = speed;
+  spec.method = method;
   return make_initial_state(spec);
 }
 

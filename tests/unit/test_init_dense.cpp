@@ -17,6 +17,7 @@
 #include "hardsphere/observables.hpp"
 #include "hardsphere/particles.hpp"
 #include "hardsphere/stepper.hpp"
+#include "scenes.hpp"
 
 using namespace hardsphere;
 
@@ -24,13 +25,7 @@ namespace {
 
 ParticleSystem dense(std::int64_t n, double phi, std::uint64_t seed, std::array<bool, 3> periodic = {true, true, true},
                      InitMethod method = InitMethod::Auto) {
-  InitSpec spec;
-  spec.n = n;
-  const double l = std::cbrt(double(n) * M_PI / 6.0 / phi);
-  spec.box = Box::from_lengths({l, l, l}, periodic);
-  spec.seed = seed;
-  spec.method = method;
-  return make_initial_state(spec);
+  return test::gas(n, phi, seed, std::nullopt, periodic, method);
 }
 
 // Smallest gap between two spheres or a sphere and a wall, in diameters.
