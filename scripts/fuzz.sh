@@ -18,17 +18,7 @@ root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 build=${HS_FUZZ_BUILD_DIR:-$root/build-fuzz}
 out=${HS_FUZZ_OUT_DIR:-$build/fuzz-out}
 
-missing=()
-for p in clang-14 libclang-rt-14-dev; do
-  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
-done
-if [ ${#missing[@]} -gt 0 ]; then
-  echo "fuzz: installing ${missing[*]}"
-  sudo_cmd=""
-  [ "$(id -u)" = 0 ] || sudo_cmd=sudo
-  $sudo_cmd apt-get update -q
-  DEBIAN_FRONTEND=noninteractive $sudo_cmd apt-get install -y -q --no-install-recommends "${missing[@]}"
-fi
+bash "$root/scripts/apt_install_missing.sh" fuzz clang-14 libclang-rt-14-dev
 
 cmake -S "$root" -B "$build" -DCMAKE_CXX_COMPILER=clang++-14 -DCMAKE_BUILD_TYPE=RelWithDebInfo \
   -DHS_BUILD_FUZZ=ON -DHS_BUILD_TESTS=OFF -DHS_BUILD_BENCH=OFF -DHS_BUILD_PLUGIN=OFF >/dev/null

@@ -13,17 +13,7 @@ packages=(cmake g++ make libgtest-dev libgmock-dev libbenchmark-dev libcli11-dev
 if [ "${HS_WITH_LAMMPS:-1}" = 1 ]; then
   packages+=(lammps liblammps-dev openmpi-bin libopenmpi-dev liggghts python3-lammps dpkg-dev)
 fi
-missing=()
-for p in "${packages[@]}"; do
-  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
-done
-if [ ${#missing[@]} -gt 0 ]; then
-  echo "setup: installing ${missing[*]}"
-  sudo_cmd=""
-  [ "$(id -u)" = 0 ] || sudo_cmd=sudo
-  $sudo_cmd apt-get update -q
-  DEBIAN_FRONTEND=noninteractive $sudo_cmd apt-get install -y -q --no-install-recommends "${missing[@]}"
-fi
+bash "$root/scripts/apt_install_missing.sh" setup "${packages[@]}"
 
 # LAMMPS styles: compiled against the Debian LAMMPS source matching the installed liblammps
 # (fetched once into a cache outside the repository); skipped if that is not possible.
