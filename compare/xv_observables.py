@@ -1,0 +1,172 @@
+"""Observables from trajectory frames, the same code for every engine (cross-validation).
+
+A frame is a dict with t (simulated time), box lo/hi (3,), ids, types, radius, pos (N,3),
+vel (N,3), all sorted by id, and `unwrapped` True when pos are unwrapped coordinates.
+"""
+import math
+
+import numpy as np
+from scipy import stats
+from scipy.spatial import cKDTree
+
+
+def iter_dump(path, dt=None, times=None):
+    """Frames of a LAMMPS text dump, one at a time; t = timestep * dt, or times[k] for frame k."""
+    with open(path) as f:
+        k = 0
+        for line in f:
+            if not line.startswith("ITEM: TIMESTEP"):
+                continue
+            step = int(next(f))
+            next(f)
+            n = int(next(f))
+            next(f)
+            bounds = np.array([next(f).split()[:2] for _ in range(3)], dtype=float)
+            cols = next(f).split()[2:]
+            a = np.array(" ".join(next(f) for _ in range(n)).split(), dtype=float).reshape(n, len(cols))
+            a = a[np.argsort(a[:, cols.index("id")])]
+            c = {name: a[:, i] for i, name in enumerate(cols)}
+            lo, hi = bounds[:, 0], bounds[:, 1]
+            unwrapped = "xu" in c or "ix" in c
+            if "xu" in c:
+                pos = np.column_stack([c["xu"], c["yu"], c["zu"]])
+            elif "ix" in c:
+                pos = np.column_stack([c[x] + c["i" + x] * (hi[d] - lo[d]) for d, x in enumerate("xyz")])
+            else:
+                pos = np.column_stack([c["x"], c["y"], c["z"]])
+            vel = np.column_stack([c["vx"], c["vy"], c["vz"]]) if "vx" in c else None
+            t = times[k] if times is not None else step * (dt or 0.0)
+            k += 1
+            yield dict(t=t, step=step, lo=lo, hi=hi, ids=c["id"].astype(np.int64), types=c["type"].astype(int),
+                       radius=c["radius"], pos=pos, vel=vel, unwrapped=unwrapped)
+
+
+def read_dump(path, dt=None, times=None):
+    return list(iter_dump(path, dt, times))
+
+
+def unwrap(frames):
+    """Unwrapped positions (F, N, 3): kept as they are, or by the minimum image between frames
+    (valid while no sphere moves half a box between frames; checked against the fastest speed)."""
+    pos = np.array([f["pos"] for f in frames])
+    if frames[0]["unwrapped"]:
+        return pos
+    length = frames[0]["hi"] - frames[0]["lo"]
+    step = np.diff(pos, axis=0)
+    step -= length * np.round(step / length)
+    return np.concatenate([pos[:1], pos[0] + np.cumsum(step, axis=0)])
+
+
+def msd_diffusion(frames, window, groups=8):
+    """Mean-squared displacement over all time origins, and D from its slope over lags in `window`
+    (t_lo, t_hi), the same window for every engine of a state.
+
+    Returns (lags, msd, D, D_err); D and D_err are None when fewer than 3 lags fall in the window.
+    D_err from the spread of D over `groups` disjoint sets of spheres."""
+    pos = unwrap(frames)
+    times = np.array([f["t"] for f in frames])
+    lags = np.arange(1, len(frames))
+    tau = times[lags] - times[0]
+    lags, tau = lags[tau <= window[1] * 1.0001], tau[tau <= window[1] * 1.0001]
+    per_sphere = np.array([((pos[k:] - pos[:-k]) ** 2).sum(axis=2).mean(axis=0) for k in lags])  # (lags, N)
+    msd = per_sphere.mean(axis=1)
+    fit = tau >= window[0] * 0.9999
+    if fit.sum() < 3:
+        return tau, msd, None, None
+
+    def slope(m):
+        return np.polyfit(tau[fit], m[fit], 1)[0] / 6
+
+    parts = np.array_split(np.arange(per_sphere.shape[1]), groups)
+    ds = np.array([slope(per_sphere[:, p].mean(axis=1)) for p in parts])
+    return tau, msd, slope(msd), ds.std(ddof=1) / math.sqrt(groups)
+
+
+def reduced_speeds(frame, mass):
+    """Speeds scaled to unit mass and unit temperature: v sqrt(m / T), T = <m v^2> / 3."""
+    v2 = (frame["vel"] ** 2).sum(axis=1)
+    temperature = (mass * v2).mean() / 3
+    return np.sqrt(mass * v2 / temperature), temperature
+
+
+def speed_ks(frame, mass):
+    """KS test of one frame's speeds (N independent samples) against Maxwell-Boltzmann."""
+    u, temperature = reduced_speeds(frame, mass)
+    res = stats.kstest(u, stats.maxwell.cdf)
+    return res.statistic, res.pvalue, temperature
+
+
+def pair_distances(frame, rmax):
+    """Distances and sphere indices of all pairs closer than rmax (periodic, minimum image)."""
+    length = frame["hi"] - frame["lo"]
+    wrapped = np.mod(frame["pos"] - frame["lo"], length)
+    wrapped[wrapped >= length] = 0.0
+    tree = cKDTree(wrapped, boxsize=length)
+    pairs = tree.query_pairs(rmax, output_type="ndarray")
+    d = wrapped[pairs[:, 0]] - wrapped[pairs[:, 1]]
+    d -= length * np.round(d / length)
+    return np.sqrt((d**2).sum(axis=1)), pairs
+
+
+def rdf(frames, rmax=3.0, width=0.01):
+    """g(r) per pair of types from the given frames: {(a, b): (r, g, counts)} plus 'all'."""
+    f0 = frames[0]
+    length = f0["hi"] - f0["lo"]
+    rmax = min(rmax, 0.5 * length.min())
+    edges = np.arange(0.0, rmax + width / 2, width)
+    shell = 4 / 3 * math.pi * (edges[1:] ** 3 - edges[:-1] ** 3)
+    volume = float(np.prod(length))
+    types = sorted(set(f0["types"].tolist()))
+    count = {t: int((f0["types"] == t).sum()) for t in types}
+    keys = [(a, b) for a in types for b in types if a <= b]
+    hist = {k: np.zeros(len(edges) - 1) for k in keys}
+    for f in frames:
+        r, pairs = pair_distances(f, rmax)
+        ta, tb = f["types"][pairs[:, 0]], f["types"][pairs[:, 1]]
+        lo_t, hi_t = np.minimum(ta, tb), np.maximum(ta, tb)
+        for a, b in keys:
+            sel = (lo_t == a) & (hi_t == b)
+            hist[(a, b)] += np.histogram(r[sel], edges)[0]
+    centres = 0.5 * (edges[1:] + edges[:-1])
+    out = {}
+    total = np.zeros_like(centres)
+    for a, b in keys:
+        npairs = count[a] * (count[a] - 1) / 2 if a == b else count[a] * count[b]
+        ideal = npairs * shell / volume * len(frames)
+        out[(a, b)] = (centres, hist[(a, b)] / ideal, hist[(a, b)])
+        total += hist[(a, b)]
+    n = len(f0["ids"])
+    out["all"] = (centres, total / (n * (n - 1) / 2 * shell / volume * len(frames)), total)
+    return out
+
+
+def contact_value(r, g, counts, sigma, span=0.08):
+    """g at r = sigma from outside: a weighted straight-line fit over (sigma, sigma + span)."""
+    sel = (r > sigma) & (r < sigma + span) & (counts > 0)
+    if sel.sum() < 3:
+        return float("nan"), float("nan")
+    w = np.sqrt(counts[sel]) / g[sel]  # 1 / (relative Poisson error of each bin's g)
+    coef, cov = np.polyfit(r[sel] - sigma, g[sel], 1, w=w, cov="unscaled")
+    return float(coef[1]), float(math.sqrt(cov[1, 1]))
+
+
+def contacts_started(frames):
+    """Pair contacts (distance < r_i + r_j) that begin between consecutive frames (one per step).
+
+    Returns (started, elapsed time)."""
+    started, previous, first, last = 0, None, None, None
+    for f in frames:
+        first = first if first is not None else f["t"]
+        last = f["t"]
+        r, pairs = pair_distances(f, 2 * float(f["radius"].max()))
+        touching = pairs[r < f["radius"][pairs[:, 0]] + f["radius"][pairs[:, 1]]]
+        key = np.sort(touching, axis=1)
+        key = key[:, 0].astype(np.int64) * len(f["ids"]) + key[:, 1]
+        if previous is not None:
+            started += len(np.setdiff1d(key, previous, assume_unique=True))
+        previous = key
+    return started, last - first
+
+
+def kinetic_energy(frame, mass):
+    return 0.5 * float((mass * (frame["vel"] ** 2).sum(axis=1)).sum())
