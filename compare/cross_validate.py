@@ -11,8 +11,7 @@ tolerances (docs/validation/cross_validation.md lists them). --quick: one small 
 """
 import argparse
 import json
-import math
-import os
+import pickle
 import shutil
 import sys
 import time
@@ -59,6 +58,7 @@ def main(argv=None):
     ap.add_argument("--build", default=str(HERE.parent / "build"), help="build directory (default: build)")
     ap.add_argument("--out", required=True, help="output directory (report.md, cross_validation.json, figures)")
     ap.add_argument("--keep", action="store_true", help="keep the runs' trajectories (DIR/runs)")
+    ap.add_argument("--resume", action="store_true", help="keep the runs finished by an earlier call with this --out")
     ap.add_argument("--no-seed-figures", action="store_true", help="skip the seed paper's scaling figures")
     a = ap.parse_args(argv)
     out = Path(a.out).resolve()
@@ -73,11 +73,18 @@ def main(argv=None):
     runs_dir = out / "runs"
     progress = Progress(sum(t.cost for t in plan.tasks) + plan.seed_figure_cost * (not a.no_seed_figures))
     rows, curves = [], {}
+    done_file = out / "runs_done.pickle"  # results so far: --resume skips them
+    if a.resume and done_file.exists():
+        rows, curves = pickle.loads(done_file.read_bytes())
+    done = {(r["state"], r["setting"]) for r in rows}
     for state in plan.states:
         path = make_state(tools["hardsphere"], tools["lmp"], out / "states", state.n, state.phi, state.composition,
                           state.equilibrate, log=lambda s: progress(0, s))
         state.path = path
     for task in plan.tasks:
+        if (task.state.label, task.label) in done:
+            progress(task.cost, f"{task.state.label}: {task.label}: done before")
+            continue
         work = runs_dir / task.state.label / task.label.replace(" ", "_").replace(",", "").replace("=", "")
         run = task.execute(engines, work)
         row, curve = analyse(task, run, rows)
@@ -86,6 +93,7 @@ def main(argv=None):
         progress(task.cost, f"{task.state.label}: {task.label}: Z {row['Z']:.4f} +- {row['Z_err']:.4f}"
                  + (f" (mapped {row['Z_mapped']:.4f})" if row.get("Z_mapped") is not None else "")
                  + f", {row['cpu_seconds_per_tau']:.3g} CPU s/tau")
+        done_file.write_bytes(pickle.dumps((rows, curves)))
         if not a.keep:
             shutil.rmtree(work, ignore_errors=True)
     seed = None
@@ -100,6 +108,7 @@ def main(argv=None):
     write_report(out, plan, rows, curves, failures, tools, seed)
     if not a.keep:
         shutil.rmtree(runs_dir, ignore_errors=True)
+    done_file.unlink()
     print(f"cross_validate: {len(rows)} runs, {len(failures)} disagreements; report in {out / 'report.md'}")
     for f in failures:
         print("  DISAGREE: " + f)

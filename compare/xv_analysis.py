@@ -81,7 +81,8 @@ def analyse(task, run, rows):
     row["D_window"] = list(st.msd_window)
     row["D_enskog"] = hs_theory.enskog_diffusion(st.phi) if st.composition == "mono" else None
     # structure: contact values per pair of types (sigma_ij from the species' diameters)
-    g = obs.rdf(frames[:: max(1, len(frames) // 8)])
+    nframes = max(2, min(8, 64000 // n))  # ~64000 sphere-frames for every N
+    g = obs.rdf(frames[:: max(1, len(frames) // nframes)])
     contacts = {}
     for key, (r, gr, counts) in g.items():
         if key == "all":

@@ -15,6 +15,7 @@ from pathlib import Path
 
 import numpy as np
 
+import soft_spheres as soft
 from xv_observables import iter_dump, read_dump
 
 ROOT = Path(__file__).resolve().parent.parent
@@ -113,16 +114,16 @@ class Engines:
             cmd = [self.mpirun, "--allow-run-as-root", "--oversubscribe", "-np", ranks] + cmd
         _, wall = _run(cmd, work, work / "run.out")
         log = (work / "log.lammps").read_text()
-        loops = re.findall(r"Loop time of ([0-9.eE+-]+) on (\d+) procs for (\d+) steps", log)
+        loops = soft.read_loop_time(log)
         if not loops:
             raise EngineError(f"no 'Loop time' line in {work / 'log.lammps'}")
-        seconds, procs, steps = float(loops[-1][0]), int(loops[-1][1]), int(loops[-1][2])
+        seconds, procs, steps = loops[-1]
         # Writing dumps is not simulating (the standalone's loop time leaves it out too).
         tail = log[log.rfind("Loop time of"):]
         output = re.search(r"^Output\s*\|\s*\S+\s*\|\s*([0-9.eE+-]+)", tail, re.M) or \
             re.search(r"^Outpt time \(%\) = ([0-9.eE+-]+)", tail, re.M)  # LIGGGHTS 3.8
         output_seconds = float(output.group(1)) if output else 0.0
-        blocks = np.loadtxt(work / "virial.txt", comments="#", ndmin=2)
+        blocks = soft.read_blocks(work / "virial.txt")
         frames = read_dump(work / "run.dump", dt=dt)
         n = len(frames[0]["ids"])
         volume = float(np.prod(frames[0]["hi"] - frames[0]["lo"]))

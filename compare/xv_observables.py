@@ -9,36 +9,23 @@ import numpy as np
 from scipy import stats
 from scipy.spatial import cKDTree
 
+import soft_spheres
+
 
 def iter_dump(path, dt=None, times=None):
     """Frames of a LAMMPS text dump, one at a time; t = timestep * dt, or times[k] for frame k."""
-    with open(path) as f:
-        k = 0
-        for line in f:
-            if not line.startswith("ITEM: TIMESTEP"):
-                continue
-            step = int(next(f))
-            next(f)
-            n = int(next(f))
-            next(f)
-            bounds = np.array([next(f).split()[:2] for _ in range(3)], dtype=float)
-            cols = next(f).split()[2:]
-            a = np.array(" ".join(next(f) for _ in range(n)).split(), dtype=float).reshape(n, len(cols))
-            a = a[np.argsort(a[:, cols.index("id")])]
-            c = {name: a[:, i] for i, name in enumerate(cols)}
-            lo, hi = bounds[:, 0], bounds[:, 1]
-            unwrapped = "xu" in c or "ix" in c
-            if "xu" in c:
-                pos = np.column_stack([c["xu"], c["yu"], c["zu"]])
-            elif "ix" in c:
-                pos = np.column_stack([c[x] + c["i" + x] * (hi[d] - lo[d]) for d, x in enumerate("xyz")])
-            else:
-                pos = np.column_stack([c["x"], c["y"], c["z"]])
-            vel = np.column_stack([c["vx"], c["vy"], c["vz"]]) if "vx" in c else None
-            t = times[k] if times is not None else step * (dt or 0.0)
-            k += 1
-            yield dict(t=t, step=step, lo=lo, hi=hi, ids=c["id"].astype(np.int64), types=c["type"].astype(int),
-                       radius=c["radius"], pos=pos, vel=vel, unwrapped=unwrapped)
+    for k, c in enumerate(soft_spheres.read_dump(path)):
+        lo, hi = c["box_lo"], c["box_hi"]
+        if "xu" in c:
+            pos = np.column_stack([c["xu"], c["yu"], c["zu"]])
+        elif "ix" in c:
+            pos = np.column_stack([c[x] + c["i" + x] * (hi[d] - lo[d]) for d, x in enumerate("xyz")])
+        else:
+            pos = np.column_stack([c["x"], c["y"], c["z"]])
+        yield dict(t=times[k] if times is not None else c["timestep"] * (dt or 0.0), step=c["timestep"], lo=lo,
+                   hi=hi, ids=c["id"], types=c["type"], radius=c["radius"], pos=pos,
+                   vel=np.column_stack([c["vx"], c["vy"], c["vz"]]) if "vx" in c else None,
+                   unwrapped="xu" in c or "ix" in c)
 
 
 def read_dump(path, dt=None, times=None):
