@@ -395,7 +395,8 @@ class DataFile {
 
 }  // namespace
 
-ParticleSystem read_data(std::istream& in, const std::string& name, std::array<bool, 3> periodic) {
+ParticleSystem read_data(std::istream& in, const std::string& name, std::array<bool, 3> periodic,
+                         double rounding_eps) {
   LineReader r(in, name);
   std::string line;
   if (!r.next(line)) throw InputError(name + ": empty file (a LAMMPS data file starts with a title line)");
@@ -433,17 +434,17 @@ ParticleSystem read_data(std::istream& in, const std::string& name, std::array<b
   data.check_periodic_lengths();
   const std::vector<long> lines = data.atom_lines();
   ParticleSystem sys = data.take();
-  validate_and_wrap(sys, name, &lines);
+  validate_and_wrap(sys, name, &lines, rounding_eps);
   return sys;
 }
 
-ParticleSystem read_data(const std::string& path, std::array<bool, 3> periodic) {
+ParticleSystem read_data(const std::string& path, std::array<bool, 3> periodic, double rounding_eps) {
   struct stat st {};
   if (::stat(path.c_str(), &st) == 0 && S_ISDIR(st.st_mode))
     throw InputError("data file '" + path + "' is a directory");
   std::ifstream in(path, std::ios::binary);
   if (!in) throw InputError("cannot open data file '" + path + "': " + std::strerror(errno));
-  return read_data(in, path, periodic);
+  return read_data(in, path, periodic, rounding_eps);
 }
 
 }  // namespace hardsphere

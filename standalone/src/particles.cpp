@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <sstream>
 #include <unordered_set>
 
@@ -116,7 +117,17 @@ std::string atom_origin(const ParticleSystem& sys, std::size_t i, const std::str
   return where + ": atom " + std::to_string(sys.id[i]);
 }
 
-void validate_and_wrap(ParticleSystem& sys, const std::string& source, const std::vector<long>* atom_lines) {
+double overlap_tolerance(const ParticleSystem& sys, double eps) {
+  double len = 0, far = 0;
+  for (int d = 0; d < 3; ++d) {
+    len = std::max(len, sys.box.length(d));
+    far = std::max({far, std::abs(sys.box.lo[d]), std::abs(sys.box.hi[d])});
+  }
+  return 16 * (eps * (len + 2 * sys.max_radius()) + std::numeric_limits<double>::epsilon() * far);
+}
+
+void validate_and_wrap(ParticleSystem& sys, const std::string& source, const std::vector<long>* atom_lines,
+                       double rounding_eps) {
   validate_box(sys.box, source);
   static const char* axis = "xyz";
   std::unordered_set<std::int64_t> seen;
@@ -169,9 +180,10 @@ void validate_and_wrap(ParticleSystem& sys, const std::string& source, const std
       throw InputError(m.str());
     }
   wrap_periodic(sys);
+  const double slack = rounding_eps > 0 ? overlap_tolerance(sys, rounding_eps) : 0.0;
   for_each_close_pair(sys, diameter, [&](std::size_t i, std::size_t j, Vec3d dr) {
     const double dist = norm(dr), contact = sys.radius[i] + sys.radius[j];
-    if (dist < contact) {
+    if (dist < contact - slack) {
       std::ostringstream m;
       m.precision(17);
       // The atom met first names the line; the other's line follows.

@@ -14,17 +14,6 @@ namespace {
 nlohmann::json vec_json(Vec3d v) { return nlohmann::json::array({v.x, v.y, v.z}); }
 }  // namespace
 
-double overlap_tolerance(const ParticleSystem& sys, double eps) {
-  double len = 0, far = 0;
-  for (int d = 0; d < 3; ++d) {
-    len = std::max(len, sys.box.length(d));
-    far = std::max({far, std::abs(sys.box.lo[d]), std::abs(sys.box.hi[d])});
-  }
-  // A few roundings of a coordinate in the engine's type, and of the absolute coordinates in
-  // double when the distance is computed here.
-  return 16 * (eps * (len + 2 * sys.max_radius()) + std::numeric_limits<double>::epsilon() * far);
-}
-
 nlohmann::json physics_summary(const ParticleSystem& fin, const RunTotals& t, bool com_removed, std::uint64_t seed,
                                int histogram_bins, double tolerance) {
   const std::size_t n = fin.size();

@@ -21,7 +21,10 @@ double process_cpu_seconds() {
 }
 
 ParticleSystem initial_state(const RunSpec& spec) {
-  if (spec.read_data) return read_data(*spec.read_data, spec.periodic);
+  // A state this program wrote may overlap by the rounding of the engine that made it.
+  const double eps = spec.precision == Precision::Float ? double(std::numeric_limits<float>::epsilon())
+                                                        : std::numeric_limits<double>::epsilon();
+  if (spec.read_data) return read_data(*spec.read_data, spec.periodic, eps);
   InitSpec init = spec.init;
   for (int d = 0; d < 3; ++d) init.box.periodic[d] = spec.periodic[d];
   return make_initial_state(init);

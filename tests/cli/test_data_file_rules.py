@@ -112,3 +112,24 @@ def test_subnormal_velocities_round_trip(hs, tmp_path):
 def test_a_directory_is_not_a_data_file(hs, tmp_path):
     p = run(hs, "--read-data", tmp_path, "--steps", 1)
     assert p.returncode == 2 and "is a directory" in p.stderr, p.stderr
+
+
+def two_spheres(tmp_path, distance):
+    """Two unit spheres approaching head-on at `distance` in a periodic box of 10."""
+    path = tmp_path / "pair.data"
+    path.write_text("pair\n\n2 atoms\n1 atom types\n\n0 10 xlo xhi\n0 10 ylo yhi\n0 10 zlo zhi\n\nAtoms # sphere\n\n"
+                    f"1 1 1 1.909859317102744 4 5 5\n2 1 1 1.909859317102744 {4 + distance!r} 5 5\n\n"
+                    "Velocities\n\n1 1 0 0 0 0 0\n2 -1 0 0 0 0 0\n")
+    return path
+
+
+def test_overlap_within_float_rounding_is_read_by_float_runs_only(hs, tmp_path):
+    # A float run may write pairs overlapping by its rounding (~16 eps_float L); reading its own
+    # state back must work, and the pair, approaching, collides at once.
+    path = two_spheres(tmp_path, 1 - 1e-6)
+    j = run_json(hs, "--read-data", path, "--precision", "float", "--steps", 1, "--dt", 0.01)
+    assert j["collisions"] == 1 and j["warnings"] == []
+    p = run(hs, "--read-data", path, "--steps", 1)
+    assert p.returncode == 2 and "pair.data:12: atom 1 overlaps atom 2" in p.stderr
+    far = run(hs, "--read-data", two_spheres(tmp_path, 1 - 1e-3), "--precision", "float", "--steps", 1)
+    assert far.returncode == 2 and "overlaps" in far.stderr

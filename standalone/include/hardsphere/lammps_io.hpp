@@ -19,11 +19,13 @@ namespace hardsphere {
 //! does, so both programs see bit-identical masses. Data files carry no boundary conditions:
 //! pass them. Throws FormatError ("file:line: ...") for anything malformed (repeated header
 //! lines or sections, counts out of range, missing or duplicate rows, non-numbers, image flags
-//! outside int32, spheres outside a wall), then validates the whole state (validate_and_wrap).
-ParticleSystem read_data(const std::string& path, std::array<bool, 3> periodic);
+//! outside int32, spheres outside a wall), then validates the whole state (validate_and_wrap,
+//! overlaps up to the rounding of an engine with machine epsilon `rounding_eps` accepted).
+ParticleSystem read_data(const std::string& path, std::array<bool, 3> periodic, double rounding_eps = 0);
 
 //! The same from a stream; `name` stands for the file in messages.
-ParticleSystem read_data(std::istream& in, const std::string& name, std::array<bool, 3> periodic);
+ParticleSystem read_data(std::istream& in, const std::string& name, std::array<bool, 3> periodic,
+                         double rounding_eps = 0);
 
 //! Writes a LAMMPS data file (atom_style sphere) with full double precision (17 digits, so
 //! read_data gives back the same state bit for bit).

@@ -34,7 +34,14 @@ struct ParticleSystem {
 //! a wall axis, duplicate ids, periodic box too short for the largest pair, overlapping pairs.
 //! Periodic coordinates are wrapped into the box first (as LAMMPS read_data does).
 //! `atom_lines` (optional): the line each atom came from, so messages name "source:line".
-void validate_and_wrap(ParticleSystem& sys, const std::string& source, const std::vector<long>* atom_lines = nullptr);
+//! `rounding_eps` > 0 accepts overlaps up to overlap_tolerance(sys, rounding_eps): a state an
+//! engine of that precision wrote may hold them, and the engines collide such pairs at once.
+void validate_and_wrap(ParticleSystem& sys, const std::string& source, const std::vector<long>* atom_lines = nullptr,
+                       double rounding_eps = 0);
+
+//! The overlap a few roundings of an engine with machine epsilon `eps` can leave in this scene
+//! (coordinates in the engine's type, distances from absolute double coordinates).
+double overlap_tolerance(const ParticleSystem& sys, double eps);
 
 //! "source: atom ID" or, with the atom's line known, "source:LINE: atom ID".
 std::string atom_origin(const ParticleSystem& sys, std::size_t i, const std::string& source,

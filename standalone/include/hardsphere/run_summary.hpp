@@ -32,10 +32,6 @@ struct RunTotals {
 nlohmann::json physics_summary(const ParticleSystem& final_state, const RunTotals& totals, bool com_removed,
                                std::uint64_t seed, int histogram_bins, double overlap_tolerance);
 
-//! The largest pair overlap that rounding alone can leave in `sys` when an engine computes in a
-//! type with machine epsilon `eps` relative to the box origin (and the state is kept in double).
-double overlap_tolerance(const ParticleSystem& sys, double eps);
-
 //! Writes the JSON file and the final data file, and commits them with the dump: only after
 //! success, and all together (commit_together), so an error leaves none of them.
 void commit_outputs(const nlohmann::json& summary, const ParticleSystem& final_state,
