@@ -55,6 +55,8 @@ def msd_diffusion(frames, window, groups=8):
     lags = np.arange(1, len(frames))
     tau = times[lags] - times[0]
     lags, tau = lags[tau <= window[1] * 1.0001], tau[tau <= window[1] * 1.0001]
+    if len(lags) < 3:  # frames too far apart for the window
+        return tau, np.zeros(len(lags)), None, None
     per_sphere = np.array([((pos[k:] - pos[:-k]) ** 2).sum(axis=2).mean(axis=0) for k in lags])  # (lags, N)
     msd = per_sphere.mean(axis=1)
     fit = tau >= window[0] * 0.9999

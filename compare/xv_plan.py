@@ -205,7 +205,7 @@ def full_plan():
             else:
                 tasks += _soft_tasks(st, (0.01,), t_soft=t_soft)
             if composition == "mono" and phi == 0.3:
-                tasks += _soft_tasks(st, (0.01,), t_soft=t_soft, engines=("lammps hooke", "lammps hertz"), ranks=2)
+                tasks += _soft_tasks(st, (0.01,), t_soft=t_soft, ranks=2)
     for composition in ("mono", "binary"):
         for phi in (0.1, 0.3, 0.45):
             st = State(64000, phi, composition, equilibrate=2.0)
@@ -213,6 +213,5 @@ def full_plan():
             tasks += _hard_tasks(st, t_hard=4.0, t_ref=8.0, dts=(0.02, DEFAULT_DT, 0.005))
             tasks += _soft_tasks(st, (0.01,), t_soft=2 * st.msd_window[1], contact_steps=50)
             if composition == "mono" and phi == 0.3:
-                tasks += _soft_tasks(st, (0.01,), t_soft=2 * st.msd_window[1], engines=("lammps hooke", "lammps hertz"),
-                                     ranks=2, contact_steps=50)
+                tasks += _soft_tasks(st, (0.01,), t_soft=2 * st.msd_window[1], ranks=2, contact_steps=50)
     return Plan(states, tasks, TOLERANCES, seed_figure_cost=180, mode="full")

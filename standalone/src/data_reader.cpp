@@ -395,8 +395,7 @@ class DataFile {
 
 }  // namespace
 
-ParticleSystem read_data(std::istream& in, const std::string& name, std::array<bool, 3> periodic,
-                         double rounding_eps) {
+ParticleSystem read_data(std::istream& in, const std::string& name, std::array<bool, 3> periodic, double rounding_eps) {
   LineReader r(in, name);
   std::string line;
   if (!r.next(line)) throw InputError(name + ": empty file (a LAMMPS data file starts with a title line)");

@@ -45,8 +45,10 @@ nlohmann::json physics_summary(const ParticleSystem& fin, const RunTotals& t, bo
   // Walls: the pressure on each wall pair is the momentum it received per area and time.
   nlohmann::json wall_p = nlohmann::json::array();
   for (int d = 0; d < 3; ++d) {
-    if (fin.box.periodic[d] || !(t.sim_time > 0)) wall_p.push_back(nullptr);
-    else wall_p.push_back(t.wall_impulse[d] / (2.0 * fin.box.volume() / fin.box.length(d) * t.sim_time));
+    if (fin.box.periodic[d] || !(t.sim_time > 0))
+      wall_p.push_back(nullptr);
+    else
+      wall_p.push_back(t.wall_impulse[d] / (2.0 * fin.box.volume() / fin.box.length(d) * t.sim_time));
   }
   j["wall_pressure"] = wall_p;
   const double overlap = max_overlap(fin);

@@ -43,8 +43,10 @@ nlohmann::json run_simulation(const RunSpec& spec) {
   check_outputs(spec);  // before anything runs or is created, for library callers as for the CLI
   if (spec.steps < 0) throw InputError("steps = " + std::to_string(spec.steps) + " must be >= 0");
   if (spec.equilibrate < 0) throw InputError("equilibrate = " + std::to_string(spec.equilibrate) + " must be >= 0");
-  if (spec.dump && spec.dump_every < 1) throw InputError("dump every = " + std::to_string(spec.dump_every) + " must be >= 1");
-  if (spec.histogram_bins < 1) throw InputError("--histogram-bins " + std::to_string(spec.histogram_bins) + " must be >= 1");
+  if (spec.dump && spec.dump_every < 1)
+    throw InputError("dump every = " + std::to_string(spec.dump_every) + " must be >= 1");
+  if (spec.histogram_bins < 1)
+    throw InputError("--histogram-bins " + std::to_string(spec.histogram_bins) + " must be >= 1");
 
   ParticleSystem sys = initial_state(spec);
   StepperConfig cfg = spec.stepper;
@@ -57,9 +59,9 @@ nlohmann::json run_simulation(const RunSpec& spec) {
   const double bounces = wall_bounce_rate(sys) * spec.stepper.dt;
   if (bounces > double(spec.stepper.max_events_per_step)) {
     std::ostringstream m;
-    m << "spheres between walls barely wider than them would bounce " << bounces << " times per step of dt = "
-      << spec.stepper.dt << ", more than the limit of " << spec.stepper.max_events_per_step
-      << " events per step; use a smaller --dt or wider walls";
+    m << "spheres between walls barely wider than them would bounce " << bounces
+      << " times per step of dt = " << spec.stepper.dt << ", more than the limit of "
+      << spec.stepper.max_events_per_step << " events per step; use a smaller --dt or wider walls";
     throw InputError(m.str());
   }
   const double work = double(sys.size()) * steps * double(engine->substeps_per_step()) + bounces * steps;
@@ -70,7 +72,8 @@ nlohmann::json run_simulation(const RunSpec& spec) {
     if (engine->substeps_per_step() > 1)
       m << " of " << engine->substeps_per_step() << " sub-steps each: with dt = " << spec.stepper.dt
         << " the fastest sphere moves more than half the pair-list skin (" << engine->skin() << ") per step";
-    m << "), more than the limit of " << spec.work_limit << "; use fewer steps" << (engine->substeps_per_step() > 1 ? " or a smaller dt" : "");
+    m << "), more than the limit of " << spec.work_limit << "; use fewer steps"
+      << (engine->substeps_per_step() > 1 ? " or a smaller dt" : "");
     throw InputError(m.str());
   }
   // Output files are opened (as temporaries) before the long part, so an unwritable path fails fast.
@@ -103,7 +106,7 @@ nlohmann::json run_simulation(const RunSpec& spec) {
 
   RunTotals totals{e0, p0, c.sim_time, c.collisions, c.wall_collisions, c.pair_virial, c.wall_impulse};
   const double eps = spec.precision == Precision::Float ? double(std::numeric_limits<float>::epsilon())
-                                                         : std::numeric_limits<double>::epsilon();
+                                                        : std::numeric_limits<double>::epsilon();
   nlohmann::json j = physics_summary(fin, totals, !spec.read_data.has_value(), spec.init.seed, spec.histogram_bins,
                                      overlap_tolerance(fin, eps));
   j["engine"] = "stepper";
@@ -130,7 +133,8 @@ nlohmann::json run_simulation(const RunSpec& spec) {
   if (!engine->sweep_detection()) {
     // Overlap detection misses grazes, more of them the further spheres move per step.
     double v2 = 0, dmin = std::numeric_limits<double>::infinity();
-    for (std::size_t i = 0; i < fin.size(); ++i) v2 += dot(fin.vel[i], fin.vel[i]), dmin = std::min(dmin, 2 * fin.radius[i]);
+    for (std::size_t i = 0; i < fin.size(); ++i)
+      v2 += dot(fin.vel[i], fin.vel[i]), dmin = std::min(dmin, 2 * fin.radius[i]);
     const double move = fin.size() ? std::sqrt(v2 / double(fin.size())) * spec.stepper.dt : 0.0;
     if (move > kOverlapDetectionLimit * dmin) {
       std::ostringstream m;
@@ -141,7 +145,8 @@ nlohmann::json run_simulation(const RunSpec& spec) {
       j["warnings"].push_back(m.str());
     }
   }
-  commit_outputs(j, fin, spec.write_data, "hardsphere state after " + std::to_string(c.steps) + " steps", dump, json_file);
+  commit_outputs(j, fin, spec.write_data, "hardsphere state after " + std::to_string(c.steps) + " steps", dump,
+                 json_file);
   return j;
 }
 

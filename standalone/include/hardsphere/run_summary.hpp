@@ -3,10 +3,9 @@
 //! and the final commit of a run's output files. Engines add their own keys on top.
 #include <array>
 #include <cstdint>
+#include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
-
-#include <nlohmann/json.hpp>
 
 #include "hardsphere/lammps_io.hpp"
 #include "hardsphere/particles.hpp"
