@@ -20,7 +20,6 @@ import argparse
 import json
 import math
 import os
-import platform
 import statistics
 import subprocess
 import time
@@ -32,6 +31,8 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
+from machine import cpu_model  # noqa: E402
+
 # Spheres per cell the K scan aims at: 8 down to ~0.35 in steps of sqrt(2) (~12% in K).
 FULL = dict(n_ideal=[1000 * 2 ** k for k in range(9)], n_one=[500, 1000, 2000, 4000],
             per_cell=[8 * 2 ** (-j / 2) for j in range(10)], repeats=3, target=0.25)
@@ -42,16 +43,6 @@ NEAR = 1.10  # K whose median time is within 10% of the best count as "near-idea
 
 class Refused(Exception):
     """The program refused the cell grid (exit status 2: cells narrower than a diameter)."""
-
-
-def cpu_model():
-    try:
-        for line in Path("/proc/cpuinfo").read_text().splitlines():
-            if line.startswith("model name"):
-                return line.split(":", 1)[1].strip()
-    except OSError:
-        pass
-    return platform.processor() or "unknown CPU"
 
 
 def hs_run(hardsphere, n, phi, dt, steps, cells):

@@ -1,6 +1,5 @@
 """report.md and its figures for the cross-validation (compare/cross_validate.py)."""
 import math
-import platform
 import re
 import subprocess
 from pathlib import Path
@@ -13,13 +12,7 @@ import numpy as np  # noqa: E402
 from scipy import stats  # noqa: E402
 
 import xv_analysis  # noqa: E402
-
-
-def _cpu_model():
-    for line in Path("/proc/cpuinfo").read_text().splitlines():
-        if line.startswith("model name"):
-            return line.split(":", 1)[1].strip()
-    return platform.processor() or "unknown CPU"
+from machine import cpu_model  # noqa: E402
 
 
 def _first_line(cmd, pattern):
@@ -41,7 +34,7 @@ def versions(tools):
         m = re.search(r"CMAKE_CXX_COMPILER:\w+=(.*)", cache.read_text())
         if m:
             compiler = _first_line([m.group(1), "--version"], r"(?m)^.*\d+\.\d+.*$")
-    return dict(machine=f"{_cpu_model()}, {__import__('os').cpu_count()} cores", hardsphere=commit, compiler=compiler,
+    return dict(machine=f"{cpu_model()}, {__import__('os').cpu_count()} cores", hardsphere=commit, compiler=compiler,
                 lammps=_first_line([tools["lmp"], "-h"], r"\d+ \w+ \d{4}( - Update \d+)?"),
                 liggghts=_first_line([tools["liggghts"], "-h"], r"LIGGGHTS.*\d\.\d[\d.]*"),
                 mpi=_first_line([tools["mpirun"], "--version"], r"Open MPI\)? [\d.]+|mpirun.*[\d.]+"))

@@ -21,6 +21,7 @@ from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[2] / "compare"))
 from lammps_data import write_sphere_data  # noqa: E402
+from machine import cpu_model  # noqa: E402
 
 
 
@@ -567,16 +568,6 @@ def main():
         write_table(a.table, results, quick=a.quick)
     print(f"{len(results) - failed} of {len(results)} cases passed")
     return 1 if failed else 0
-
-
-def cpu_model():
-    try:
-        for line in Path("/proc/cpuinfo").read_text().splitlines():
-            if line.startswith("model name"):
-                return line.split(":", 1)[1].strip()
-    except OSError:
-        pass
-    return "unknown CPU"
 
 
 def write_table(path, results, quick):

@@ -1,0 +1,13 @@
+"""The machine a measurement ran on, for the reports' headers."""
+import platform
+from pathlib import Path
+
+
+def cpu_model():
+    try:
+        for line in Path("/proc/cpuinfo").read_text().splitlines():
+            if line.startswith("model name"):
+                return line.split(":", 1)[1].strip()
+    except OSError:
+        pass
+    return platform.processor() or "unknown CPU"
