@@ -160,8 +160,10 @@ def check_agreement(rows, plan):
                      and r["steps_per_contact"] == 20]
         for engine in {r["engine"] for r in soft_rows}:
             stiffest = min((r for r in soft_rows if r["engine"] == engine), key=lambda r: r["bh_shift"])
+            ref = _reference(rows, state)
             dev = stiffest["Z_mapped"] / stiffest["Z_ref"] - 1
-            if abs(dev) > tol["soft_mapped_z"]:
+            noise = tol["hard_z_sigmas"] * math.hypot(stiffest["Z_err"], ref["Z_err"]) / ref["Z"]
+            if abs(dev) > max(tol["soft_mapped_z"], noise):
                 failures.append(f"soft Z: {state}: {stiffest['setting']} Z_mapped {stiffest['Z_mapped']:.4f} vs "
                                 f"hard {stiffest['Z_ref']:.4f} ({100 * dev:+.2f}%)")
     for r in rows:

@@ -16,10 +16,15 @@ from pathlib import Path
 import numpy as np
 
 import soft_spheres as soft
+from lammps_data import read_sphere_data
 from xv_observables import iter_dump, read_dump
 
 ROOT = Path(__file__).resolve().parent.parent
 INPUTS = ROOT / "reference_inputs"
+
+
+def atom_types(state):
+    return read_sphere_data(state)["types"]
 
 
 class EngineError(RuntimeError):
@@ -148,7 +153,9 @@ class Engines:
              ranks=1):
         """engine: 'lammps hooke', 'lammps hertz' (stiffness = kn) or 'liggghts hertz' (= Young's modulus)."""
         if engine == "liggghts hertz":
-            exe, script, extra = self.liggghts, INPUTS / "liggghts" / "in.granular_hertz", dict(ymod=stiffness)
+            ntypes = len(set(atom_types(state)))
+            exe, script = self.liggghts, INPUTS / "liggghts" / "in.granular_hertz"
+            extra = dict(ymod=stiffness, ntypes=ntypes)
         else:
             exe = self.lmp
             script = INPUTS / "lammps" / ("in.granular_hooke" if engine == "lammps hooke" else "in.granular_hertz")
