@@ -252,7 +252,9 @@ def write_report(out, plan, rows, curves, failures, tools, seed):
               "Per engine its cheapest setting whose Z is within 1% of the precise hard-sphere value (soft engines: "
               "raw and Barker-Henderson mapped); CPU seconds per tau of simulated time, all ranks counted; ratio to "
               "the standalone stepper (double) at its cheapest such setting.", ""]
-    lines += [ratio_table(rows, states), "",
+    for n in sorted({int(st.split("_n")[1].split("_")[0]) for st in states}):
+        lines += [f"N = {n}:", "", ratio_table(rows, [st for st in states if f"_n{n}_" in st]), ""]
+    lines += [
               "Soft engines: raw / Barker-Henderson mapped ('-': no setting of the sweep was within 1%).",
               ""]
     for state in states:
