@@ -210,7 +210,7 @@ def full_plan():
         for phi in (0.1, 0.3, 0.45):
             st = State(64000, phi, composition, equilibrate=2.0)
             states.append(st)
-            tasks += _hard_tasks(st, t_hard=4.0, t_ref=8.0, dts=(0.02, DEFAULT_DT, 0.005))
+            tasks += _hard_tasks(st, t_hard=4.0, t_ref=8.0, dts=(0.02, DEFAULT_DT))
             tasks += _soft_tasks(st, (0.01,), t_soft=2 * st.msd_window[1], contact_steps=50)
             if composition == "mono" and phi == 0.3:
                 tasks += _soft_tasks(st, (0.01,), t_soft=2 * st.msd_window[1], ranks=2, contact_steps=50)
