@@ -2,6 +2,7 @@
 import math
 import re
 import subprocess
+import tempfile
 from pathlib import Path
 
 import matplotlib
@@ -17,7 +18,8 @@ from machine import cpu_model  # noqa: E402
 
 def _first_line(cmd, pattern):
     try:
-        p = subprocess.run(cmd, capture_output=True, text=True, timeout=60, input="")
+        with tempfile.TemporaryDirectory() as d:  # liggghts -h writes log.liggghts into its directory
+            p = subprocess.run(cmd, capture_output=True, text=True, timeout=60, input="", cwd=d)
     except (OSError, subprocess.TimeoutExpired):
         return "unknown"
     m = re.search(pattern, p.stdout + p.stderr)
@@ -36,7 +38,7 @@ def versions(tools):
             compiler = _first_line([m.group(1), "--version"], r"(?m)^.*\d+\.\d+.*$")
     return dict(machine=f"{cpu_model()}, {__import__('os').cpu_count()} cores", hardsphere=commit, compiler=compiler,
                 lammps=_first_line([tools["lmp"], "-h"], r"\d+ \w+ \d{4}( - Update \d+)?"),
-                liggghts=_first_line([tools["liggghts"], "-h"], r"LIGGGHTS.*\d\.\d[\d.]*"),
+                liggghts=_first_line([tools["liggghts"], "-h"], r"LIGGGHTS \(Version [^)]*\)"),
                 mpi=_first_line([tools["mpirun"], "--version"], r"Open MPI\)? [\d.]+|mpirun.*[\d.]+"))
 
 
