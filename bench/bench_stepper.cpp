@@ -80,7 +80,10 @@ void Kernel(benchmark::State& st) {
   cfg.specialise = st.range(1) != 0;
   time_steps(st, state(st.range(0), 0.2), cfg);
 }
-BENCHMARK(Kernel)->ArgNames({"N", "specialised"})->ArgsProduct({{10000, 100000}, {0, 1}})->Unit(benchmark::kMillisecond);
+BENCHMARK(Kernel)
+    ->ArgNames({"N", "specialised"})
+    ->ArgsProduct({{10000, 100000}, {0, 1}})
+    ->Unit(benchmark::kMillisecond);
 
 void Target(benchmark::State& st) {
   StepperConfig cfg;

@@ -12,6 +12,8 @@
 #include "domain.h"
 #include "error.h"
 #include "force.h"
+#include "hardsphere/errors.hpp"
+#include "hardsphere/stepper.hpp"
 #include "memory.h"
 #include "modify.h"
 #include "neigh_list.h"
@@ -21,44 +23,48 @@
 #include "update.h"
 #include "utils.h"
 
-#include "hardsphere/errors.hpp"
-#include "hardsphere/stepper.hpp"
-
 using namespace LAMMPS_NS;
 using namespace FixConst;
 using hardsphere::kNoImage;
 
 namespace {
 constexpr int kVectorSize = 8;
-std::string num(double x)
-{
+std::string num(double x) {
   char b[64];
   snprintf(b, sizeof(b), "%.6g", x);
   return b;
 }
 }  // namespace
 
-FixHardSphere::FixHardSphere(LAMMPS *lmp, int narg, char **arg) : Fix(lmp, narg, arg)
-{
+FixHardSphere::FixHardSphere(LAMMPS *lmp, int narg, char **arg) : Fix(lmp, narg, arg) {
   for (int a = 3; a < narg; a += 2) {
     const std::string key = arg[a];
     if (a + 1 >= narg) error->all(FLERR, "fix hardsphere: keyword '" + key + "' needs a value");
     const std::string val = arg[a + 1];
     if (key == "detect") {
-      if (val == "overlap") sweep = false;
-      else if (val == "sweep") sweep = true;
-      else error->all(FLERR, "fix hardsphere: detect must be 'overlap' or 'sweep', got '" + val + "'");
+      if (val == "overlap")
+        sweep = false;
+      else if (val == "sweep")
+        sweep = true;
+      else
+        error->all(FLERR, "fix hardsphere: detect must be 'overlap' or 'sweep', got '" + val + "'");
     } else if (key == "max_events") {
       max_events = utils::bnumeric(FLERR, arg[a + 1], false, lmp);
       if (max_events < 1) error->all(FLERR, "fix hardsphere: max_events must be >= 1");
     } else if (key == "ghost") {
-      if (val == "auto") ghost_auto = true;
-      else if (val == "user") ghost_auto = false;
-      else error->all(FLERR, "fix hardsphere: ghost must be 'auto' or 'user', got '" + val + "'");
+      if (val == "auto")
+        ghost_auto = true;
+      else if (val == "user")
+        ghost_auto = false;
+      else
+        error->all(FLERR, "fix hardsphere: ghost must be 'auto' or 'user', got '" + val + "'");
     } else if (key == "path") {
-      if (val == "auto") ghost_path_only = false;
-      else if (val == "ghosts") ghost_path_only = true;
-      else error->all(FLERR, "fix hardsphere: path must be 'auto' or 'ghosts', got '" + val + "'");
+      if (val == "auto")
+        ghost_path_only = false;
+      else if (val == "ghosts")
+        ghost_path_only = true;
+      else
+        error->all(FLERR, "fix hardsphere: path must be 'auto' or 'ghosts', got '" + val + "'");
     } else {
       error->all(FLERR, "fix hardsphere: unknown keyword '" + key + "' (known: detect, max_events, ghost, path)");
     }
@@ -81,8 +87,7 @@ FixHardSphere::FixHardSphere(LAMMPS *lmp, int narg, char **arg) : Fix(lmp, narg,
   for (int i = 0; i < atom->nlocal; i++) wall_axes[i] = 0.0;
 }
 
-FixHardSphere::~FixHardSphere()
-{
+FixHardSphere::~FixHardSphere() {
   atom->delete_callback(id, Atom::GROW);
   memory->destroy(wall_axes);
   memory->destroy(start);
@@ -90,23 +95,25 @@ FixHardSphere::~FixHardSphere()
 
 int FixHardSphere::setmask() { return INITIAL_INTEGRATE | POST_FORCE | PRE_NEIGHBOR; }
 
-void FixHardSphere::init()
-{
+void FixHardSphere::init() {
   if (!atom->sphere_flag || !atom->radius_flag || !atom->rmass_flag)
     error->all(FLERR, "fix hardsphere needs per-atom radius and mass: use 'atom_style sphere'");
   if (igroup != 0) error->all(FLERR, "fix hardsphere must act on group 'all' (every atom is a hard sphere)");
   if (!force->pair_match("hardsphere", 1))
-    error->all(FLERR, "fix hardsphere needs 'pair_style hardsphere' and 'pair_coeff * *' (contact distances and the "
-                      "neighbour cutoff); pair hybrid is not supported");
+    error->all(FLERR,
+               "fix hardsphere needs 'pair_style hardsphere' and 'pair_coeff * *' (contact distances and the "
+               "neighbour cutoff); pair hybrid is not supported");
   if (domain->triclinic) error->all(FLERR, "fix hardsphere supports orthogonal boxes only");
   if (domain->box_change)  // the cell grid, walls and periodic images are set up for one box
-    error->all(FLERR, "fix hardsphere needs a fixed box: remove fix deform/npt/box-changing fixes (compress hard "
-                      "spheres by growing their radii between runs instead)");
+    error->all(FLERR,
+               "fix hardsphere needs a fixed box: remove fix deform/npt/box-changing fixes (compress hard "
+               "spheres by growing their radii between runs instead)");
   for (int d = 0; d < 3; d++)
     for (int s = 0; s < 2; s++)
       if (domain->boundary[d][s] >= 2)
-        error->all(FLERR, "fix hardsphere reflects atoms at fixed box faces: use 'boundary p' or 'f' per axis, "
-                          "not shrink-wrapped s/m");
+        error->all(FLERR,
+                   "fix hardsphere reflects atoms at fixed box faces: use 'boundary p' or 'f' per axis, "
+                   "not shrink-wrapped s/m");
   if (neighbor->every != 1 || neighbor->delay != 0)
     error->all(FLERR, "fix hardsphere needs 'neigh_modify every 1 delay 0' (a later rebuild can miss collisions)");
   for (int f = 0; f < modify->nfix; f++)
@@ -149,8 +156,7 @@ void FixHardSphere::init_list(int, NeighList *ptr) { list = ptr; }
 
 void FixHardSphere::reset_dt() { dt = update->dt; }
 
-void FixHardSphere::record_build()
-{
+void FixHardSphere::record_build() {
   const int nall = atom->nlocal + atom->nghost;
   xbuild.resize(nall);
   for (int i = 0; i < nall; i++) xbuild[i] = V3{atom->x[i][0], atom->x[i][1], atom->x[i][2]};
@@ -158,20 +164,21 @@ void FixHardSphere::record_build()
   adjacency_dirty = true;
 }
 
-void FixHardSphere::setup_pre_neighbor()
-{
-  if (serial) slots_dirty = true;
-  else record_build();
+void FixHardSphere::setup_pre_neighbor() {
+  if (serial)
+    slots_dirty = true;
+  else
+    record_build();
 }
 
-void FixHardSphere::pre_neighbor()
-{
-  if (serial) lammps_moved = true;  // LAMMPS has wrapped and may have sorted its atoms
-  else record_build();
+void FixHardSphere::pre_neighbor() {
+  if (serial)
+    lammps_moved = true;  // LAMMPS has wrapped and may have sorted its atoms
+  else
+    record_build();
 }
 
-void FixHardSphere::setup(int vflag)
-{
+void FixHardSphere::setup(int vflag) {
   check_setup();
   if (serial) serial_setup();
   for (int i = 0; i < atom->nlocal; i++) wall_axes[i] = 0.0;
@@ -182,8 +189,7 @@ void FixHardSphere::setup(int vflag)
     for (int k = 0; k < 6; k++) virial[k] = step_virial[k] / dt;
 }
 
-void FixHardSphere::check_setup()
-{
+void FixHardSphere::check_setup() {
   const int nlocal = atom->nlocal;
   double *radius = atom->radius, *rmass = atom->rmass, **v = atom->v;
   // Uniform radius and mass select the equal-mass kernel, as in the standalone stepper.
@@ -220,9 +226,9 @@ void FixHardSphere::check_setup()
   // Time step against the skin: within one step an atom moves at most ~2 v_max dt.
   const double vmax = std::sqrt(ghi[2]);
   if (4.0 * vmax * dt >= neighbor->skin)
-    error->all(FLERR, "fix hardsphere: timestep too large for the neighbour skin: 4 * v_max * dt = " +
-                          num(4.0 * vmax * dt) + " >= skin " + num(neighbor->skin) +
-                          "; reduce 'timestep' or raise the skin ('neighbor <skin> bin')");
+    error->all(FLERR,
+               "fix hardsphere: timestep too large for the neighbour skin: 4 * v_max * dt = " + num(4.0 * vmax * dt) +
+                   " >= skin " + num(neighbor->skin) + "; reduce 'timestep' or raise the skin ('neighbor <skin> bin')");
 
   // No overlapping pairs at the start (a collision cannot be rewound from inside a sphere);
   // the serial path checks that when it hands the atoms to the stepper.
@@ -255,8 +261,7 @@ void FixHardSphere::check_setup()
   }
 }
 
-void FixHardSphere::initial_integrate(int)
-{
+void FixHardSphere::initial_integrate(int) {
   if (serial) {
     serial_step();
     return;
@@ -293,8 +298,7 @@ void FixHardSphere::initial_integrate(int)
   }
 }
 
-void FixHardSphere::build_adjacency()
-{
+void FixHardSphere::build_adjacency() {
   // Both directions, CSR over owned + ghost atoms, from the half ghost list (ghost
   // coordinates are image-shifted already: every pair has image code kNoImage).
   const int nall = atom->nlocal + atom->nghost;
@@ -325,14 +329,12 @@ void FixHardSphere::build_adjacency()
   adjacency_dirty = false;
 }
 
-void FixHardSphere::note_disp(int k, const V3 &p)
-{
+void FixHardSphere::note_disp(int k, const V3 &p) {
   const V3 d = p - xbuild[k];
   max_disp2 = std::max(max_disp2, hardsphere::dot(d, d));
 }
 
-void FixHardSphere::unmirror(int k)
-{
+void FixHardSphere::unmirror(int k) {
   // Inverse of the drift's mirror on each flagged axis: the straight path continues past the
   // face it crossed (the one the mirrored velocity now points away from).
   const int axes = int(wall_axes[k]);
@@ -344,8 +346,7 @@ void FixHardSphere::unmirror(int k)
   }
 }
 
-void FixHardSphere::on_collision(int i, int j, double back)
-{
+void FixHardSphere::on_collision(int i, int j, double back) {
   // The resolver has moved i and j to their end-of-step positions with the new velocities:
   // rewind both by `back` to get the separation at contact; the impulse is m dv.
   const V3 ci = pos[i] - back * vel[i], cj = pos[j] - back * vel[j];
@@ -368,8 +369,7 @@ void FixHardSphere::on_collision(int i, int j, double back)
   note_disp(i, ci), note_disp(j, cj), note_disp(i, pos[i]), note_disp(j, pos[j]);
 }
 
-bool FixHardSphere::ghosts_agree_with_owners()
-{
+bool FixHardSphere::ghosts_agree_with_owners() {
   // A ghost copy evolves from what this rank sees around it. A collision chain that runs out
   // past the ghost shell (ghosts near its outer edge miss partners) can give a ghost another
   // history than its owner, and an owned atom that met that ghost a wrong result. Every such
@@ -394,8 +394,7 @@ bool FixHardSphere::ghosts_agree_with_owners()
   return any == 0;
 }
 
-void FixHardSphere::resolve_globally()
-{
+void FixHardSphere::resolve_globally() {
   // Re-run this step for all atoms at once with the standalone stepper (the same algorithm,
   // so the same result a consistent ghost shell gives), on every rank from the same gathered
   // start state; each rank keeps its own atoms. Rare: counted in f_ID[6].
@@ -466,8 +465,7 @@ struct FixHardSphere::Hooks {
   FixHardSphere &f;
   int first = -1;
   // The resolver reports the two spheres of a collision one after the other.
-  void after_collision(std::uint32_t k, double back)
-  {
+  void after_collision(std::uint32_t k, double back) {
     if (first < 0) {
       first = int(k);
       return;
@@ -476,14 +474,12 @@ struct FixHardSphere::Hooks {
     first = -1;
     f.on_collision(i, int(k), back);
   }
-  void after_bounce(std::uint32_t k)
-  {
+  void after_bounce(std::uint32_t k) {
     if (int(k) < f.atom->nlocal) f.n_wall += 1;  // a ghost's bounce is counted by its owner
     f.vprev[k] = f.vel[k];
     f.note_disp(int(k), f.pos[k]);
   }
-  HS_ALWAYS_INLINE void prefetch(std::uint32_t k) const
-  {
+  HS_ALWAYS_INLINE void prefetch(std::uint32_t k) const {
     __builtin_prefetch(&f.xbuild[k]);
     __builtin_prefetch(&f.vprev[k]);
     __builtin_prefetch(&f.tags[k]);
@@ -492,13 +488,11 @@ struct FixHardSphere::Hooks {
   bool rescan(double) { return true; }
 };
 
-void FixHardSphere::post_run()
-{
+void FixHardSphere::post_run() {
   if (serial && stepper && !state_written) serial_write();  // a run cut short (timer timeout)
 }
 
-void FixHardSphere::post_force(int vflag)
-{
+void FixHardSphere::post_force(int vflag) {
   if (serial) {  // the step was taken in initial_integrate; report its collision virial
     v_init(vflag);
     if (vflag_global)
@@ -554,9 +548,12 @@ void FixHardSphere::post_force(int vflag)
   MPI_Allreduce(loc, glob, 2, MPI_DOUBLE, MPI_MAX, world);
   const double dmax = std::sqrt(glob[0]), vmax = std::sqrt(glob[1]), skin = neighbor->skin;
   if (2.0 * dmax > skin)
-    error->all(FLERR, "fix hardsphere: an atom moved " + num(dmax) + " since the last neighbour list build, more than "
-                      "half the skin " + num(skin) + ", so a collision may have been missed; reduce 'timestep' or "
-                      "raise the skin ('neighbor <skin> bin')");
+    error->all(FLERR, "fix hardsphere: an atom moved " + num(dmax) +
+                          " since the last neighbour list build, more than "
+                          "half the skin " +
+                          num(skin) +
+                          ", so a collision may have been missed; reduce 'timestep' or "
+                          "raise the skin ('neighbor <skin> bin')");
   if (2.0 * (dmax + 2.0 * vmax * dt) > skin && next_reneighbor != update->ntimestep + 1) {
     next_reneighbor = update->ntimestep + 1;
     n_forced += 1;
@@ -568,19 +565,19 @@ void FixHardSphere::post_force(int vflag)
 }
 
 template <bool Mono>
-void FixHardSphere::resolve_step(hardsphere::ContactResolver<double, Mono> &res)
-{
+void FixHardSphere::resolve_step(hardsphere::ContactResolver<double, Mono> &res) {
   const int nall = atom->nlocal + atom->nghost;
   res.reset(std::size_t(nall), dt);
   res.set_event_limit(max_events);
   // Ghosts carry their own coordinates: no entry has an image, so every row is plain.
-  res.bind({pos.data(), vel.data(), rad.data(), mass.data(), tags.data(), nullptr, adj_start.data(), adj.data(), zero_shift,
-            nullptr, adj_start.data() + 1});
+  res.bind({pos.data(), vel.data(), rad.data(), mass.data(), tags.data(), nullptr, adj_start.data(), adj.data(),
+            zero_shift, nullptr, adj_start.data() + 1});
   double v2max = 0;
   for (int i = 0; i < nall; i++) v2max = std::max(v2max, hardsphere::dot(vel[i], vel[i]));
   res.set_speed_bound(std::sqrt(v2max));
   res.set_walls({domain->periodicity[0] != 0, domain->periodicity[1] != 0, domain->periodicity[2] != 0},
-                {domain->boxlo[0], domain->boxlo[1], domain->boxlo[2]}, {domain->boxhi[0], domain->boxhi[1], domain->boxhi[2]});
+                {domain->boxlo[0], domain->boxlo[1], domain->boxlo[2]},
+                {domain->boxhi[0], domain->boxhi[1], domain->boxhi[2]});
 
   // Scan: each pair once (j > i) of the both-direction adjacency.
   res.clear_candidates();
@@ -606,8 +603,7 @@ void FixHardSphere::resolve_step(hardsphere::ContactResolver<double, Mono> &res)
   res.end_step();
 }
 
-double FixHardSphere::compute_vector(int n)
-{
+double FixHardSphere::compute_vector(int n) {
   double loc[kVectorSize] = {n_coll, n_coll_step, virial_sum, sim_time, n_wall, n_global, n_forced, n_unresolved};
   if (n == 3 || n == 5 || n == 6) return loc[n];  // identical on every rank
   double all = 0;
@@ -615,8 +611,7 @@ double FixHardSphere::compute_vector(int n)
   return all;
 }
 
-int FixHardSphere::pack_forward_comm(int n, int *list_, double *buf, int, int *)
-{
+int FixHardSphere::pack_forward_comm(int n, int *list_, double *buf, int, int *) {
   double **v = atom->v;
   int m = 0;
   for (int k = 0; k < n; k++) {
@@ -635,8 +630,7 @@ int FixHardSphere::pack_forward_comm(int n, int *list_, double *buf, int, int *)
   return m;
 }
 
-void FixHardSphere::unpack_forward_comm(int n, int first, double *buf)
-{
+void FixHardSphere::unpack_forward_comm(int n, int first, double *buf) {
   double **v = atom->v;
   int m = 0;
   for (int i = first; i < first + n; i++) {
@@ -652,34 +646,29 @@ void FixHardSphere::unpack_forward_comm(int n, int first, double *buf)
   }
 }
 
-void FixHardSphere::grow_arrays(int nmax)
-{
+void FixHardSphere::grow_arrays(int nmax) {
   memory->grow(wall_axes, nmax, "hardsphere:wall_axes");
   memory->grow(start, nmax, 6, "hardsphere:start");
 }
 
-void FixHardSphere::copy_arrays(int i, int j, int)
-{
+void FixHardSphere::copy_arrays(int i, int j, int) {
   wall_axes[j] = wall_axes[i];
   for (int k = 0; k < 6; k++) start[j][k] = start[i][k];
 }
 
-int FixHardSphere::pack_exchange(int i, double *buf)
-{
+int FixHardSphere::pack_exchange(int i, double *buf) {
   buf[0] = wall_axes[i];
   for (int k = 0; k < 6; k++) buf[1 + k] = start[i][k];
   return 7;
 }
 
-int FixHardSphere::unpack_exchange(int nlocal, double *buf)
-{
+int FixHardSphere::unpack_exchange(int nlocal, double *buf) {
   wall_axes[nlocal] = buf[0];
   for (int k = 0; k < 6; k++) start[nlocal][k] = buf[1 + k];
   return 7;
 }
 
-double FixHardSphere::memory_usage()
-{
+double FixHardSphere::memory_usage() {
   const double n = double(pos.size());
   return double(atom->nmax) * 7 * sizeof(double) + n * (4 * sizeof(V3) + 2 * sizeof(double) + 9) +
          double(adj.size()) * 4;

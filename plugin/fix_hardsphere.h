@@ -5,12 +5,11 @@
 //! to the standalone stepper (fix_hardsphere_serial.cpp). Under MPI (or 'path ghosts') it drifts
 //! the owned atoms by v dt and mirrors them at fixed (f) box faces (LAMMPS keeps atoms inside),
 //! then undoes the mirrors and resolves the step's collisions and wall bounces in time order with
-//! hardsphere::ContactResolver (the standalone stepper's implementation) over owned + ghost atoms, checks the ghosts against their owners and re-runs
-//! the step for all atoms if they disagree. Needs atom_style sphere and pair_style hardsphere.
-//! Global vector (f_ID[1..8]): collisions (cumulative), collisions in the last step, sum of
-//! r_ij.dp_i over collisions, simulated time, wall bounces, steps re-run for all atoms at once
-//! because a ghost copy disagreed with its owner, forced reneighbourings, steps that hit
-//! max_events.
+//! hardsphere::ContactResolver (the standalone stepper's implementation) over owned + ghost atoms, checks the ghosts
+//! against their owners and re-runs the step for all atoms if they disagree. Needs atom_style sphere and pair_style
+//! hardsphere. Global vector (f_ID[1..8]): collisions (cumulative), collisions in the last step, sum of r_ij.dp_i over
+//! collisions, simulated time, wall bounces, steps re-run for all atoms at once because a ghost copy disagreed with its
+//! owner, forced reneighbourings, steps that hit max_events.
 #include <array>
 #include <cstdint>
 #include <memory>
@@ -48,8 +47,10 @@ class FixHardSphere : public Fix {
 
  private:
   using V3 = hardsphere::Vec3<double>;
-  template <bool Mono> struct Hooks;
-  template <bool Mono> void resolve_step(hardsphere::ContactResolver<double, Mono> &res);
+  template <bool Mono>
+  struct Hooks;
+  template <bool Mono>
+  void resolve_step(hardsphere::ContactResolver<double, Mono> &res);
   void record_build();
   void build_adjacency();
   void check_setup();
@@ -88,23 +89,23 @@ class FixHardSphere : public Fix {
   bool ghost_path_only = false;
   bool serial = false;
   std::unique_ptr<hardsphere::StepperBase> stepper;
-  std::vector<std::int64_t> slot_id;       //!< scratch: the stepper's atom tags, slot order
-  std::vector<std::int32_t> slot_image;    //!< scratch: the stepper's wrap counts, 3 per slot
-  std::vector<std::uint32_t> slot_local;   //!< stepper slot -> LAMMPS local index
-  std::vector<V3> slot_shift;              //!< LAMMPS position - stepper position, per slot
-  std::vector<V3> slot_pos, slot_vel;      //!< scratch: the stepper's state while mapping
-  std::vector<std::uint32_t> local_slot;   //!< LAMMPS local index -> stepper slot
-  std::vector<imageint> mapped_image;      //!< LAMMPS's image flags the shifts account for
-  std::vector<int> tag_local;              //!< atom tag -> LAMMPS local index, as of mapped_tags
-  std::vector<tagint> mapped_tags;         //!< LAMMPS's tags in local order when tag_local was made
+  std::vector<std::int64_t> slot_id;           //!< scratch: the stepper's atom tags, slot order
+  std::vector<std::int32_t> slot_image;        //!< scratch: the stepper's wrap counts, 3 per slot
+  std::vector<std::uint32_t> slot_local;       //!< stepper slot -> LAMMPS local index
+  std::vector<V3> slot_shift;                  //!< LAMMPS position - stepper position, per slot
+  std::vector<V3> slot_pos, slot_vel;          //!< scratch: the stepper's state while mapping
+  std::vector<std::uint32_t> local_slot;       //!< LAMMPS local index -> stepper slot
+  std::vector<imageint> mapped_image;          //!< LAMMPS's image flags the shifts account for
+  std::vector<int> tag_local;                  //!< atom tag -> LAMMPS local index, as of mapped_tags
+  std::vector<tagint> mapped_tags;             //!< LAMMPS's tags in local order when tag_local was made
   std::vector<std::array<int, 3>> tag_image0;  //!< per tag: LAMMPS unwrapped = stepper unwrapped + this * L
-  std::vector<double> v_written;           //!< velocities last written, while other fixes may change them
-  bool others_every_step = false;          //!< another fix acts inside every step
-  std::vector<int> others_every;           //!< nevery of other fixes acting only at end_of_step
-  std::int64_t slot_rebuilds = -1;         //!< stepper rebuilds when the slots were mapped
-  bool slots_dirty = true;                 //!< slot_local/slot_shift need serial_map()
-  bool lammps_moved = false;               //!< LAMMPS re-neighboured: it may have wrapped or sorted atoms
-  bool state_written = true;               //!< LAMMPS's x and v hold the stepper's current state
+  std::vector<double> v_written;               //!< velocities last written, while other fixes may change them
+  bool others_every_step = false;              //!< another fix acts inside every step
+  std::vector<int> others_every;               //!< nevery of other fixes acting only at end_of_step
+  std::int64_t slot_rebuilds = -1;             //!< stepper rebuilds when the slots were mapped
+  bool slots_dirty = true;                     //!< slot_local/slot_shift need serial_map()
+  bool lammps_moved = false;                   //!< LAMMPS re-neighboured: it may have wrapped or sorted atoms
+  bool state_written = true;                   //!< LAMMPS's x and v hold the stepper's current state
 
   double *wall_axes = nullptr;  //!< per atom: bit d set if the drift of this step mirrored it on axis d
 

@@ -12,9 +12,9 @@
 #include "domain.h"
 #include "error.h"
 #include "fix_hardsphere.h"
-#include "modify.h"
 #include "hardsphere/errors.hpp"
 #include "hardsphere/particles.hpp"
+#include "modify.h"
 #include "output.h"
 #include "update.h"
 
@@ -24,21 +24,18 @@ using namespace FixConst;
 namespace {
 
 // LAMMPS's image flags: three signed counts packed into one integer (IMGBITS each).
-std::array<int, 3> unpack_image(imageint img)
-{
+std::array<int, 3> unpack_image(imageint img) {
   return {int(img & IMGMASK) - IMGMAX, int((img >> IMGBITS) & IMGMASK) - IMGMAX, int(img >> IMG2BITS) - IMGMAX};
 }
 
-imageint pack_image(const std::array<int, 3> &f)
-{
+imageint pack_image(const std::array<int, 3> &f) {
   return (imageint(f[0] + IMGMAX) & IMGMASK) | ((imageint(f[1] + IMGMAX) & IMGMASK) << IMGBITS) |
          ((imageint(f[2] + IMGMAX) & IMGMASK) << IMG2BITS);
 }
 
 }  // namespace
 
-void FixHardSphere::serial_setup()
-{
+void FixHardSphere::serial_setup() {
   // A fresh stepper at every run: velocity, displace_atoms, set or read_restart may have
   // changed anything between runs.
   const int nlocal = atom->nlocal;
@@ -63,18 +60,20 @@ void FixHardSphere::serial_setup()
     const std::array<int, 3> flags = unpack_image(atom->image[i]);
     for (int d = 0; d < 3; d++)
       tag_image0[std::size_t(sys.id[k])][std::size_t(d)] =
-          flags[std::size_t(d)] + (domain->periodicity[d] ? int(std::nearbyint((atom->x[i][d] - sys.pos[k][d]) / domain->prd[d])) : 0);
+          flags[std::size_t(d)] +
+          (domain->periodicity[d] ? int(std::nearbyint((atom->x[i][d] - sys.pos[k][d]) / domain->prd[d])) : 0);
   }
   slots_dirty = true;
   lammps_moved = false;
   // Other fixes' setup may still change velocities: compare at the first step.
-  if ((others_every_step || !others_every.empty()) && nlocal > 0) v_written.assign(atom->v[0], atom->v[0] + 3 * nlocal);
-  else v_written.clear();
+  if ((others_every_step || !others_every.empty()) && nlocal > 0)
+    v_written.assign(atom->v[0], atom->v[0] + 3 * nlocal);
+  else
+    v_written.clear();
   state_written = true;
 }
 
-void FixHardSphere::serial_schedule()
-{
+void FixHardSphere::serial_schedule() {
   // When do other fixes look at or change x and v? A fix hooked into the step's stages reads
   // them every step; one that only acts at end_of_step does so every nevery steps.
   others_every_step = false;
@@ -83,13 +82,14 @@ void FixHardSphere::serial_schedule()
                        PRE_REVERSE | POST_FORCE | FINAL_INTEGRATE;
   for (int f = 0; f < modify->nfix; f++) {
     if (modify->fix[f] == this) continue;
-    if (modify->fmask[f] & per_step) others_every_step = true;
-    else if (modify->fmask[f] & END_OF_STEP) others_every.push_back(std::max(1, modify->fix[f]->nevery));
+    if (modify->fmask[f] & per_step)
+      others_every_step = true;
+    else if (modify->fmask[f] & END_OF_STEP)
+      others_every.push_back(std::max(1, modify->fix[f]->nevery));
   }
 }
 
-bool FixHardSphere::serial_must_write() const
-{
+bool FixHardSphere::serial_must_write() const {
   const bigint t = update->ntimestep;
   if (others_every_step || t == output->next || t >= update->laststep) return true;
   for (const int every : others_every)
@@ -97,8 +97,7 @@ bool FixHardSphere::serial_must_write() const
   return false;
 }
 
-hardsphere::ParticleSystem FixHardSphere::empty_system() const
-{
+hardsphere::ParticleSystem FixHardSphere::empty_system() const {
   hardsphere::ParticleSystem sys;
   for (int d = 0; d < 3; d++) {
     sys.box.lo[d] = domain->boxlo[d], sys.box.hi[d] = domain->boxhi[d];
@@ -107,8 +106,7 @@ hardsphere::ParticleSystem FixHardSphere::empty_system() const
   return sys;
 }
 
-std::unique_ptr<hardsphere::StepperBase> FixHardSphere::new_stepper(const hardsphere::ParticleSystem &sys) const
-{
+std::unique_ptr<hardsphere::StepperBase> FixHardSphere::new_stepper(const hardsphere::ParticleSystem &sys) const {
   hardsphere::StepperConfig cfg;
   cfg.dt = dt;
   cfg.detect = sweep ? hardsphere::Detect::Sweep : hardsphere::Detect::Overlap;
@@ -116,8 +114,7 @@ std::unique_ptr<hardsphere::StepperBase> FixHardSphere::new_stepper(const hardsp
   return hardsphere::make_stepper(sys, cfg);
 }
 
-void FixHardSphere::map_tags()
-{
+void FixHardSphere::map_tags() {
   // Atomic styles keep no tag -> index map by default (atom_modify map): make one.
   const int nlocal = atom->nlocal;
   mapped_tags.assign(atom->tag, atom->tag + nlocal);
@@ -126,14 +123,12 @@ void FixHardSphere::map_tags()
   for (int i = 0; i < nlocal; i++) tag_local[std::size_t(atom->tag[i])] = i;
 }
 
-void FixHardSphere::serial_map_if_stale()
-{
+void FixHardSphere::serial_map_if_stale() {
   // The slots follow the stepper's order, which changes at each of its rebuilds.
   if (slots_dirty || stepper->counters().rebuilds != slot_rebuilds) serial_map();
 }
 
-void FixHardSphere::serial_map()
-{
+void FixHardSphere::serial_map() {
   // Which LAMMPS atom each stepper slot is, and the shift from the stepper's position to
   // LAMMPS's: the atom's unwrapped position is the same in both, so LAMMPS's x = stepper
   // position + (stepper wraps + the atom's fixed offset - LAMMPS's image flags) L. LAMMPS's
@@ -176,15 +171,14 @@ void FixHardSphere::serial_map()
   slots_dirty = false;
 }
 
-void FixHardSphere::serial_follow_lammps()
-{
+void FixHardSphere::serial_follow_lammps() {
   // LAMMPS re-neighboured. If it sorted its atoms, the tag map and slots are made anew.
   // Otherwise it only wrapped some atoms, each wrap changing an image flag: shift those.
   lammps_moved = false;
   const int nlocal = atom->nlocal;
   if (std::size_t(nlocal) != stepper->size())
-    error->all(FLERR, "fix hardsphere: atoms were added or removed during a run (" + std::to_string(nlocal) +
-                          " now, " + std::to_string(stepper->size()) + " at its start)");
+    error->all(FLERR, "fix hardsphere: atoms were added or removed during a run (" + std::to_string(nlocal) + " now, " +
+                          std::to_string(stepper->size()) + " at its start)");
   if (!std::equal(atom->tag, atom->tag + nlocal, mapped_tags.begin())) {
     map_tags();
     slots_dirty = true;
@@ -200,15 +194,13 @@ void FixHardSphere::serial_follow_lammps()
   }
 }
 
-void FixHardSphere::serial_write()
-{
+void FixHardSphere::serial_write() {
   serial_map_if_stale();
   if (!slot_local.empty()) stepper->scatter_state(slot_local.data(), slot_shift.data(), atom->x[0], atom->v[0]);
   state_written = true;
 }
 
-void FixHardSphere::serial_step()
-{
+void FixHardSphere::serial_step() {
   if (lammps_moved) serial_follow_lammps();
   const int nlocal = atom->nlocal;
   double *v = nlocal ? atom->v[0] : nullptr;  // LAMMPS's per-atom rows are one contiguous block

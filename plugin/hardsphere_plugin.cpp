@@ -11,9 +11,8 @@ void *make_pair(void *lmp) { return new PairHardSphere(static_cast<LAMMPS *>(lmp
 void *make_fix(void *lmp, int narg, char **arg) { return new FixHardSphere(static_cast<LAMMPS *>(lmp), narg, arg); }
 }  // namespace
 
-extern "C" void lammpsplugin_init(void *lmp, void *handle, void *regfunc)
-{
-  auto reg = (lammpsplugin_regfunc) regfunc;
+extern "C" void lammpsplugin_init(void *lmp, void *handle, void *regfunc) {
+  auto reg = (lammpsplugin_regfunc)regfunc;
   lammpsplugin_t p;
   p.version = LAMMPS_VERSION;
   p.author = "hardsphere project";
@@ -22,12 +21,12 @@ extern "C" void lammpsplugin_init(void *lmp, void *handle, void *regfunc)
   p.style = "pair";
   p.name = "hardsphere";
   p.info = "hard-sphere contact distances and neighbour cutoff (use with fix hardsphere)";
-  p.creator.v1 = (lammpsplugin_factory1 *) &make_pair;
+  p.creator.v1 = (lammpsplugin_factory1 *)&make_pair;
   (*reg)(&p, lmp);
 
   p.style = "fix";
   p.name = "hardsphere";
   p.info = "hard-sphere time stepper: drift and time-ordered elastic collisions";
-  p.creator.v2 = (lammpsplugin_factory2 *) &make_fix;
+  p.creator.v2 = (lammpsplugin_factory2 *)&make_fix;
   (*reg)(&p, lmp);
 }

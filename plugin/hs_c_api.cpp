@@ -4,8 +4,7 @@
 #include "lammps.h"
 #include "register_styles.h"
 
-extern "C" int hs_register_styles(void *handle)
-{
+extern "C" int hs_register_styles(void *handle) {
   if (!handle) return 1;
   LAMMPS_NS::hardsphere_register_styles(static_cast<LAMMPS_NS::LAMMPS *>(handle));
   return 0;

@@ -10,8 +10,7 @@
 #include "lammps.h"
 #include "register_styles.h"
 
-int main(int argc, char **argv)
-{
+int main(int argc, char **argv) {
   MPI_Init(&argc, &argv);
   try {
     auto *lmp = new LAMMPS_NS::LAMMPS(argc, argv, MPI_COMM_WORLD);

@@ -15,16 +15,14 @@
 
 using namespace LAMMPS_NS;
 
-PairHardSphere::PairHardSphere(LAMMPS *lmp) : Pair(lmp)
-{
+PairHardSphere::PairHardSphere(LAMMPS *lmp) : Pair(lmp) {
   single_enable = 1;
   restartinfo = 1;
   no_virial_fdotr_compute = 1;  // the collision virial comes from fix hardsphere
   writedata = 1;
 }
 
-PairHardSphere::~PairHardSphere()
-{
+PairHardSphere::~PairHardSphere() {
   if (allocated) {
     memory->destroy(setflag);
     memory->destroy(cutsq);
@@ -32,8 +30,7 @@ PairHardSphere::~PairHardSphere()
   }
 }
 
-void PairHardSphere::allocate()
-{
+void PairHardSphere::allocate() {
   allocated = 1;
   const int n = atom->ntypes;
   memory->create(setflag, n + 1, n + 1, "pair:setflag");
@@ -43,19 +40,16 @@ void PairHardSphere::allocate()
     for (int j = i; j <= n; j++) setflag[i][j] = 0;
 }
 
-void PairHardSphere::compute(int eflag, int vflag)
-{
+void PairHardSphere::compute(int eflag, int vflag) {
   // Hard spheres have no force and no potential energy: the fix moves the atoms.
   ev_init(eflag, vflag);
 }
 
-void PairHardSphere::settings(int narg, char **)
-{
+void PairHardSphere::settings(int narg, char **) {
   if (narg != 0) error->all(FLERR, "pair_style hardsphere takes no arguments (contact distances go in pair_coeff)");
 }
 
-void PairHardSphere::coeff(int narg, char **arg)
-{
+void PairHardSphere::coeff(int narg, char **arg) {
   if (narg != 2 && narg != 3)
     error->all(FLERR, "pair_coeff for pair_style hardsphere: expected 'pair_coeff I J [diameter]'");
   if (!allocated) allocate();
@@ -78,43 +72,45 @@ void PairHardSphere::coeff(int narg, char **arg)
   if (count == 0) error->all(FLERR, "pair_coeff for pair_style hardsphere: no type pair in the given ranges");
 }
 
-void PairHardSphere::init_style()
-{
+void PairHardSphere::init_style() {
   if (!atom->radius_flag || !atom->rmass_flag)
     error->all(FLERR, "pair_style hardsphere needs per-atom radius and mass: use atom_style sphere");
   if (modify->find_fix_by_style("^hardsphere$") < 0)
-    error->all(FLERR, "pair_style hardsphere only provides contact distances: add 'fix ID all hardsphere' "
-                      "to move the atoms (and no other time integrator)");
+    error->all(FLERR,
+               "pair_style hardsphere only provides contact distances: add 'fix ID all hardsphere' "
+               "to move the atoms (and no other time integrator)");
   // No neighbour list of its own: fix hardsphere requests the one it needs.
 }
 
-double PairHardSphere::auto_cut()
-{
+double PairHardSphere::auto_cut() {
   double rmax = 0.0;
   for (int i = 0; i < atom->nlocal; i++)
     if (atom->radius[i] > rmax) rmax = atom->radius[i];
   double all = 0.0;
   MPI_Allreduce(&rmax, &all, 1, MPI_DOUBLE, MPI_MAX, world);
-  if (!(all > 0.0)) error->all(FLERR, "pair_style hardsphere: all atoms have zero radius; set diameters in the data file or with 'set'");
+  if (!(all > 0.0))
+    error->all(FLERR,
+               "pair_style hardsphere: all atoms have zero radius; set diameters in the data file or with 'set'");
   return 2.0 * all;
 }
 
-double PairHardSphere::init_one(int i, int j)
-{
+double PairHardSphere::init_one(int i, int j) {
   double c;
-  if (setflag[i][j]) c = cut[i][j];
-  else if (setflag[i][i] && setflag[j][j] && cut[i][i] > 0 && cut[j][j] > 0) c = mix_distance(cut[i][i], cut[j][j]);
-  else if (setflag[i][i] && setflag[j][j]) c = -1.0;
+  if (setflag[i][j])
+    c = cut[i][j];
+  else if (setflag[i][i] && setflag[j][j] && cut[i][i] > 0 && cut[j][j] > 0)
+    c = mix_distance(cut[i][i], cut[j][j]);
+  else if (setflag[i][i] && setflag[j][j])
+    c = -1.0;
   else
-    error->all(FLERR, "pair_style hardsphere: pair_coeff missing for types " + std::to_string(i) + " " + std::to_string(j) +
-                          " (use 'pair_coeff * *' to take the per-atom diameters)");
+    error->all(FLERR, "pair_style hardsphere: pair_coeff missing for types " + std::to_string(i) + " " +
+                          std::to_string(j) + " (use 'pair_coeff * *' to take the per-atom diameters)");
   if (c < 0.0) c = auto_cut();
   cut[i][j] = cut[j][i] = c;
   return c;
 }
 
-void PairHardSphere::write_restart(FILE *fp)
-{
+void PairHardSphere::write_restart(FILE *fp) {
   for (int i = 1; i <= atom->ntypes; i++)
     for (int j = i; j <= atom->ntypes; j++) {
       fwrite(&setflag[i][j], sizeof(int), 1, fp);
@@ -122,8 +118,7 @@ void PairHardSphere::write_restart(FILE *fp)
     }
 }
 
-void PairHardSphere::read_restart(FILE *fp)
-{
+void PairHardSphere::read_restart(FILE *fp) {
   allocate();
   const int me = comm->me;
   for (int i = 1; i <= atom->ntypes; i++)
@@ -137,13 +132,11 @@ void PairHardSphere::read_restart(FILE *fp)
     }
 }
 
-void PairHardSphere::write_data(FILE *fp)
-{
+void PairHardSphere::write_data(FILE *fp) {
   for (int i = 1; i <= atom->ntypes; i++) fprintf(fp, "%d %.15g\n", i, cut[i][i]);
 }
 
-void PairHardSphere::write_data_all(FILE *fp)
-{
+void PairHardSphere::write_data_all(FILE *fp) {
   for (int i = 1; i <= atom->ntypes; i++)
     for (int j = i; j <= atom->ntypes; j++) fprintf(fp, "%d %d %.15g\n", i, j, cut[i][j]);
 }

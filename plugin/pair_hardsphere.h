@@ -22,8 +22,7 @@ class PairHardSphere : public Pair {
   void read_restart(FILE *) override;
   void write_data(FILE *) override;
   void write_data_all(FILE *) override;
-  double single(int, int, int, int, double, double, double, double &fforce) override
-  {
+  double single(int, int, int, int, double, double, double, double &fforce) override {
     fforce = 0.0;
     return 0.0;
   }

@@ -13,8 +13,7 @@ Fix *create_fix_hardsphere(LAMMPS *lmp, int narg, char **arg) { return new FixHa
 Pair *create_pair_hardsphere(LAMMPS *lmp) { return new PairHardSphere(lmp); }
 }  // namespace
 
-void hardsphere_register_styles(LAMMPS *lmp)
-{
+void hardsphere_register_styles(LAMMPS *lmp) {
   (*lmp->modify->fix_map)["hardsphere"] = &create_fix_hardsphere;
   (*lmp->force->pair_map)["hardsphere"] = &create_pair_hardsphere;
 }

@@ -10,6 +10,8 @@ build=${HS_BUILD_DIR:-$root/build}
 
 packages=(cmake g++ make libgtest-dev libgmock-dev libbenchmark-dev libcli11-dev nlohmann-json3-dev
           python3-numpy python3-scipy python3-matplotlib python3-pytest)
+# The test run checks that every C++ file is formatted (.clang-format).
+[ "$mode" = test ] && packages+=(clang-format)
 if [ "${HS_WITH_LAMMPS:-1}" = 1 ]; then
   packages+=(lammps liblammps-dev openmpi-bin libopenmpi-dev liggghts python3-lammps dpkg-dev)
 fi

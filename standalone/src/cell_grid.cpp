@@ -36,7 +36,8 @@ double CellGrid::reach() const {
     if (counts_[d] >= 3) r = std::min(r, width_[d]);
     // One or two periodic cells cover the axis, but the stored minimum image is only
     // unambiguous for separations below half the box.
-    else if (periodic_[d]) r = std::min(r, 0.5 * length_[d]);
+    else if (periodic_[d])
+      r = std::min(r, 0.5 * length_[d]);
   }
   return r;
 }

@@ -61,7 +61,8 @@ struct Chunk8 {
       : x(), y(), z(), r(L::set(Real(0))), live(j1 - j >= 8 ? __mmask8(0xff) : __mmask8((1u << (j1 - j)) - 1)) {
     x = L::load(live, s.x + j), y = L::load(live, s.y + j), z = L::load(live, s.z + j);
     if constexpr (!Mono) r = L::load(live, s.r + j);
-    pair_j = _mm512_maskz_slli_epi64(0xff, _mm512_add_epi64(_mm512_set1_epi64(j), _mm512_set_epi64(7, 6, 5, 4, 3, 2, 1, 0)), 32);
+    pair_j = _mm512_maskz_slli_epi64(
+        0xff, _mm512_add_epi64(_mm512_set1_epi64(j), _mm512_set_epi64(7, 6, 5, 4, 3, 2, 1, 0)), 32);
   }
   //! The lanes of `mask` within the cut-off of a sphere at (px, py, pz) of radius ri:
   //! |d|^2 = fma(dz, dz, fma(dy, dy, dx dx)) against cut2 (Mono) or ((ri + r_j) + skin)^2.
@@ -79,7 +80,8 @@ struct Chunk8 {
   //! Compressed in a register and stored as a whole vector (a compressing store to memory is
   //! slow on Intel cores); the entries past the hits are scratch, overwritten or cut off later.
   std::size_t append(std::uint32_t* out, std::size_t n, std::uint32_t i, __mmask8 hit) const {
-    _mm512_storeu_si512(out + 2 * n, _mm512_maskz_compress_epi64(hit, _mm512_or_si512(_mm512_set1_epi64(std::int64_t(i)), pair_j)));
+    _mm512_storeu_si512(out + 2 * n,
+                        _mm512_maskz_compress_epi64(hit, _mm512_or_si512(_mm512_set1_epi64(std::int64_t(i)), pair_j)));
     return n + std::size_t(__builtin_popcount(hit));
   }
 };
@@ -88,9 +90,9 @@ struct Chunk8 {
 //! Radii: the cut-off is (r_i + r_j) + skin, squared; Mono uses cut2 for every pair. out holds
 //! pairs as two uint32 (i, j); n counts pairs. Returns the new count.
 template <class Real, bool Mono>
-inline std::size_t append_close_row(const RowSoA<Real>& s, std::uint32_t i, Real px, Real py, Real pz,
-                                    Real ri, Real skin, Real cut2, std::uint32_t j0, std::uint32_t j1,
-                                    std::uint32_t* out, std::size_t n) {
+inline std::size_t append_close_row(const RowSoA<Real>& s, std::uint32_t i, Real px, Real py, Real pz, Real ri,
+                                    Real skin, Real cut2, std::uint32_t j0, std::uint32_t j1, std::uint32_t* out,
+                                    std::size_t n) {
 #ifdef HS_CLOSE_PAIRS_AVX512
   for (std::uint32_t j = j0; j < j1; j += 8) {
     const Chunk8<Real, Mono> chunk(s, j, j1);
@@ -139,7 +141,8 @@ inline std::size_t append_close_block(const RowSoA<Real>& s, std::uint32_t i0, s
       }
     }
     if (degree)  // after the i loop: an i of this chunk (own cell) has its own count in by now
-      _mm256_mask_storeu_epi32(degree + j, chunk.live, _mm256_add_epi32(_mm256_maskz_loadu_epi32(chunk.live, degree + j), hits_j));
+      _mm256_mask_storeu_epi32(degree + j, chunk.live,
+                               _mm256_add_epi32(_mm256_maskz_loadu_epi32(chunk.live, degree + j), hits_j));
   }
   return n;
 #else
@@ -147,7 +150,8 @@ inline std::size_t append_close_block(const RowSoA<Real>& s, std::uint32_t i0, s
     const std::uint32_t from = upper ? std::max(j0, i + 1) : j0;
     if (from >= j1) continue;
     const std::size_t before = n;
-    n = append_close_row<Real, Mono>(s, i, s.x[i], s.y[i], s.z[i], Mono ? Real(0) : s.r[i], skin, cut2, from, j1, out, n);
+    n = append_close_row<Real, Mono>(s, i, s.x[i], s.y[i], s.z[i], Mono ? Real(0) : s.r[i], skin, cut2, from, j1, out,
+                                     n);
     if (degree)
       for (std::size_t k = before; k < n; ++k) ++degree[out[2 * k]], ++degree[out[2 * k + 1]];
   }

@@ -61,7 +61,8 @@ HS_ALWAYS_INLINE std::uint32_t filter_pairs(const Vec3<Real>* __restrict pos, co
     const __m128 lim = _mm_set1_ps(lim2);
     const __m128i iota = _mm_setr_epi32(0, 1, 2, 3);
     auto diff = [&](std::uint32_t m) {
-      return _mm_sub_ps(load_xyz(base + 3 * std::size_t(pairs[2 * m])), load_xyz(base + 3 * std::size_t(pairs[2 * m + 1])));
+      return _mm_sub_ps(load_xyz(base + 3 * std::size_t(pairs[2 * m])),
+                        load_xyz(base + 3 * std::size_t(pairs[2 * m + 1])));
     };
     for (; k + 4 <= len; k += 4) {
       const Xyz4 d = transpose_xyz4(diff(k), diff(k + 1), diff(k + 2), diff(k + 3));

@@ -25,10 +25,10 @@ constexpr double kInf = std::numeric_limits<double>::infinity();
 
 //! Everything a pair prediction reads about a sphere, in one cache line.
 struct alignas(64) Body {
-  double x, y, z;     // position at time t
-  double t;           // time of the last update (delayed state)
+  double x, y, z;  // position at time t
+  double t;        // time of the last update (delayed state)
   double vx, vy, vz;
-  double r;           // radius
+  double r;  // radius
 };
 
 //! A sphere's list centre (its position when its neighbour list was built) and radius: what a
@@ -67,24 +67,24 @@ struct EventEngine::Impl {
   std::array<bool, 3> periodic{};
   bool mono = true;
   double mass0 = 1;
-  double shell = 0;     // neighbour-list shell (length units)
-  double exit_r = 0;    // displacement from the list centre that triggers a rebuild (< shell / 2)
+  double shell = 0;      // neighbour-list shell (length units)
+  double exit_r = 0;     // displacement from the list centre that triggers a rebuild (< shell / 2)
   ParticleSystem proto;  // ids, types, radii, masses in input order (positions unused)
   std::array<std::array<double, 3>, kImages> image_shift{};  // image code -> shift of the partner
 
   // Spheres in internal (cell-sorted) order
   std::vector<Body> body;
   std::vector<double> mass;
-  std::vector<std::uint32_t> count;  // collisions so far (stale-event test)
+  std::vector<std::uint32_t> count;    // collisions so far (stale-event test)
   std::vector<std::array<int, 3>> cc;  // cell coordinates of the list centre
   // Cell contents (by list centre): fixed-capacity slot arrays, grown when a cell overflows.
   // The centres are stored in the cells too, so a rebuild reads each cell sequentially
   // instead of chasing one cache line per sphere.
-  std::vector<int> slots;               // cell c holds slots[c * cap .. c * cap + fill[c])
-  std::vector<Centre> cell_ctr;         // the centres of those spheres, same layout
+  std::vector<int> slots;        // cell c holds slots[c * cap .. c * cap + fill[c])
+  std::vector<Centre> cell_ctr;  // the centres of those spheres, same layout
   std::vector<int> fill, slot_of;
   int cap = 8;
-  int reach = 1;    // stencil half-width in cells
+  int reach = 1;  // stencil half-width in cells
   // Neighbour lists: sphere i holds nbr[i * ncap .. i * ncap + nfill[i]) (grown on overflow).
   // Symmetric: j is in i's list iff i is in j's.
   std::vector<std::uint32_t> nbr;  // list i starts at nbr[nbase + i * ncap], nbase aligns it
@@ -94,9 +94,9 @@ struct EventEngine::Impl {
   std::vector<std::uint64_t> mark;  // rebuild bookkeeping: stamp of the last rebuild that saw j
   std::uint64_t stamp = 0;
   std::vector<std::uint32_t> old_list, fresh;  // rebuild buffers
-  std::vector<double> soa;         // relative positions/velocities of the candidates of a scan
-  std::vector<int> hits;           // candidates passing the contact screen
-  std::vector<std::uint32_t> orig;     // internal index -> input index
+  std::vector<double> soa;                     // relative positions/velocities of the candidates of a scan
+  std::vector<int> hits;                       // candidates passing the contact screen
+  std::vector<std::uint32_t> orig;             // internal index -> input index
 
   // Per-sphere predictions: best pair collision and the boundary (rebuild or wall) event.
   // The second-best collision is kept too: when the best turns stale (its partner collided
@@ -120,8 +120,7 @@ struct EventEngine::Impl {
   std::array<int, 3> cell_of(double x, double y, double z) const {
     const double p[3] = {x, y, z};
     std::array<int, 3> k{};
-    for (std::size_t d = 0; d < 3; ++d)
-      k[d] = std::clamp(int(std::floor((p[d] - lo[d]) / width[d])), 0, nc[d] - 1);
+    for (std::size_t d = 0; d < 3; ++d) k[d] = std::clamp(int(std::floor((p[d] - lo[d]) / width[d])), 0, nc[d] - 1);
     return k;
   }
 
@@ -360,8 +359,10 @@ struct EventEngine::Impl {
     }
   }
   void scan_entries(int i, const std::uint32_t* cand, int m) {
-    if (mono) scan<true>(i, cand, m);
-    else scan<false>(i, cand, m);
+    if (mono)
+      scan<true>(i, cand, m);
+    else
+      scan<false>(i, cand, m);
   }
 
   //! Next boundary event of sphere i (synced to now): leaving the ball of radius exit_r around
@@ -387,9 +388,12 @@ struct EventEngine::Impl {
       double t;
       // A wall further than exit_r + radius from the centre cannot be reached before the
       // rebuild (tested with the whole shell as margin); the rebuild re-predicts.
-      if (v > 0 && ctr[d] + shell + s.r >= hi) t = (hi - s.r - pos[d]) / v;
-      else if (v < 0 && ctr[d] - shell - s.r <= lo[std::size_t(d)]) t = (lo[std::size_t(d)] + s.r - pos[d]) / v;
-      else continue;
+      if (v > 0 && ctr[d] + shell + s.r >= hi)
+        t = (hi - s.r - pos[d]) / v;
+      else if (v < 0 && ctr[d] - shell - s.r <= lo[std::size_t(d)])
+        t = (lo[std::size_t(d)] + s.r - pos[d]) / v;
+      else
+        continue;
       if (t < best) {
         best = t;
         code = std::uint8_t(kWall * 8 + d * 2 + (v > 0 ? 1 : 0));
@@ -454,8 +458,12 @@ struct EventEngine::Impl {
     Vec3d va{a.vx, a.vy, a.vz}, vb{b.vx, b.vy, b.vz};
     const double w = mono ? mass0 * kernel::collide_equal_mass(dr, va, vb)
                           : kernel::collide(dr, va, vb, mass[std::size_t(i)], mass[std::size_t(j)]);
-    a.vx = va.x; a.vy = va.y; a.vz = va.z;
-    b.vx = vb.x; b.vy = vb.y; b.vz = vb.z;
+    a.vx = va.x;
+    a.vy = va.y;
+    a.vz = va.z;
+    b.vx = vb.x;
+    b.vy = vb.y;
+    b.vz = vb.z;
     c.pair_virial += w;
     ++c.collisions;
     ++count[std::size_t(i)];
@@ -476,8 +484,10 @@ struct EventEngine::Impl {
     bool wrapped = false;
     for (std::size_t d = 0; d < 3; ++d) {
       if (!periodic[d]) continue;
-      if (*pos[d] < lo[d]) *pos[d] += len[d], wrapped = true;
-      else if (*pos[d] >= lo[d] + len[d]) *pos[d] -= len[d], wrapped = true;
+      if (*pos[d] < lo[d])
+        *pos[d] += len[d], wrapped = true;
+      else if (*pos[d] >= lo[d] + len[d])
+        *pos[d] -= len[d], wrapped = true;
     }
     Pred& pi = pred[std::size_t(i)];
     pi.cx = s.x;
@@ -622,7 +632,8 @@ struct EventEngine::Impl {
     std::vector<int> old_of;
     old_of.reserve(n);
     for (int h : cell_order)
-      for (int k = 0; k < fill[std::size_t(h)]; ++k) old_of.push_back(slots[std::size_t(h) * std::size_t(cap) + std::size_t(k)]);
+      for (int k = 0; k < fill[std::size_t(h)]; ++k)
+        old_of.push_back(slots[std::size_t(h) * std::size_t(cap) + std::size_t(k)]);
     std::vector<int> new_of(n);
     for (std::size_t k = 0; k < n; ++k) new_of[std::size_t(old_of[k])] = int(k);
     auto permute = [&](auto& v) {
@@ -725,7 +736,8 @@ EventEngine::EventEngine(const ParticleSystem& sys, const EventConfig& cfg) : im
   m.proto = sys;
   m.mono = sys.monodisperse();
   m.mass0 = n ? sys.mass[0] : 1.0;
-  if (cfg.reach < 1 || cfg.reach > 2) throw InputError("event engine: reach " + std::to_string(cfg.reach) + " must be 1 or 2");
+  if (cfg.reach < 1 || cfg.reach > 2)
+    throw InputError("event engine: reach " + std::to_string(cfg.reach) + " must be 1 or 2");
   m.reach = cfg.reach;
   const int min_cells = 2 * m.reach + 1;
   const double dmax = 2 * sys.max_radius();
@@ -736,12 +748,13 @@ EventEngine::EventEngine(const ParticleSystem& sys, const EventConfig& cfg) : im
     const double l = sys.box.length(int(d));
     const double w = cfg.cells[d] > 0 ? l / cfg.cells[d] : (sys.box.periodic[d] ? l / min_cells : kInf);
     if (cfg.cells[d] > 0 && w < dmax / m.reach * (1 - 1e-12))
-      throw InputError("event engine: " + std::to_string(cfg.cells[d]) + " cells on axis " + std::string(1, char('x' + d)) +
-                       " are narrower than the largest diameter / reach " + std::to_string(dmax / m.reach));
-    if (sys.box.periodic[d] && (l < min_cells * dmax / m.reach || (cfg.cells[d] > 0 && cfg.cells[d] < min_cells)))
-      throw InputError("event engine: periodic axis " + std::string(1, char('x' + d)) + " of length " + std::to_string(l) +
-                       " needs at least " + std::to_string(min_cells) + " cells of width >= the largest diameter / reach " +
+      throw InputError("event engine: " + std::to_string(cfg.cells[d]) + " cells on axis " +
+                       std::string(1, char('x' + d)) + " are narrower than the largest diameter / reach " +
                        std::to_string(dmax / m.reach));
+    if (sys.box.periodic[d] && (l < min_cells * dmax / m.reach || (cfg.cells[d] > 0 && cfg.cells[d] < min_cells)))
+      throw InputError("event engine: periodic axis " + std::string(1, char('x' + d)) + " of length " +
+                       std::to_string(l) + " needs at least " + std::to_string(min_cells) +
+                       " cells of width >= the largest diameter / reach " + std::to_string(dmax / m.reach));
     shell = std::min(shell, w * m.reach - dmax);
   }
   if (n > 0 && !(shell > 1e-6 * dmax))
@@ -755,8 +768,8 @@ EventEngine::EventEngine(const ParticleSystem& sys, const EventConfig& cfg) : im
     extent = std::max({extent, std::abs(sys.box.lo[std::size_t(d)]), std::abs(sys.box.hi[std::size_t(d)])});
   m.exit_r = 0.5 * shell * (1 - 1e-9) - 64 * std::numeric_limits<double>::epsilon() * extent;
   if (n > 0 && !(m.exit_r > 0.25 * shell))
-    throw InputError("event engine: neighbour-list shell " + std::to_string(shell) + " too thin for coordinates up to " +
-                     std::to_string(extent));
+    throw InputError("event engine: neighbour-list shell " + std::to_string(shell) +
+                     " too thin for coordinates up to " + std::to_string(extent));
   const double wmin = (dmax + shell) / m.reach;
   double cells_total = 1;
   for (std::size_t d = 0; d < 3; ++d) {

@@ -55,11 +55,13 @@ void refuse_too_many_events(const ParticleSystem& sys, double shell, double time
 nlohmann::json run_event_simulation(const RunSpec& spec) {
   check_outputs(spec);
   if (!(spec.time > 0) || !std::isfinite(spec.time))
-    throw InputError("time = " + std::to_string(spec.time) + " must be positive and finite (event engine runs for a simulated time)");
+    throw InputError("time = " + std::to_string(spec.time) +
+                     " must be positive and finite (event engine runs for a simulated time)");
   if (!(spec.equilibrate_time >= 0) || !std::isfinite(spec.equilibrate_time))
     throw InputError("equilibrate time = " + std::to_string(spec.equilibrate_time) + " must be >= 0");
   if (spec.blocks < 1) throw InputError("blocks = " + std::to_string(spec.blocks) + " must be >= 1");
-  if (spec.histogram_bins < 1) throw InputError("--histogram-bins " + std::to_string(spec.histogram_bins) + " must be >= 1");
+  if (spec.histogram_bins < 1)
+    throw InputError("--histogram-bins " + std::to_string(spec.histogram_bins) + " must be >= 1");
 
   ParticleSystem sys = initial_state(spec);
   EventConfig cfg = spec.event;
@@ -132,8 +134,8 @@ nlohmann::json run_event_simulation(const RunSpec& spec) {
   j["cpu_seconds_per_unit_time"] = c.sim_time > 0 ? cpu / c.sim_time : 0.0;
   j["collision_rate_error"] = rate_err;
   j["compressibility_factor_error"] = z_err;
-  commit_outputs(j, fin, spec.write_data, "hardsphere state after event-driven time " + std::to_string(c.sim_time), dump,
-                 json_file);
+  commit_outputs(j, fin, spec.write_data, "hardsphere state after event-driven time " + std::to_string(c.sim_time),
+                 dump, json_file);
   return j;
 }
 

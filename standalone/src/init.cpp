@@ -245,10 +245,11 @@ ParticleSystem make_initial_state(const InitSpec& spec) {
   if (spec.speed && !(std::isfinite(*spec.speed) && *spec.speed > 0))
     throw InputError("init speed " + fmt(*spec.speed) + " must be positive and finite");
   // The kinetic energy, sum m v^2 = 3 N T, must stay finite (rescaling to T divides by it).
-  const double mv2 = spec.speed ? double(spec.n) * spec.mass * *spec.speed * *spec.speed : 3.0 * double(spec.n) * spec.temperature;
+  const double mv2 =
+      spec.speed ? double(spec.n) * spec.mass * *spec.speed * *spec.speed : 3.0 * double(spec.n) * spec.temperature;
   if (!(mv2 <= 1e300))
-    throw InputError((spec.speed ? "init speed " + fmt(*spec.speed) : "temperature " + fmt(spec.temperature)) + " with " +
-                     std::to_string(spec.n) + " spheres of mass " + fmt(spec.mass) +
+    throw InputError((spec.speed ? "init speed " + fmt(*spec.speed) : "temperature " + fmt(spec.temperature)) +
+                     " with " + std::to_string(spec.n) + " spheres of mass " + fmt(spec.mass) +
                      " gives a kinetic energy (sum m v^2 = " + fmt(mv2) + ") that overflows double precision");
   for (int d = 0; d < 3; ++d) {
     if (spec.box.periodic[d] && spec.box.length(d) < 4 * spec.radius)

@@ -95,7 +95,7 @@ class ListGuard {
     d2_[k] = d2;
     max_d2_ = std::max(max_d2_, d2);
     if (d2 < limit_[k]) return;  // a non-mover within its cap
-    if (d2 < quarter_skin2_) {  // past the cap a mover set
+    if (d2 < quarter_skin2_) {   // past the cap a mover set
       expired_ = true;
       return;
     }

@@ -8,16 +8,16 @@
 #include <sstream>
 #include <vector>
 
-#include "hardsphere/cell_grid.hpp"
-#include "hardsphere/collision.hpp"
-#include "hardsphere/contact_resolver.hpp"
-#include "hardsphere/errors.hpp"
-#include "hardsphere/scene_limits.hpp"
 #include "close_pairs_row.hpp"
 #include "default_init_allocator.hpp"
 #include "distance_filter.hpp"
 #include "drift_kernel.hpp"
 #include "gap_search.hpp"
+#include "hardsphere/cell_grid.hpp"
+#include "hardsphere/collision.hpp"
+#include "hardsphere/contact_resolver.hpp"
+#include "hardsphere/errors.hpp"
+#include "hardsphere/scene_limits.hpp"
 #include "list_guard.hpp"
 
 namespace hardsphere {
@@ -96,10 +96,18 @@ class Stepper final : public StepperBase {
     // Scene features select a specialised kernel once per run, not per pair.
     const int key = (all_periodic_ ? 2 : 0) + (sweep_ ? 1 : 0);
     switch (key) {
-      case 0: run_impl<false, false>(steps); break;
-      case 1: run_impl<false, true>(steps); break;
-      case 2: run_impl<true, false>(steps); break;
-      default: run_impl<true, true>(steps); break;
+      case 0:
+        run_impl<false, false>(steps);
+        break;
+      case 1:
+        run_impl<false, true>(steps);
+        break;
+      case 2:
+        run_impl<true, false>(steps);
+        break;
+      default:
+        run_impl<true, true>(steps);
+        break;
     }
   }
   ParticleSystem state() const override;
@@ -203,10 +211,13 @@ class Stepper final : public StepperBase {
   void run_impl(std::int64_t steps) {
     for (std::int64_t s = 0; s < steps; ++s) step<AllPeriodic, Sweep>();
   }
-  template <bool AllPeriodic, bool Sweep> void step();
-  template <bool AllPeriodic, bool Sweep> void split_step();
+  template <bool AllPeriodic, bool Sweep>
+  void step();
+  template <bool AllPeriodic, bool Sweep>
+  void split_step();
   //! One sub-step of length h_; returns the time it covered (less than h_ if it was cut).
-  template <bool AllPeriodic, bool Sweep> Real substep();
+  template <bool AllPeriodic, bool Sweep>
+  Real substep();
   void set_substep(Real h) {
     h_ = h;
     resolver_.set_step(h);
@@ -264,11 +275,15 @@ class Stepper final : public StepperBase {
     rebuilt_in_step_ = false;
   }
   void drift() {
-    if (speeds_) drift_impl<true>();
-    else drift_impl<false>();
+    if (speeds_)
+      drift_impl<true>();
+    else
+      drift_impl<false>();
   }
-  template <bool Speeds> void drift_impl();
-  template <bool Sweep> void scan_pair_list();
+  template <bool Speeds>
+  void drift_impl();
+  template <bool Sweep>
+  void scan_pair_list();
   void rebuild();
   void build_stencil();
   void build_pairs_half_stencil();
@@ -277,14 +292,17 @@ class Stepper final : public StepperBase {
   //! Adds a pair found outside the block kernel (which counts its own) and counts it.
   void push_pair(std::uint32_t i, std::uint32_t j, std::uint8_t image) {
     ++adj_start_[i + 1], ++adj_start_[j + 1];
-    if (image == kNoImage) near_.push_back({i, j});
+    if (image == kNoImage)
+      near_.push_back({i, j});
     else {
       wrap_.push_back({i, j});
       wrap_image_.push_back(image);
     }
   }
   //! Candidate cut-off of a pair: contact distance plus skin (an infinite skin takes all).
-  Real list_cut(Real contact) const { return std::isinf(skin_) ? std::numeric_limits<Real>::max() / 4 : contact + skin_; }
+  Real list_cut(Real contact) const {
+    return std::isinf(skin_) ? std::numeric_limits<Real>::max() / 4 : contact + skin_;
+  }
   void note_displacement(std::uint32_t i) {
     const V3<Real> d = pos_[i] - pos0_[i];
     guard_.note(i, dot(d, d), threats_of());
@@ -313,7 +331,7 @@ class Stepper final : public StepperBase {
   double substeps_total_ = 0, max_particle_steps_;
   detail::ListGuard<Real> guard_;
   std::vector<std::uint32_t> flagged_;  // drift(): spheres past the guard's skin / 2
-  Real sigma_ = 0;  // monodisperse diameter
+  Real sigma_ = 0;                      // monodisperse diameter
   Real max_radius_ = 0;
   std::array<Real, 3> length_{};
   V3<Real> image_shift_[27];  // by image code: (kx Lx, ky Ly, kz Lz)
@@ -362,7 +380,7 @@ class Stepper final : public StepperBase {
   std::vector<std::uint32_t> scratch_u32_;
   // For each sphere s, its list partners q and the image of r_s - r_q (CSR), for local sweeps.
   std::vector<std::uint32_t> adj_start_, adj_, adj_cursor_;  // adj_: adj_entry(partner, image)
-  std::vector<std::uint32_t> adj_plain_end_;  // per row, the end of its entries without an image
+  std::vector<std::uint32_t> adj_plain_end_;                 // per row, the end of its entries without an image
   ContactResolver<Real, Mono> resolver_;
   ContactTally tally_;
   mutable StepCounters counters_;
@@ -370,7 +388,12 @@ class Stepper final : public StepperBase {
 
 template <class Real, bool Mono>
 Stepper<Real, Mono>::Stepper(const ParticleSystem& sys, const StepperConfig& cfg)
-    : box_(relative_box(sys.box)), user_box_(sys.box), origin_(sys.box.lo), all_periodic_(cfg.specialise && sys.box.all_periodic()), sweep_(detects_by_sweep(cfg.detect, sys, cfg.dt)), dt_(Real(cfg.dt)) {
+    : box_(relative_box(sys.box)),
+      user_box_(sys.box),
+      origin_(sys.box.lo),
+      all_periodic_(cfg.specialise && sys.box.all_periodic()),
+      sweep_(detects_by_sweep(cfg.detect, sys, cfg.dt)),
+      dt_(Real(cfg.dt)) {
   if (!(std::isfinite(cfg.dt) && cfg.dt > 0)) {
     std::ostringstream m;
     m << "time step dt = " << cfg.dt << " must be positive and finite";
@@ -380,7 +403,9 @@ Stepper<Real, Mono>::Stepper(const ParticleSystem& sys, const StepperConfig& cfg
   check_scene_numbers(sys, "stepper");
   check_engine_numbers<Real>(sys, cfg.dt, sizeof(Real) == sizeof(float) ? "stepper in single precision" : "stepper");
   const std::size_t n = sys.size();
-  if (n > std::size_t(kMaxAdjIndex) + 1) throw InputError("too many particles for one stepper: " + std::to_string(n) + " (at most " + std::to_string(std::size_t(kMaxAdjIndex) + 1) + ")");
+  if (n > std::size_t(kMaxAdjIndex) + 1)
+    throw InputError("too many particles for one stepper: " + std::to_string(n) + " (at most " +
+                     std::to_string(std::size_t(kMaxAdjIndex) + 1) + ")");
   const double diameter = 2 * sys.max_radius();
 
   const bool auto_cells = cfg.cells[0] == 0 && cfg.cells[1] == 0 && cfg.cells[2] == 0;
@@ -528,19 +553,21 @@ void Stepper<Real, Mono>::build_pairs_half_stencil() {
       first = 1;
     }
     auto* out = reinterpret_cast<std::uint32_t*>(near_.data());
-    n_near = detail::append_close_block<Real, Mono>(soa, b0, b1, b0 + 1, own_end, true, skin_, mono_cut2, out, n_near, degree);
+    n_near = detail::append_close_block<Real, Mono>(soa, b0, b1, b0 + 1, own_end, true, skin_, mono_cut2, out, n_near,
+                                                    degree);
     for (int r = first; r < kMaxRuns && runs[r].begin != runs[r].end; ++r) {
       const std::uint32_t e0 = cell_start_[runs[r].begin], e1 = cell_start_[runs[r].end];
       if (runs[r].image == kNoImage) {
-        n_near = detail::append_close_block<Real, Mono>(soa, b0, b1, e0, e1, false, skin_, mono_cut2, out, n_near, degree);
+        n_near =
+            detail::append_close_block<Real, Mono>(soa, b0, b1, e0, e1, false, skin_, mono_cut2, out, n_near, degree);
         continue;
       }
       // Across a periodic face (rare): the row test with i's image, into a scratch buffer.
       for (std::uint32_t i = b0; i < b1; ++i) {
         const V3<Real> pis = pos_[i] - image_shift_[runs[r].image];
         wrap_row_.resize(2 * (e1 - e0 + detail::kRowSlack));
-        const std::size_t hits = detail::append_close_row<Real, Mono>(soa, i, pis.x, pis.y, pis.z, Mono ? Real(0) : r_[i], skin_,
-                                                                      mono_cut2, e0, e1, wrap_row_.data(), 0);
+        const std::size_t hits = detail::append_close_row<Real, Mono>(
+            soa, i, pis.x, pis.y, pis.z, Mono ? Real(0) : r_[i], skin_, mono_cut2, e0, e1, wrap_row_.data(), 0);
         for (std::size_t k = 0; k < hits; ++k) push_pair(i, wrap_row_[2 * k + 1], runs[r].image);
       }
     }
@@ -594,7 +621,8 @@ void Stepper<Real, Mono>::rebuild() {
       image_[slot_[i]][std::size_t(d)] = std::int32_t(image);
     }
   }
-  grid_.sort(n, [this](std::size_t i) { return pos_[i]; }, cell_, cell_start_, order_);
+  grid_.sort(
+      n, [this](std::size_t i) { return pos_[i]; }, cell_, cell_start_, order_);
   auto permute = [&](auto& a, auto& scratch) {
     scratch.resize(n);
     for (std::size_t k = 0; k < n; ++k) scratch[k] = a[order_[k]];
@@ -622,15 +650,17 @@ void Stepper<Real, Mono>::rebuild() {
   wrap_.clear();
   wrap_image_.clear();
   adj_start_.assign(n + 1, 0);  // each sphere's list length, counted where its pairs are found
-  if (!stencil_.empty()) build_pairs_half_stencil();
-  else build_pairs_any_grid();
+  if (!stencil_.empty())
+    build_pairs_half_stencil();
+  else
+    build_pairs_any_grid();
   build_adjacency();
   if (speeds_) {  // in the new order (a rebuild inside a step needs the current speeds)
     speed_.resize(n);
     for (std::size_t k = 0; k < n; ++k) speed_[k] = norm(vel_[k]);
   }
-  resolver_.bind({pos_.data(), vel_.data(), r_.data(), m_.data(), id_.data(), slot_.data(), adj_start_.data(), adj_.data(),
-                  image_shift_, speeds_ ? speed_.data() : nullptr, adj_plain_end_.data()});
+  resolver_.bind({pos_.data(), vel_.data(), r_.data(), m_.data(), id_.data(), slot_.data(), adj_start_.data(),
+                  adj_.data(), image_shift_, speeds_ ? speed_.data() : nullptr, adj_plain_end_.data()});
   ++counters_.rebuilds;
 }
 
@@ -642,8 +672,8 @@ void Stepper<Real, Mono>::for_each_threat(std::uint32_t i, Push& push) const {
   // build's: pairs at the list's edge count as threats, and gaps are rounded down.
   const Real eps = Real(1e-4) * (Real(2) * max_radius_ + skin_);
   const Real window = Real(2) * detail::ListGuard<Real>::kMaxMove * skin_;
-  const detail::CellSorted<Real> cells{&grid_, &box_, cell_start_.data(), {soa_x_.data(), soa_y_.data(), soa_z_.data(), r_.data()},
-                                       image_shift_};
+  const detail::CellSorted<Real> cells{
+      &grid_, &box_, cell_start_.data(), {soa_x_.data(), soa_y_.data(), soa_z_.data(), r_.data()}, image_shift_};
   detail::for_each_gap_between<Real, Mono>(cells, i, sigma_, max_radius_, skin_ - eps, window + eps, threat_scratch_,
                                            [&](std::uint32_t j, Real gap) { push(j, gap - eps); });
 }
@@ -672,9 +702,9 @@ void Stepper<Real, Mono>::drift_impl() {
   // Speeds are refreshed in every drift: velocities may have been set since the last step.
   flagged_.resize(pos_.size());
   std::size_t n_flagged = 0;
-  const auto mx = detail::drift_spheres<Real>(&pos_.data()->x, &vel_.data()->x, &pos0_.data()->x, guard_.displacements(),
-                                              Speeds ? speed_.data() : nullptr, pos_.size(), h_, guard_.max_displacement2(),
-                                              guard_.candidate_d2(), flagged_.data(), n_flagged);
+  const auto mx = detail::drift_spheres<Real>(
+      &pos_.data()->x, &vel_.data()->x, &pos0_.data()->x, guard_.displacements(), Speeds ? speed_.data() : nullptr,
+      pos_.size(), h_, guard_.max_displacement2(), guard_.candidate_d2(), flagged_.data(), n_flagged);
   const Real m = mx.d2, v2max = mx.v2;
   guard_.valid_after_drift(m, flagged_.data(), n_flagged, threats_of());  // list_expired() tells the step
   // Spheres may now be beyond a wall: the resolver bounces them in time order with the
@@ -759,7 +789,9 @@ void Stepper<Real, Mono>::split_step() {
     const double m = std::max(1.0, std::ceil(left * double(resolver_.speed_bound()) / double(half_skin_)));
     check_work(m);
     const Real h = Real(left / m);
-    if (!(h > Real(0))) throw InputError("time step dt = " + std::to_string(double(dt_)) + " cannot be split finely enough in this precision");
+    if (!(h > Real(0)))
+      throw InputError("time step dt = " + std::to_string(double(dt_)) +
+                       " cannot be split finely enough in this precision");
     set_substep(h);
     const Real done = substep<AllPeriodic, Sweep>();
     left = (m == 1 && done == h) ? 0.0 : left - double(done);
@@ -805,8 +837,10 @@ ParticleSystem Stepper<Real, Mono>::state() const {
     const std::size_t k = by_id[s];
     Vec3d p = user_position(k);
     for (int d = 0; d < 3; ++d)  // rounding back to the caller's coordinates must not leave a wall
-      if (!user_box_.periodic[d]) p[d] = std::clamp(p[d], user_box_.lo[d] + double(r_[k]), user_box_.hi[d] - double(r_[k]));
-    out.push_back(id_[s], type_[s], double(r_[k]), double(m_[k]), p, {double(vel_[k].x), double(vel_[k].y), double(vel_[k].z)});
+      if (!user_box_.periodic[d])
+        p[d] = std::clamp(p[d], user_box_.lo[d] + double(r_[k]), user_box_.hi[d] - double(r_[k]));
+    out.push_back(id_[s], type_[s], double(r_[k]), double(m_[k]), p,
+                  {double(vel_[k].x), double(vel_[k].y), double(vel_[k].z)});
   }
   wrap_periodic(out);
   return out;

@@ -54,7 +54,6 @@ void shrink(RunSpec& spec) {
   spec.json.reset();
 }
 
-
 double number(const nlohmann::json& j, const char* key) {
   const auto it = j.find(key);
   if (it == j.end() || !it->is_number()) fuzz::fail(std::string("summary key '") + key + "' missing or not a number");

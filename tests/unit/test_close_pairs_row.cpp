@@ -6,8 +6,8 @@
 
 #include <algorithm>
 #include <cstdint>
-#include <utility>
 #include <random>
+#include <utility>
 #include <vector>
 
 #include "../../standalone/src/close_pairs_row.hpp"
@@ -22,7 +22,8 @@ void check_rows() {
   std::vector<Real> x(n), y(n), z(n), r(n);
   const Real skin = Real(0.3), sigma = Real(1.0), cut2 = (sigma + skin) * (sigma + skin);
   for (int trial = 0; trial < 200; ++trial) {
-    for (std::size_t k = 0; k < n; ++k) x[k] = Real(u(rng)), y[k] = Real(u(rng)), z[k] = Real(u(rng)), r[k] = Real(ur(rng));
+    for (std::size_t k = 0; k < n; ++k)
+      x[k] = Real(u(rng)), y[k] = Real(u(rng)), z[k] = Real(u(rng)), r[k] = Real(ur(rng));
     const hardsphere::detail::RowSoA<Real> soa{x.data(), y.data(), z.data(), r.data()};
     const std::uint32_t i = std::uint32_t(trial % 5);
     const Real px = Real(u(rng)), py = Real(u(rng)), pz = Real(u(rng)), ri = r[i];
@@ -31,8 +32,8 @@ void check_rows() {
         std::vector<std::uint32_t> out(2 * (40 + hardsphere::detail::kRowSlack) + 4, 0xdeadbeef);
         const std::size_t base = 2;  // pairs already in the list stay untouched
         out[0] = 11, out[1] = 12, out[2] = 13, out[3] = 14;
-        const std::size_t got = hardsphere::detail::append_close_row<Real, Mono>(soa, i, px, py, pz, ri, skin, cut2, j0, j1,
-                                                                                 out.data(), base);
+        const std::size_t got = hardsphere::detail::append_close_row<Real, Mono>(soa, i, px, py, pz, ri, skin, cut2, j0,
+                                                                                 j1, out.data(), base);
         std::vector<std::uint32_t> expect;
         for (std::uint32_t j = j0; j < j1; ++j) {
           const double dx = double(px) - double(x[j]), dy = double(py) - double(y[j]), dz = double(pz) - double(z[j]);
@@ -63,7 +64,8 @@ void check_blocks() {
   const Real skin = Real(0.3), sigma = Real(1.0), cut2 = (sigma + skin) * (sigma + skin);
   std::size_t total = 0;
   for (int trial = 0; trial < 40; ++trial) {
-    for (std::size_t k = 0; k < n; ++k) x[k] = Real(u(rng)), y[k] = Real(u(rng)), z[k] = Real(u(rng)), r[k] = Real(ur(rng));
+    for (std::size_t k = 0; k < n; ++k)
+      x[k] = Real(u(rng)), y[k] = Real(u(rng)), z[k] = Real(u(rng)), r[k] = Real(ur(rng));
     const hardsphere::detail::RowSoA<Real> soa{x.data(), y.data(), z.data(), r.data()};
     for (const bool upper : {false, true})
       for (std::uint32_t i0 = 0; i0 < 3; ++i0)
@@ -75,8 +77,8 @@ void check_blocks() {
             const std::size_t base = 3, room = 2 * (base + (i1 - i0) * (j1 - j0) + kRowSlack);
             std::vector<std::uint32_t> got_out(room + 8, 0xdeadbeef), row_out(room + 8, 0xdeadbeef);
             std::vector<std::uint32_t> degree(n, 7u);  // counts add to what is there
-            const std::size_t got = hardsphere::detail::append_close_block<Real, Mono>(soa, i0, i1, j0, j1, upper, skin, cut2,
-                                                                                       got_out.data(), base, degree.data());
+            const std::size_t got = hardsphere::detail::append_close_block<Real, Mono>(
+                soa, i0, i1, j0, j1, upper, skin, cut2, got_out.data(), base, degree.data());
             std::vector<std::uint32_t> want_degree(n, 7u);
             for (std::size_t k = base; k < got; ++k) ++want_degree[got_out[2 * k]], ++want_degree[got_out[2 * k + 1]];
             EXPECT_EQ(degree, want_degree) << "spheres [" << i0 << ", " << i1 << "), run [" << j0 << ", " << j1 << ")";
@@ -84,8 +86,8 @@ void check_blocks() {
             for (std::uint32_t i = i0; i < i1; ++i) {
               const std::uint32_t from = upper ? std::max(j0, i + 1) : j0;
               if (from < j1)
-                want = hardsphere::detail::append_close_row<Real, Mono>(soa, i, x[i], y[i], z[i], r[i], skin, cut2, from, j1,
-                                                                        row_out.data(), want);
+                want = hardsphere::detail::append_close_row<Real, Mono>(soa, i, x[i], y[i], z[i], r[i], skin, cut2,
+                                                                        from, j1, row_out.data(), want);
             }
             ASSERT_EQ(got, want) << "spheres [" << i0 << ", " << i1 << "), run [" << j0 << ", " << j1 << ")";
             std::vector<std::pair<std::uint32_t, std::uint32_t>> a, b;

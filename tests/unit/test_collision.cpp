@@ -68,14 +68,14 @@ TEST(TouchedBackTime, PassThroughWithinTheWindowIsFoundBySweepsOnly) {
   // Now 1.5 apart and receding at 10: 0.25 ago the pair entered contact head-on and crossed.
   const Vec3d dr{1.5, 0, 0}, dv{10, 0, 0};
   EXPECT_NEAR(k::touched_back_time(dr, dv, 1.0, 0.3, false), 0.25, 1e-15);
-  EXPECT_LT(k::touched_back_time(dr, dv, 1.0, 0.3, true), 0.0);  // no overlap now: the seed misses it
+  EXPECT_LT(k::touched_back_time(dr, dv, 1.0, 0.3, true), 0.0);   // no overlap now: the seed misses it
   EXPECT_LT(k::touched_back_time(dr, dv, 1.0, 0.1, false), 0.0);  // approach ended 0.15 ago
 }
 
 TEST(TouchedBackTime, MissesAndRecedersAreNotContacts) {
-  EXPECT_LT(k::touched_back_time(Vec3d{0, 2, 0}, Vec3d{1, 0, 0}, 1.0, 0.5, false), 0.0);  // passes 2 apart
+  EXPECT_LT(k::touched_back_time(Vec3d{0, 2, 0}, Vec3d{1, 0, 0}, 1.0, 0.5, false), 0.0);     // passes 2 apart
   EXPECT_LT(k::touched_back_time(Vec3d{1.5, 0, 0}, Vec3d{-1, 0, 0}, 1.0, 0.5, false), 0.0);  // approaching, apart
-  EXPECT_LT(k::touched_back_time(Vec3d{0.9, 0, 0}, Vec3d{0, 0, 0}, 1.0, 0.5, false), 0.0);  // resting overlap
+  EXPECT_LT(k::touched_back_time(Vec3d{0.9, 0, 0}, Vec3d{0, 0, 0}, 1.0, 0.5, false), 0.0);   // resting overlap
 }
 
 TEST(TouchedBackTime, AgreesWithRewindTimeWheneverTouched) {

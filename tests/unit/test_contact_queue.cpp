@@ -36,7 +36,7 @@ void run(std::uint64_t seed, double dt, bool only_later_pushes) {
       double back = u(rng) < 0.1 ? front : front * u(rng);  // exact ties with the front now and then
       if (u(rng) < 0.05) back = 0.0;
       if (!only_later_pushes && u(rng) < 0.05) back = dt * u(rng);  // above the front
-      const Entry e{back, key++ % 97};  // repeated keys: ties on both fields are possible
+      const Entry e{back, key++ % 97};                              // repeated keys: ties on both fields are possible
       q.push(e, cmp);
       heap.push_back(e);
       std::push_heap(heap.begin(), heap.end(), cmp);

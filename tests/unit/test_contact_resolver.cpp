@@ -35,9 +35,12 @@ TEST(ContactResolver, TakesContactsEarliestFirstWithTiesByAtomIds) {
   const double dt = 0.01, u = 1.0;  // closing speed 2u
   std::vector<double> back(pairs);
   for (std::uint32_t p = 0; p < pairs; ++p) {
-    if (p < 100) back[p] = dt * (0.1 + 0.8 * ((p * 37) % 100) / 100.0);  // spread over the step
-    else if (p < 200) back[p] = dt * (0.5 + 1e-7 * double(p % 17));     // 17 times inside one bucket
-    else back[p] = back[p - 200];                                        // exact ties with the first 100
+    if (p < 100)
+      back[p] = dt * (0.1 + 0.8 * ((p * 37) % 100) / 100.0);  // spread over the step
+    else if (p < 200)
+      back[p] = dt * (0.5 + 1e-7 * double(p % 17));  // 17 times inside one bucket
+    else
+      back[p] = back[p - 200];  // exact ties with the first 100
   }
   const std::uint32_t n = 2 * pairs;
   std::vector<Vec3<double>> pos(n), vel(n);

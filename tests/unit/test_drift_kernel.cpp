@@ -6,8 +6,8 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
-#include <cstdint>
 #include <cmath>
+#include <cstdint>
 #include <limits>
 #include <random>
 #include <vector>
@@ -25,15 +25,16 @@ void check_drift(bool with_speed) {
   auto near = [&](double got, double want) { return std::fabs(got - want) <= tol * std::max(1.0, std::fabs(want)); };
   for (std::size_t n = 0; n <= 50; ++n) {
     std::vector<Real> p(3 * n), v(3 * n), p0(3 * n), d2(n), speed(n, Real(-1));
-    for (std::size_t k = 0; k < 3 * n; ++k) p0[k] = Real(pos(rng)), p[k] = p0[k] + Real(small(rng)), v[k] = Real(vel(rng));
+    for (std::size_t k = 0; k < 3 * n; ++k)
+      p0[k] = Real(pos(rng)), p[k] = p0[k] + Real(small(rng)), v[k] = Real(vel(rng));
     for (std::size_t i = 0; i < n; ++i) d2[i] = Real(rec(rng)) * Real(rec(rng));
     const std::vector<Real> p_in = p, d2_in = d2;
     const Real floor = Real(0.01), flag = Real(0.2);
     std::vector<std::uint32_t> flagged(n + 1, 0xffffffffu);
     std::size_t n_flagged = 99;
     const auto mx = hardsphere::detail::drift_spheres<Real>(p.data(), v.data(), p0.data(), d2.data(),
-                                                             with_speed ? speed.data() : nullptr, n, dt, floor, flag,
-                                                             flagged.data(), n_flagged);
+                                                            with_speed ? speed.data() : nullptr, n, dt, floor, flag,
+                                                            flagged.data(), n_flagged);
     std::vector<std::uint32_t> want_flagged;
     for (std::uint32_t i = 0; i < n; ++i)
       if (d2[i] >= flag) want_flagged.push_back(i);
@@ -51,8 +52,10 @@ void check_drift(bool with_speed) {
       }
       EXPECT_TRUE(near(d2[i], std::max(dd, double(d2_in[i])))) << "n " << n << " sphere " << i;
       EXPECT_GE(d2[i], d2_in[i]);
-      if (with_speed) EXPECT_TRUE(near(speed[i], std::sqrt(vv))) << "n " << n << " sphere " << i;
-      else EXPECT_EQ(speed[i], Real(-1));
+      if (with_speed)
+        EXPECT_TRUE(near(speed[i], std::sqrt(vv))) << "n " << n << " sphere " << i;
+      else
+        EXPECT_EQ(speed[i], Real(-1));
       want_m = std::max(want_m, dd), want_v2 = std::max(want_v2, vv);
     }
     EXPECT_TRUE(near(mx.d2, want_m)) << "n " << n;

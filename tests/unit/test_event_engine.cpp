@@ -15,7 +15,6 @@
 #include "hardsphere/observables.hpp"
 #include "hardsphere/rng.hpp"
 #include "hardsphere/stepper.hpp"
-
 #include "scenes.hpp"
 
 using namespace hardsphere;
@@ -72,7 +71,8 @@ TEST(EventTwoBody, ObliqueUnequalSizesAndMasses) {
   // J = 2 mu |dv.n| = 2 (3/4) 0.8 = 1.2: v1 = (0.04, -0.72, 0), v2 = (0.32, 0.24, 0).
   for (int order = 0; order < 2; ++order) {
     const Vec3d r1{2, 3, 5}, r2{5, 3.9, 5};
-    const auto s = order ? two(r2, {0, 0, 0}, r1, {1, 0, 0}, 1.0, 0.5, 3, 1) : two(r1, {1, 0, 0}, r2, {0, 0, 0}, 0.5, 1.0, 1, 3);
+    const auto s =
+        order ? two(r2, {0, 0, 0}, r1, {1, 0, 0}, 1.0, 0.5, 3, 1) : two(r1, {1, 0, 0}, r2, {0, 0, 0}, 0.5, 1.0, 1, 3);
     EventEngine e(s);
     ASSERT_TRUE(collides_exactly_at(e, 1.8));
     const auto out = e.state();
@@ -157,24 +157,24 @@ TEST(EventConservation, PolydisperseMixtureWithWalls) {
   // Two sizes and masses, walls on z: momentum along x, y to round-off, energy to round-off.
   const auto s = test::binary_mixture_with_walls(400);
   for (int reach = 1; reach <= 2; ++reach) {
-  EventConfig cfg;
-  cfg.reach = reach;
-  EventEngine e(s, cfg);
-  EXPECT_EQ(e.scene_kernel(), "walls,poly");
-  e.advance(60);
-  const auto out = e.state();
-  EXPECT_GT(e.counters().collisions, 50000);
-  EXPECT_GT(e.counters().wall_collisions, 5000);
-  const double e0 = kinetic_energy(s);
-  EXPECT_LT(std::abs(kinetic_energy(out) - e0) / e0, 1e-12);
-  const Vec3d p0 = total_momentum(s), p1 = total_momentum(out);
-  EXPECT_NEAR(p1.x, p0.x, 1e-11);
-  EXPECT_NEAR(p1.y, p0.y, 1e-11);
-  EXPECT_LT(rel_overlap(out), 1e-10);
-  for (std::size_t i = 0; i < out.size(); ++i) {
-    EXPECT_GE(out.pos[i].z - out.radius[i], -1e-12);
-    EXPECT_LE(out.pos[i].z + out.radius[i], 9 + 1e-12);
-  }
+    EventConfig cfg;
+    cfg.reach = reach;
+    EventEngine e(s, cfg);
+    EXPECT_EQ(e.scene_kernel(), "walls,poly");
+    e.advance(60);
+    const auto out = e.state();
+    EXPECT_GT(e.counters().collisions, 50000);
+    EXPECT_GT(e.counters().wall_collisions, 5000);
+    const double e0 = kinetic_energy(s);
+    EXPECT_LT(std::abs(kinetic_energy(out) - e0) / e0, 1e-12);
+    const Vec3d p0 = total_momentum(s), p1 = total_momentum(out);
+    EXPECT_NEAR(p1.x, p0.x, 1e-11);
+    EXPECT_NEAR(p1.y, p0.y, 1e-11);
+    EXPECT_LT(rel_overlap(out), 1e-10);
+    for (std::size_t i = 0; i < out.size(); ++i) {
+      EXPECT_GE(out.pos[i].z - out.radius[i], -1e-12);
+      EXPECT_LE(out.pos[i].z + out.radius[i], 9 + 1e-12);
+    }
   }
 }
 
@@ -287,7 +287,8 @@ struct ReferenceEdmd {
     int who = kHorizon;
     for (std::size_t j = 0; j < s.size(); ++j) {
       if (j == i) continue;
-      const double tc = kernel::contact_time(image(s.pos[i] - s.pos[j]), s.vel[i] - s.vel[j], s.radius[i] + s.radius[j]);
+      const double tc =
+          kernel::contact_time(image(s.pos[i] - s.pos[j]), s.vel[i] - s.vel[j], s.radius[i] + s.radius[j]);
       if (tc < best) best = tc, who = int(j);
     }
     for (int d = 0; d < 3; ++d) {

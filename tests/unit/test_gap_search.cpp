@@ -31,7 +31,8 @@ void check_against_all_pairs(double tolerance) {
   }
   std::vector<int> cell;
   std::vector<std::uint32_t> start, order;
-  grid.sort(n, [&](std::size_t k) { return pos[k]; }, cell, start, order);
+  grid.sort(
+      n, [&](std::size_t k) { return pos[k]; }, cell, start, order);
   std::vector<Real> x(n), y(n), z(n), r(n);
   for (std::size_t k = 0; k < n; ++k) {
     const Vec3d p = pos[order[k]];
@@ -47,8 +48,8 @@ void check_against_all_pairs(double tolerance) {
   std::size_t found_total = 0;
   for (std::uint32_t i = 0; i < n; ++i) {
     std::map<std::uint32_t, double> found;
-    detail::for_each_gap_between<Real, Mono>(cells, i, Real(2 * r_max), Real(r_max), Real(gap_lo), Real(gap_hi), scratch,
-                                             [&](std::uint32_t j, Real gap) {
+    detail::for_each_gap_between<Real, Mono>(cells, i, Real(2 * r_max), Real(r_max), Real(gap_lo), Real(gap_hi),
+                                             scratch, [&](std::uint32_t j, Real gap) {
                                                EXPECT_EQ(found.count(j), 0u) << "sphere " << j << " found twice";
                                                found[j] = double(gap);
                                              });
@@ -58,8 +59,8 @@ void check_against_all_pairs(double tolerance) {
       double best = 1e300;  // the gap through the nearest image (x and y periodic)
       for (int a = -1; a <= 1; ++a)
         for (int b = -1; b <= 1; ++b) {
-          const Vec3d d{double(x[i]) - double(x[j]) - a * box.length(0), double(y[i]) - double(y[j]) - b * box.length(1),
-                        double(z[i]) - double(z[j])};
+          const Vec3d d{double(x[i]) - double(x[j]) - a * box.length(0),
+                        double(y[i]) - double(y[j]) - b * box.length(1), double(z[i]) - double(z[j])};
           best = std::min(best, norm(d) - (double(r[i]) + double(r[j])));
         }
       const bool inside = best >= gap_lo + tolerance && best < gap_hi - tolerance;

@@ -10,7 +10,6 @@
 #include "hardsphere/init.hpp"
 #include "hardsphere/observables.hpp"
 #include "hardsphere/stepper.hpp"
-
 #include "scenes.hpp"
 
 using namespace hardsphere;
@@ -357,7 +356,8 @@ TEST(StepperDetection, DefaultIsOverlapForShortStepsAndSweepForLongOnes) {
     const auto out_b = run(s, dt, 20, explicit_mode, Precision::Double, &b);
     EXPECT_GT(a.collisions, 100) << "dt " << dt;
     EXPECT_EQ(a.collisions, b.collisions) << "dt " << dt;
-    for (std::size_t i = 0; i < s.size(); ++i) ASSERT_EQ(norm(out_a.pos[i] - out_b.pos[i]), 0.0) << "dt " << dt << " sphere " << i;
+    for (std::size_t i = 0; i < s.size(); ++i)
+      ASSERT_EQ(norm(out_a.pos[i] - out_b.pos[i]), 0.0) << "dt " << dt << " sphere " << i;
     EXPECT_EQ(max_overlap(out_a), 0.0) << "dt " << dt;
   }
 }

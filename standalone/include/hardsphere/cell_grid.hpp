@@ -34,9 +34,7 @@ class CellGrid {
     return true;
   }
   //! Cell of a point; points slightly outside the box are clamped to the edge cells.
-  int cell_of(double x, double y, double z) const {
-    return index(coord(x, 0), coord(y, 1), coord(z, 2));
-  }
+  int cell_of(double x, double y, double z) const { return index(coord(x, 0), coord(y, 1), coord(z, 2)); }
   int coord(double x, int d) const {
     const double c = std::floor((x - lo_[d]) * inv_width_[d]);  // clamped before the int conversion
     return c >= 0 ? (c < double(counts_[d]) ? int(c) : counts_[d] - 1) : 0;

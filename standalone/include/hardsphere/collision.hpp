@@ -11,7 +11,9 @@
 namespace hardsphere::kernel {
 
 template <class T>
-constexpr T never() { return std::numeric_limits<T>::infinity(); }
+constexpr T never() {
+  return std::numeric_limits<T>::infinity();
+}
 
 namespace detail {
 //! rewind_time() from the pair's a = dv^2, b = dr.dv, c = dr^2 - sigma^2.

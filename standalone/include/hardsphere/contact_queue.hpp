@@ -76,7 +76,7 @@ class ContactQueue {
 
   std::vector<std::vector<Candidate>> bucket_;
   Real scale_ = 1;
-  int top_bucket_ = -1;  // highest non-empty bucket (-1: empty); every bucket above is empty
+  int top_bucket_ = -1;   // highest non-empty bucket (-1: empty); every bucket above is empty
   std::size_t best_ = 0;  // earliest entry of the top bucket
   std::size_t size_ = 0;
 };

@@ -32,7 +32,9 @@ namespace hardsphere {
 
 //! Image code of a periodic shift (kx, ky, kz) in {-1, 0, 1}^3; 13 means no shift and the
 //! mirrored shift of code c is 26 - c.
-constexpr std::uint8_t image_code(int kx, int ky, int kz) { return std::uint8_t((kx + 1) * 9 + (ky + 1) * 3 + (kz + 1)); }
+constexpr std::uint8_t image_code(int kx, int ky, int kz) {
+  return std::uint8_t((kx + 1) * 9 + (ky + 1) * 3 + (kz + 1));
+}
 constexpr std::uint8_t kNoImage = 13;
 
 //! Views of an engine's per-sphere arrays and of its neighbour lists (CSR, both directions).
@@ -44,10 +46,10 @@ struct ContactArrays {
   Vec3<Real>* vel = nullptr;
   const Real* radius = nullptr;
   const Real* mass = nullptr;
-  const std::int64_t* id = nullptr;  //!< tie-break for equal contact times
+  const std::int64_t* id = nullptr;        //!< tie-break for equal contact times
   const std::uint32_t* id_slot = nullptr;  //!< if set, sphere i's id is id[id_slot[i]]
   const std::uint32_t* adj_start = nullptr;
-  const std::uint32_t* adj = nullptr;  //!< adj_entry(partner, image), rows adj_start[s] .. adj_start[s + 1]
+  const std::uint32_t* adj = nullptr;       //!< adj_entry(partner, image), rows adj_start[s] .. adj_start[s + 1]
   const Vec3<Real>* image_shift = nullptr;  //!< 27 shifts by image code
   //! Optional: |vel| per sphere, current at the start of each step; the resolver keeps it
   //! current through collisions. Lets neighbour sweeps bound each pair's closing speed by
@@ -64,7 +66,7 @@ struct ContactTally {
   std::int64_t unresolved_steps = 0;  //!< steps that hit the event limit with contacts left
   std::int64_t wall_collisions = 0;
   std::array<double, 3> wall_impulse{0, 0, 0};  //!< sum of |m dv| of wall bounces, per axis
-  double virial = 0;                  //!< sum over collisions of r_ij . dp_i at contact
+  double virial = 0;                            //!< sum over collisions of r_ij . dp_i at contact
   //! The same sum as a tensor, r_ij (x) dp_i: xx, yy, zz, xy, xz, yz (LAMMPS's virial order).
   std::array<double, 6> virial_tensor{0, 0, 0, 0, 0, 0};
 };
@@ -75,9 +77,9 @@ class ContactResolver {
  public:
   //! A pair contact (i < j), or a wall bounce of sphere i (j == kWall, image = the axis).
   struct Candidate {
-    std::uint32_t i, j;  // i < j
-    std::uint8_t image;  // of r_i - r_j
-    Real back;           // time back from the end of the step to the contact
+    std::uint32_t i, j;              // i < j
+    std::uint8_t image;              // of r_i - r_j
+    Real back;                       // time back from the end of the step to the contact
     std::uint32_t count_i, count_j;  // velocity-change counters when predicted
   };
 
@@ -143,12 +145,16 @@ class ContactResolver {
   }
 
   Real sigma(std::uint32_t i, std::uint32_t j) const {
-    if constexpr (Mono) return sigma_;
-    else return a_.radius[i] + a_.radius[j];
+    if constexpr (Mono)
+      return sigma_;
+    else
+      return a_.radius[i] + a_.radius[j];
   }
   Real radius(std::uint32_t i) const {
-    if constexpr (Mono) return sigma_ / Real(2);
-    else return a_.radius[i];
+    if constexpr (Mono)
+      return sigma_ / Real(2);
+    else
+      return a_.radius[i];
   }
 
   //! Queues a bounce of sphere s for each wall its straight path over its window ends beyond.
@@ -171,7 +177,8 @@ class ContactResolver {
 
   //! Queues (i, j), i < j, if the pair touched while approaching within its common
   //! straight-line window; `overlap_only` is the seed's test (the pair overlaps now).
-  HS_ALWAYS_INLINE void consider(std::uint32_t i, std::uint32_t j, std::uint8_t image, Vec3<Real> dr, Real sigma, bool overlap_only) {
+  HS_ALWAYS_INLINE void consider(std::uint32_t i, std::uint32_t j, std::uint8_t image, Vec3<Real> dr, Real sigma,
+                                 bool overlap_only) {
     const Vec3<Real> dv = a_.vel[i] - a_.vel[j];
     const Change ci = change_[i], cj = change_[j];
     const Real w = std::min(ci.back, cj.back);
@@ -182,15 +189,19 @@ class ContactResolver {
   //! Predicts every contact of sphere s with its list partners over its window.
   void sweep_neighbours(std::uint32_t s) {
     const std::uint32_t none[1] = {kWall};
-    if (a_.speed) sweep_neighbours<true, 1>(&s, none);
-    else sweep_neighbours<false, 1>(&s, none);
+    if (a_.speed)
+      sweep_neighbours<true, 1>(&s, none);
+    else
+      sweep_neighbours<false, 1>(&s, none);
   }
   //! The same for both spheres of a collision, except with each other: they recede on straight
   //! lines for their whole windows (the test would only reject them, at a consider() each).
   void sweep_collided(std::uint32_t i, std::uint32_t j) {
     const std::uint32_t s[2] = {i, j}, skip[2] = {j, i};
-    if (a_.speed) sweep_neighbours<true, 2>(s, skip);
-    else sweep_neighbours<false, 2>(s, skip);
+    if (a_.speed)
+      sweep_neighbours<true, 2>(s, skip);
+    else
+      sweep_neighbours<false, 2>(s, skip);
   }
 
   //! A partner can have touched s within s's window w only if their gap is below the closing
@@ -231,8 +242,9 @@ class ContactResolver {
           const __m128i q = _mm_srli_epi32(_mm_maskz_loadu_epi32(live, adj + k), int(kAdjImageBits));
           alignas(16) std::uint32_t qs[4];
           _mm_store_si128(reinterpret_cast<__m128i*>(qs), q);  // dead lanes: sphere 0, masked below
-          const Xyz4 r = transpose_xyz4(load_xyz(pbase + 3 * std::size_t(qs[0])), load_xyz(pbase + 3 * std::size_t(qs[1])),
-                                        load_xyz(pbase + 3 * std::size_t(qs[2])), load_xyz(pbase + 3 * std::size_t(qs[3])));
+          const Xyz4 r =
+              transpose_xyz4(load_xyz(pbase + 3 * std::size_t(qs[0])), load_xyz(pbase + 3 * std::size_t(qs[1])),
+                             load_xyz(pbase + 3 * std::size_t(qs[2])), load_xyz(pbase + 3 * std::size_t(qs[3])));
           const __m128 dx = _mm_sub_ps(px, r.x), dy = _mm_sub_ps(py, r.y), dz = _mm_sub_ps(pz, r.z);
           const __m128 d2 = _mm_fmadd_ps(dz, dz, _mm_fmadd_ps(dx, dx, _mm_mul_ps(dy, dy)));
           const __m128 sq = _mm_setr_ps(a_.speed[qs[0]], a_.speed[qs[1]], a_.speed[qs[2]], a_.speed[qs[3]]);
@@ -272,8 +284,10 @@ class ContactResolver {
         const std::uint8_t img = adj_image(e);
         const Vec3<Real> dr = ps - pos[q] - shift[img];
         // Candidates keep the lower index first so their order matches a full scan.
-        if (s < q) consider(s, q, img, dr, sigma(s, q), false);
-        else consider(q, s, std::uint8_t(26 - img), -dr, sigma(s, q), false);
+        if (s < q)
+          consider(s, q, img, dr, sigma(s, q), false);
+        else
+          consider(q, s, std::uint8_t(26 - img), -dr, sigma(s, q), false);
       }
     }
   }
@@ -335,8 +349,10 @@ class ContactResolver {
         break;
       }
       if constexpr (Walls) {
-        if (wall) bounce(c, hooks, tally);
-        else if (!collide(c, hooks, tally)) continue;
+        if (wall)
+          bounce(c, hooks, tally);
+        else if (!collide(c, hooks, tally))
+          continue;
       } else if (!collide(c, hooks, tally)) {
         continue;
       }
@@ -349,8 +365,10 @@ class ContactResolver {
         next = start_run();
         continue;
       }
-      if (wall) sweep_neighbours(c.i);
-      else sweep_collided(c.i, c.j);
+      if (wall)
+        sweep_neighbours(c.i);
+      else
+        sweep_collided(c.i, c.j);
       if constexpr (Walls) {
         predict_walls(c.i);
         if (!wall) predict_walls(c.j);
@@ -498,8 +516,10 @@ class ContactResolver {
     const Vec3<Real> contact = ri - rj - shift;
     const Vec3<Real> vi_before = vi;
     double virial;
-    if constexpr (Mono) virial = double(mass_) * double(kernel::collide_equal_mass(contact, vi, vj));
-    else virial = double(kernel::collide(contact, vi, vj, a_.mass[i], a_.mass[j]));
+    if constexpr (Mono)
+      virial = double(mass_) * double(kernel::collide_equal_mass(contact, vi, vj));
+    else
+      virial = double(kernel::collide(contact, vi, vj, a_.mass[i], a_.mass[j]));
     if (virial == 0.0) return false;  // receding at the rewound contact: nothing to resolve
     const double mi = Mono ? double(mass_) : double(a_.mass[i]);
     const Vec3<Real> dvi = vi - vi_before;
@@ -536,9 +556,9 @@ class ContactResolver {
   std::vector<Candidate> candidates_, sorted_;
   ContactQueue<Candidate, Real> queue_;
   std::vector<std::uint32_t> bucket_start_, bucket_fill_;  // order_by_time() scratch
-  std::vector<std::uint32_t> near_;  // sweep scratch: list entries that pass the distance test
-  std::array<Real, 3> lo_{}, hi_{};  // wall positions
-  int wall_axis_[3] = {0, 0, 0}, n_wall_axes_ = 0;  // the axes with walls
+  std::vector<std::uint32_t> near_;                        // sweep scratch: list entries that pass the distance test
+  std::array<Real, 3> lo_{}, hi_{};                        // wall positions
+  int wall_axis_[3] = {0, 0, 0}, n_wall_axes_ = 0;         // the axes with walls
 };
 
 }  // namespace hardsphere

@@ -62,15 +62,15 @@ struct EventConfig {
 };
 
 struct EventCounters {
-  double sim_time = 0;                //!< simulated time since the last reset
-  std::int64_t collisions = 0;        //!< pair collisions executed
-  std::int64_t wall_collisions = 0;   //!< wall reflections executed
-  std::int64_t cell_crossings = 0;    //!< always 0: cells hold list centres, which never cross
-  std::int64_t neighbour_list_rebuilds = 0;  //!< spheres that left their shell and were re-listed
-  std::int64_t stale_events = 0;      //!< calendar entries found stale and re-predicted
-  std::int64_t events = 0;            //!< all calendar entries processed (collisions, walls, rebuilds, stale)
-  std::int64_t full_predictions = 0;  //!< predictions that scanned a sphere's whole neighbour list
-  double pair_virial = 0;             //!< sum over collisions of r_ij . dp_i (>= 0)
+  double sim_time = 0;                          //!< simulated time since the last reset
+  std::int64_t collisions = 0;                  //!< pair collisions executed
+  std::int64_t wall_collisions = 0;             //!< wall reflections executed
+  std::int64_t cell_crossings = 0;              //!< always 0: cells hold list centres, which never cross
+  std::int64_t neighbour_list_rebuilds = 0;     //!< spheres that left their shell and were re-listed
+  std::int64_t stale_events = 0;                //!< calendar entries found stale and re-predicted
+  std::int64_t events = 0;                      //!< all calendar entries processed (collisions, walls, rebuilds, stale)
+  std::int64_t full_predictions = 0;            //!< predictions that scanned a sphere's whole neighbour list
+  double pair_virial = 0;                       //!< sum over collisions of r_ij . dp_i (>= 0)
   std::array<double, 3> wall_impulse{0, 0, 0};  //!< momentum given to the walls of each axis
 };
 
@@ -93,7 +93,7 @@ class EventEngine {
   void reset_counters();
   double time() const;  //!< simulated time since construction
   std::array<int, 3> cells_per_dim() const;
-  double shell() const;  //!< neighbour-list shell in use (length units, after any shrinking)
+  double shell() const;              //!< neighbour-list shell in use (length units, after any shrinking)
   std::string scene_kernel() const;  //!< e.g. "periodic,mono"
 
  private:

@@ -9,7 +9,9 @@ namespace hardsphere {
 
 constexpr int kAdjImageBits = 5;
 constexpr std::uint32_t kMaxAdjIndex = (std::uint32_t(1) << (32 - kAdjImageBits)) - 1;  //!< largest partner index
-constexpr std::uint32_t adj_entry(std::uint32_t partner, std::uint8_t image) { return partner << kAdjImageBits | image; }
+constexpr std::uint32_t adj_entry(std::uint32_t partner, std::uint8_t image) {
+  return partner << kAdjImageBits | image;
+}
 constexpr std::uint32_t adj_partner(std::uint32_t entry) { return entry >> kAdjImageBits; }
 constexpr std::uint8_t adj_image(std::uint32_t entry) { return std::uint8_t(entry & ((1u << kAdjImageBits) - 1)); }
 

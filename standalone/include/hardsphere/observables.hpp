@@ -7,9 +7,9 @@
 
 namespace hardsphere {
 
-double kinetic_energy(const ParticleSystem& sys);   //!< sum m v^2 / 2
-Vec3d total_momentum(const ParticleSystem& sys);    //!< sum m v
-double temperature(const ParticleSystem& sys);      //!< sum m v^2 / 3N (k_B = 1)
+double kinetic_energy(const ParticleSystem& sys);  //!< sum m v^2 / 2
+Vec3d total_momentum(const ParticleSystem& sys);   //!< sum m v
+double temperature(const ParticleSystem& sys);     //!< sum m v^2 / 3N (k_B = 1)
 
 //! Z = PV/(NkT) from the collision virial: 1 + sum(r_ij . dp_i) / (3 N T t).
 double compressibility_factor(double pair_virial, double sim_time, std::size_t n, double temperature);

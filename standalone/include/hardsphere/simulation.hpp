@@ -2,10 +2,9 @@
 //! One complete run as the CLI performs it: initial state, equilibration, timed stepping with
 //! dumps, summary. Output files are committed only when the whole run succeeded.
 #include <cstdint>
+#include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
-
-#include <nlohmann/json.hpp>
 
 #include "hardsphere/event_engine.hpp"
 #include "hardsphere/init.hpp"

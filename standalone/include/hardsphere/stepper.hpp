@@ -74,9 +74,9 @@ struct StepCounters {
   //! Sub-steps ended early, at a collision that sent a sphere too fast for the list's skin
   //! (the rest of the sub-step is run again in shorter pieces).
   std::int64_t step_cuts = 0;
-  double pair_virial = 0;             //!< sum over collisions of r_ij . dp_i (>= 0)
+  double pair_virial = 0;                                      //!< sum over collisions of r_ij . dp_i (>= 0)
   std::array<double, 6> pair_virial_tensor{0, 0, 0, 0, 0, 0};  //!< r_ij (x) dp_i: xx yy zz xy xz yz
-  std::array<double, 3> wall_impulse{0, 0, 0};  //!< momentum given to the walls of each axis
+  std::array<double, 3> wall_impulse{0, 0, 0};                 //!< momentum given to the walls of each axis
 };
 
 //! Type-erased engine interface, so precision and scene specialisations are chosen at run time.
