@@ -125,6 +125,10 @@ void check_command(int argc, const char* const* argv) {
 }  // namespace
 
 CommandLine parse_command_line(int argc, const char* const* argv) {
+  if (argc >= 2 && std::string(argv[1]) == "--version") {
+    if (argc > 2) throw InputError("--version takes nothing after it (found '" + std::string(argv[2]) + "')");
+    return {true, std::string("hardsphere ") + HS_VERSION + "\n", {}};
+  }
   check_command(argc, argv);
   CLI::App app{"hardsphere: time-stepped hard-sphere molecular dynamics with cell lists", "hardsphere"};
   app.require_subcommand(1);

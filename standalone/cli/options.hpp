@@ -8,7 +8,7 @@
 namespace hardsphere::cli {
 
 struct CommandLine {
-  bool help = false;      //!< --help was given: print help_text, exit 0, run nothing
+  bool help = false;      //!< --help or --version was given: print help_text, exit 0, run nothing
   std::string help_text;  //!< of the (sub)command --help was given to
   RunSpec spec;           //!< the run, when !help
 };

@@ -2,6 +2,7 @@
 naming the option and the value (not CLI11's own codes 104-114, not an internal error), --help
 with 0. Nothing is created.
 """
+import re
 import resource
 import subprocess
 
@@ -81,6 +82,12 @@ def test_help_exits_0(hs, tmp_path, args):
     assert "Usage" in p.stdout and p.stderr == ""
     if "run" in args:
         assert "--read-data" in p.stdout
+
+
+def test_version_exits_0_and_takes_nothing_after_it(hs, tmp_path):
+    p = hardsphere(hs, "--version", cwd=tmp_path)
+    assert p.returncode == 0 and re.fullmatch(r"hardsphere \d+\.\d+\.\d+\n", p.stdout) and p.stderr == ""
+    assert_refused(hardsphere(hs, "--version", "run", cwd=tmp_path), "--version", "'run'")
 
 
 def limit_memory():
