@@ -1,4 +1,7 @@
 // hardsphere: command-line front end. It only parses options and calls the library.
+#include <unistd.h>
+
+#include <chrono>
 #include <cstdlib>
 #include <iostream>
 #include <new>
@@ -51,6 +54,37 @@ std::string run_size(const RunSpec& spec) {
   return std::to_string(spec.init.n) + " spheres (--n " + std::to_string(spec.init.n) + ")";
 }
 
+// A progress line on a terminal's stderr for runs longer than a couple of seconds: percent,
+// simulated time and the time left at the rate so far; erased when the run ends.
+class ProgressLine {
+ public:
+  void operator()(double fraction, double sim_time) {
+    const auto now = Clock::now();
+    if (!first_) {  // the rate is measured from the first report, after set-up
+      first_ = true, t0_ = now, f0_ = fraction;
+      return;
+    }
+    if (fraction >= 1.0) {
+      if (shown_) std::cerr << '\r' << std::string(72, ' ') << '\r' << std::flush;
+      return;
+    }
+    if (seconds(start_, now) < 2.0 || fraction <= f0_) return;
+    const double left = seconds(t0_, now) / (fraction - f0_) * (1 - fraction);
+    std::cerr << "\rhardsphere: " << int(100 * fraction) << "% done, simulated time " << sim_time << ", about "
+              << int(left + 0.5) << " s left   " << std::flush;
+    shown_ = true;
+  }
+
+ private:
+  using Clock = std::chrono::steady_clock;
+  static double seconds(Clock::time_point a, Clock::time_point b) {
+    return std::chrono::duration<double>(b - a).count();
+  }
+  Clock::time_point start_ = Clock::now(), t0_;
+  double f0_ = 0;
+  bool first_ = false, shown_ = false;
+};
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -63,6 +97,7 @@ int main(int argc, char** argv) {
     }
     // From here on a signal removes the temporaries of the outputs before the process dies.
     install_cleanup_signal_handlers();
+    if (!cmd.quiet && isatty(STDERR_FILENO)) cmd.spec.progress = ProgressLine();
     const auto summary = run_simulation(cmd.spec);
     for (const auto& w : summary["warnings"]) std::cerr << "hardsphere: warning: " << w.get<std::string>() << '\n';
     if (cmd.spec.json && *cmd.spec.json == "-")

@@ -182,6 +182,7 @@ CommandLine parse_command_line(int argc, const char* const* argv) {
   auto* o_json = run->add_option("--json", json_s, "write the JSON summary to FILE (- for stdout)");
   auto* o_bins = run->add_option("--histogram-bins", bins_s, "bins of the speed histogram in the JSON (default 40)")
                      ->type_name("INT");
+  run->add_flag("--quiet", cmd.quiet, "no progress line on stderr (it is shown only on a terminal anyway)");
   for (auto* o : {o_n, o_phi, o_box, o_radius, o_mass, o_t, o_speed, o_init, o_seed}) o_read->excludes(o);
   o_t->excludes(o_speed);
 

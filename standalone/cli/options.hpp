@@ -11,6 +11,7 @@ struct CommandLine {
   bool help = false;      //!< --help or --version was given: print help_text, exit 0, run nothing
   std::string help_text;  //!< of the (sub)command --help was given to
   RunSpec spec;           //!< the run, when !help
+  bool quiet = false;     //!< --quiet: no progress line
 };
 
 //! Parses argv (argv[0] is the program name). Every refusal is an InputError naming the option

@@ -103,6 +103,7 @@ nlohmann::json run_event_simulation(const RunSpec& spec) {
     w_prev = c.pair_virial;
     coll_prev = c.collisions;
     if (dump) dump->write_frame(c.events, engine.state());
+    if (spec.progress) spec.progress(double(b + 1) / spec.blocks, c.sim_time);
   }
   const ParticleSystem fin = engine.state();
   const EventCounters& c = engine.counters();

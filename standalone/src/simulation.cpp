@@ -93,13 +93,20 @@ nlohmann::json run_simulation(const RunSpec& spec) {
   double cpu = 0;
   std::int64_t done = 0;
   if (dump) dump->write_frame(0, sys);
+  // Splitting the run into chunks changes nothing: the engine carries its whole state across.
+  const std::int64_t report_every = spec.progress ? std::max<std::int64_t>(1, spec.steps / 100) : spec.steps;
+  std::int64_t next_frame = dump ? std::min(spec.dump_every, spec.steps) : spec.steps;
   while (done < spec.steps) {
-    const std::int64_t chunk = dump ? std::min(spec.dump_every, spec.steps - done) : spec.steps - done;
+    const std::int64_t chunk = std::min({next_frame - done, report_every, spec.steps - done});
     const double t0 = process_cpu_seconds();
     engine->run(chunk);
     cpu += process_cpu_seconds() - t0;
     done += chunk;
-    if (dump) dump->write_frame(done, engine->state());
+    if (dump && done == next_frame) {
+      dump->write_frame(done, engine->state());
+      next_frame = std::min(next_frame + spec.dump_every, spec.steps);
+    }
+    if (spec.progress) spec.progress(double(done) / double(spec.steps), engine->counters().sim_time);
   }
   const ParticleSystem fin = engine->state();
   const StepCounters& c = engine->counters();

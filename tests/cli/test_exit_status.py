@@ -99,3 +99,32 @@ def test_a_run_too_large_for_the_memory_is_refused(hs, tmp_path):
     p = hardsphere(hs, "run", "--n", 134217728, "--steps", 1, "--json", "out.json", cwd=tmp_path, preexec_fn=limit_memory)
     assert_refused(p, "not enough memory", "134217728")
     assert list(tmp_path.iterdir()) == []
+
+
+def stderr_on_a_terminal(hs, *args):
+    """Runs `hardsphere run` with stderr on a pseudo-terminal; returns (status, what it wrote there)."""
+    import os
+    import pty
+    master, slave = pty.openpty()
+    p = subprocess.Popen([hs, "run", *map(str, args)], stdout=subprocess.DEVNULL, stderr=slave)
+    os.close(slave)
+    out = b""
+    while True:
+        try:
+            chunk = os.read(master, 4096)
+        except OSError:  # the terminal closes with the process
+            break
+        if not chunk:
+            break
+        out += chunk
+    os.close(master)
+    return p.wait(), out.decode()
+
+
+def test_progress_line_on_a_terminal_only_and_not_with_quiet(hs):
+    args = ("--n", 20000, "--phi", 0.3)
+    status, text = stderr_on_a_terminal(hs, *args, "--time", 100)  # 10^4 steps: well over 2 s
+    assert status == 0 and "% done, simulated time" in text and "s left" in text
+    assert text.rstrip(" ").endswith("\r")  # erased at the end
+    status, text = stderr_on_a_terminal(hs, *args, "--time", 40, "--quiet")
+    assert status == 0 and text == ""

@@ -2,6 +2,7 @@
 //! One complete run as the CLI performs it: initial state, equilibration, timed stepping with
 //! dumps, summary. Output files are committed only when the whole run succeeded.
 #include <cstdint>
+#include <functional>
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
@@ -37,6 +38,10 @@ struct RunSpec {
   std::optional<std::string> write_data, dump, json;
   std::int64_t dump_every = 100;
   int histogram_bins = 40;
+
+  //! Called during the measured run (about every 1% for the stepper, after each block for the
+  //! event engine) with the fraction done and the simulated time; the CLI's progress line.
+  std::function<void(double fraction, double sim_time)> progress;
 };
 
 //! Runs the job and returns the JSON summary (keys documented in README). Throws InputError.
