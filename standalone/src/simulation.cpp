@@ -20,11 +20,15 @@ double process_cpu_seconds() {
   return double(ts.tv_sec) + 1e-9 * double(ts.tv_nsec);
 }
 
+namespace {
+double rounding_epsilon(Precision p) {
+  return p == Precision::Float ? double(std::numeric_limits<float>::epsilon()) : std::numeric_limits<double>::epsilon();
+}
+}  // namespace
+
 ParticleSystem initial_state(const RunSpec& spec) {
   // A state this program wrote may overlap by the rounding of the engine that made it.
-  const double eps = spec.precision == Precision::Float ? double(std::numeric_limits<float>::epsilon())
-                                                        : std::numeric_limits<double>::epsilon();
-  if (spec.read_data) return read_data(*spec.read_data, spec.periodic, eps);
+  if (spec.read_data) return read_data(*spec.read_data, spec.periodic, rounding_epsilon(spec.precision));
   InitSpec init = spec.init;
   for (int d = 0; d < 3; ++d) init.box.periodic[d] = spec.periodic[d];
   return make_initial_state(init);
@@ -112,10 +116,8 @@ nlohmann::json run_simulation(const RunSpec& spec) {
   const StepCounters& c = engine->counters();
 
   RunTotals totals{e0, p0, c.sim_time, c.collisions, c.wall_collisions, c.pair_virial, c.wall_impulse};
-  const double eps = spec.precision == Precision::Float ? double(std::numeric_limits<float>::epsilon())
-                                                        : std::numeric_limits<double>::epsilon();
   nlohmann::json j = physics_summary(fin, totals, !spec.read_data.has_value(), spec.init.seed, spec.histogram_bins,
-                                     overlap_tolerance(fin, eps));
+                                     overlap_tolerance(fin, rounding_epsilon(spec.precision)));
   j["engine"] = "stepper";
   j["steps"] = c.steps;
   j["equilibrate_steps"] = spec.equilibrate;
