@@ -119,31 +119,34 @@ def bh_shift_hertz_liggghts(ymod, poisson, reff, kT=1.0):
 
 # --- configurations -------------------------------------------------------------------------
 
-def contacts(pos, radius, box_lo, box_hi):
-    """Overlapping pairs of a fully periodic configuration.
+def close_pairs(pos, box_lo, box_hi, rmax):
+    """Pairs of a fully periodic configuration closer than rmax (minimum image).
 
-    Returns (i, j, rij, r, delta): index arrays with i < j, minimum-image separation vectors
-    rij = pos[i] - pos[j] (shape (M, 3)), their lengths and overlaps R_i + R_j - r > 0.
-    Positions may lie outside the box (unwrapped dump coordinates); they are wrapped first."""
+    Returns (i, j, rij, r): index arrays with i < j, separation vectors rij = pos[i] - pos[j]
+    (shape (M, 3)) and their lengths. Positions may lie outside the box (unwrapped dump
+    coordinates); they are wrapped first."""
     from scipy.spatial import cKDTree
 
     pos = np.asarray(pos, dtype=float)
-    radius = np.asarray(radius, dtype=float)
     lo = np.asarray(box_lo, dtype=float)
     length = np.asarray(box_hi, dtype=float) - lo
     x = np.mod(pos - lo, length)
     x[x >= length] = 0.0  # mod can round up to exactly L
-    empty = np.zeros(0, dtype=int)
     if len(x) < 2:
-        return empty, empty, np.zeros((0, 3)), np.zeros(0), np.zeros(0)
-    tree = cKDTree(x, boxsize=length)
-    pairs = tree.query_pairs(2.0 * radius.max(), output_type="ndarray")
-    if len(pairs) == 0:
-        return empty, empty, np.zeros((0, 3)), np.zeros(0), np.zeros(0)
+        empty = np.zeros(0, dtype=int)
+        return empty, empty, np.zeros((0, 3)), np.zeros(0)
+    pairs = cKDTree(x, boxsize=length).query_pairs(rmax, output_type="ndarray").reshape(-1, 2)
     i, j = pairs[:, 0], pairs[:, 1]
     rij = x[i] - x[j]
     rij -= length * np.round(rij / length)
-    r = np.sqrt(np.einsum("ij,ij->i", rij, rij))
+    return i, j, rij, np.sqrt(np.einsum("ij,ij->i", rij, rij))
+
+
+def contacts(pos, radius, box_lo, box_hi):
+    """Overlapping pairs of a fully periodic configuration: close_pairs within the contact
+    distance, with their overlaps. Returns (i, j, rij, r, delta), delta = R_i + R_j - r > 0."""
+    radius = np.asarray(radius, dtype=float)
+    i, j, rij, r = close_pairs(pos, box_lo, box_hi, 2.0 * radius.max() if len(radius) else 0.0)
     delta = radius[i] + radius[j] - r
     keep = delta > 0
     return i[keep], j[keep], rij[keep], r[keep], delta[keep]

@@ -16,15 +16,11 @@ from pathlib import Path
 import numpy as np
 
 import soft_spheres as soft
-from lammps_data import read_sphere_data
+import xv_states
 from xv_observables import iter_dump, read_dump
 
 ROOT = Path(__file__).resolve().parent.parent
 INPUTS = ROOT / "reference_inputs"
-
-
-def atom_types(state):
-    return read_sphere_data(state)["types"]
 
 
 class EngineError(RuntimeError):
@@ -153,9 +149,8 @@ class Engines:
              ranks=1):
         """engine: 'lammps hooke', 'lammps hertz' (stiffness = kn) or 'liggghts hertz' (= Young's modulus)."""
         if engine == "liggghts hertz":
-            ntypes = len(set(atom_types(state)))
             exe, script = self.liggghts, INPUTS / "liggghts" / "in.granular_hertz"
-            extra = dict(ymod=stiffness, ntypes=ntypes)
+            extra = dict(ymod=stiffness, ntypes=xv_states.type_count(state))
         else:
             exe = self.lmp
             script = INPUTS / "lammps" / ("in.granular_hooke" if engine == "lammps hooke" else "in.granular_hertz")

@@ -7,7 +7,6 @@ import math
 
 import numpy as np
 from scipy import stats
-from scipy.spatial import cKDTree
 
 import soft_spheres
 
@@ -86,15 +85,9 @@ def speed_ks(frame, mass):
 
 
 def pair_distances(frame, rmax):
-    """Distances and sphere indices of all pairs closer than rmax (periodic, minimum image)."""
-    length = frame["hi"] - frame["lo"]
-    wrapped = np.mod(frame["pos"] - frame["lo"], length)
-    wrapped[wrapped >= length] = 0.0
-    tree = cKDTree(wrapped, boxsize=length)
-    pairs = tree.query_pairs(rmax, output_type="ndarray")
-    d = wrapped[pairs[:, 0]] - wrapped[pairs[:, 1]]
-    d -= length * np.round(d / length)
-    return np.sqrt((d**2).sum(axis=1)), pairs
+    """Distances and sphere indices (M, 2) of all pairs closer than rmax (periodic, minimum image)."""
+    i, j, _, r = soft_spheres.close_pairs(frame["pos"], frame["lo"], frame["hi"], rmax)
+    return r, np.column_stack([i, j])
 
 
 def rdf(frames, rmax=3.0, width=0.01):
@@ -147,10 +140,8 @@ def contacts_started(frames):
     for f in frames:
         first = first if first is not None else f["t"]
         last = f["t"]
-        r, pairs = pair_distances(f, 2 * float(f["radius"].max()))
-        touching = pairs[r < f["radius"][pairs[:, 0]] + f["radius"][pairs[:, 1]]]
-        key = np.sort(touching, axis=1)
-        key = key[:, 0].astype(np.int64) * len(f["ids"]) + key[:, 1]
+        i, j = soft_spheres.contacts(f["pos"], f["radius"], f["lo"], f["hi"])[:2]
+        key = i.astype(np.int64) * len(f["ids"]) + j  # i < j
         if previous is not None:
             started += len(np.setdiff1d(key, previous, assume_unique=True))
         previous = key

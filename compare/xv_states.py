@@ -6,6 +6,7 @@ mass density, so masses 1 and 1.4^3): random points pushed apart by minimising a
 in Debian's LAMMPS (contact distance 1.001 sigma_ij, so no hard-sphere overlap remains), then
 Maxwell-Boltzmann velocities at T = 1.
 """
+import functools
 import math
 import subprocess
 from pathlib import Path
@@ -13,7 +14,7 @@ from pathlib import Path
 import numpy as np
 
 from lammps_data import read_sphere_data
-from xv_observables import pair_distances
+import soft_spheres
 
 BIG = 1.4
 UNIT_DENSITY = 6 / math.pi
@@ -57,12 +58,9 @@ def name(n, phi, composition):
 
 
 def max_overlap(path):
-    s = read_sphere_data(path)
-    frame = dict(pos=s["pos"], lo=s["box"][:, 0], hi=s["box"][:, 1], radius=s["radius"])
-    r, pairs = pair_distances(frame, 2 * s["radius"].max())
-    if len(r) == 0:
-        return 0.0
-    return float(max(0.0, (s["radius"][pairs[:, 0]] + s["radius"][pairs[:, 1]] - r).max()))
+    s = read_state(path)
+    delta = soft_spheres.contacts(s["pos"], s["radius"], s["box"][:, 0], s["box"][:, 1])[4]
+    return float(delta.max()) if len(delta) else 0.0
 
 
 def make_state(hs, lmp, out_dir, n, phi, composition, equilibrate_time, seed=1, log=print):
@@ -100,13 +98,23 @@ def _check(cmd, cwd):
         raise StateError(f"{' '.join(map(str, cmd))} failed ({p.returncode}): {(p.stdout + p.stderr)[-400:]}")
 
 
+@functools.lru_cache(maxsize=4)
+def read_state(path):
+    """The state's data file, read once per path (every run of a state needs its masses and box)."""
+    return read_sphere_data(path)
+
+
 def box(state_path):
     """(lo, hi) of the state's box."""
-    b = read_sphere_data(state_path)["box"]
+    b = read_state(state_path)["box"]
     return b[:, 0].copy(), b[:, 1].copy()
 
 
 def masses(state_path):
     """Masses sorted by id (dumps are sorted by id too)."""
-    s = read_sphere_data(state_path)
+    s = read_state(state_path)
     return s["mass"][np.argsort(s["ids"])]
+
+
+def type_count(state_path):
+    return len(set(read_state(state_path)["types"].tolist()))
