@@ -46,9 +46,8 @@ def find_tools(build):
                  lmp=shutil.which("lmp"), liggghts=shutil.which("liggghts"), mpirun=shutil.which("mpirun"))
     if not tools["hardsphere"].exists():
         sys.exit(f"cross_validate: {tools['hardsphere']} not built")
-    for k in ("lmp_hs",):
-        if not tools[k].exists():
-            tools[k] = None
+    if not tools["lmp_hs"].exists():
+        tools["lmp_hs"] = None
     return tools
 
 

@@ -116,13 +116,16 @@ def fig_speeds(out, rows, curves, state):
     fig, ax = plt.subplots(figsize=(6, 4))
     u = np.linspace(0, 4.5, 200)
     ax.plot(u, stats.maxwell.pdf(u), "k-", lw=2, label="Maxwell-Boltzmann")
-    for r in rows:
-        if r["state"] != state:
-            continue
+    rs = [r for r in rows if r["state"] == state]
+    stiffest = {}  # legend: every hard run, and each soft engine at its stiffest setting
+    for r in rs:
+        if r["kind"] == "soft":
+            stiffest[r["engine"]] = min(stiffest.get(r["engine"], r["bh_shift"]), r["bh_shift"])
+    for r in rs:
         bins, h = curves[(state, r["setting"])]["speeds"]
+        labelled = r["kind"] == "hard" or r["bh_shift"] == stiffest[r["engine"]]
         ax.step(0.5 * (bins[1:] + bins[:-1]), h, where="mid", lw=0.8, alpha=0.7,
-                label=f"{r['setting']} (p={r['ks_p']:.2f})" if r["kind"] == "hard" or r["bh_shift"] == min(
-                    x["bh_shift"] or 1 for x in rows if x["state"] == state and x["engine"] == r["engine"]) else None)
+                label=f"{r['setting']} (p={r['ks_p']:.2f})" if labelled else None)
     ax.set_xlabel("speed v sqrt(m/kT)")
     ax.set_ylabel("probability density")
     ax.set_title(f"Speeds, {state}")
