@@ -25,7 +25,7 @@ struct RunTotals {
 //! Keys n, packing_fraction, box, collisions, wall_collisions, collision_rate_per_particle,
 //! kinetic_energy_*, energy_rel_drift, momentum_*, temperature, com_removed, pair_virial,
 //! compressibility_factor, pressure, wall_pressure, max_overlap, speed_ks_distance,
-//! speed_histogram, seed, overlap_tolerance, warnings (documented in README). T in Z is the mean
+//! speed_histogram, seed, overlap_tolerance, warnings (documented in docs/cli.md). T in Z is the mean
 //! of initial and final T. A final overlap above `overlap_tolerance` (the rounding level of the
 //! engine's arithmetic, see overlap_tolerance()) adds a warning naming its cause and remedy.
 nlohmann::json physics_summary(const ParticleSystem& final_state, const RunTotals& totals, bool com_removed,

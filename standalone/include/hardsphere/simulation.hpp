@@ -44,7 +44,7 @@ struct RunSpec {
   std::function<void(double fraction, double sim_time)> progress;
 };
 
-//! Runs the job and returns the JSON summary (keys documented in README). Throws InputError.
+//! Runs the job and returns the JSON summary (keys documented in docs/cli.md). Throws InputError.
 nlohmann::json run_simulation(const RunSpec& spec);
 
 //! The same for spec.engine == Engine::Event (run_simulation dispatches to it).
