@@ -15,8 +15,8 @@
 #include <memory>
 #include <vector>
 
+#include "contact_resolver.hpp"
 #include "fix.h"
-#include "hardsphere/contact_resolver.hpp"
 #include "hardsphere/stepper.hpp"
 
 namespace LAMMPS_NS {

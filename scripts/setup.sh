@@ -27,7 +27,7 @@ if [ "${HS_WITH_LAMMPS:-1}" = 1 ] && dpkg-query -W -f='${Status}' liblammps-dev 
     echo "setup: LAMMPS source not available; building without the LAMMPS styles" >&2
   fi
 fi
-cmake -S "$root" -B "$build" -DCMAKE_BUILD_TYPE=Release -DPython3_EXECUTABLE=/usr/bin/python3 "${lammps_args[@]}" >/dev/null
+cmake -S "$root" -B "$build" -DCMAKE_BUILD_TYPE=Release -DHS_NATIVE=${HS_NATIVE:-ON} -DPython3_EXECUTABLE=/usr/bin/python3 "${lammps_args[@]}" >/dev/null
 cmake --build "$build" -j"$(nproc)"
 
 case "$mode" in

@@ -1,4 +1,4 @@
-#include "hardsphere/cell_grid.hpp"
+#include "cell_grid.hpp"
 
 #include <algorithm>
 #include <limits>

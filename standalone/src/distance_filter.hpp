@@ -8,9 +8,9 @@
 #include <cstddef>
 #include <cstdint>
 
-#include "hardsphere/always_inline.hpp"
+#include "always_inline.hpp"
 #include "hardsphere/vec3.hpp"
-#include "hardsphere/xyz4.hpp"
+#include "xyz4.hpp"
 
 #ifdef HS_XYZ4
 #define HS_DISTANCE_FILTER_SIMD 1

@@ -5,11 +5,11 @@
 #include <limits>
 #include <sstream>
 
+#include "event_calendar.hpp"
 #include "hardsphere/collision.hpp"
 #include "hardsphere/errors.hpp"
-#include "hardsphere/event_calendar.hpp"
-#include "hardsphere/neighbour_entry.hpp"
 #include "hardsphere/scene_limits.hpp"
+#include "neighbour_entry.hpp"
 
 namespace hardsphere {
 

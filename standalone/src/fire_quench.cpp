@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "hardsphere/cell_grid.hpp"
+#include "cell_grid.hpp"
 
 namespace hardsphere {
 

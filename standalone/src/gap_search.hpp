@@ -7,10 +7,10 @@
 #include <cstdint>
 #include <vector>
 
+#include "cell_grid.hpp"
 #include "close_pairs_row.hpp"
+#include "contact_resolver.hpp"
 #include "hardsphere/box.hpp"
-#include "hardsphere/cell_grid.hpp"
-#include "hardsphere/contact_resolver.hpp"
 #include "hardsphere/vec3.hpp"
 
 namespace hardsphere::detail {

@@ -4,13 +4,13 @@
 #include <cmath>
 #include <sstream>
 
+#include "cell_grid.hpp"
 #include "dense_packing.hpp"
-#include "hardsphere/cell_grid.hpp"
 #include "hardsphere/errors.hpp"
-#include "hardsphere/neighbour_entry.hpp"
 #include "hardsphere/observables.hpp"
 #include "hardsphere/stepper.hpp"
 #include "lattice_sites.hpp"
+#include "neighbour_entry.hpp"
 
 namespace hardsphere {
 

@@ -22,7 +22,7 @@
 #include <limits>
 #include <vector>
 
-#include "hardsphere/always_inline.hpp"
+#include "always_inline.hpp"
 
 namespace hardsphere::detail {
 

@@ -6,7 +6,7 @@
 #include <sstream>
 #include <unordered_set>
 
-#include "hardsphere/cell_grid.hpp"
+#include "cell_grid.hpp"
 #include "hardsphere/errors.hpp"
 #include "hardsphere/scene_limits.hpp"
 

@@ -8,14 +8,14 @@
 #include <sstream>
 #include <vector>
 
+#include "cell_grid.hpp"
 #include "close_pairs_row.hpp"
+#include "contact_resolver.hpp"
 #include "default_init_allocator.hpp"
 #include "distance_filter.hpp"
 #include "drift_kernel.hpp"
 #include "gap_search.hpp"
-#include "hardsphere/cell_grid.hpp"
 #include "hardsphere/collision.hpp"
-#include "hardsphere/contact_resolver.hpp"
 #include "hardsphere/errors.hpp"
 #include "hardsphere/scene_limits.hpp"
 #include "list_guard.hpp"

@@ -10,7 +10,7 @@
 #include <utility>
 #include <vector>
 
-#include "../../standalone/src/close_pairs_row.hpp"
+#include "close_pairs_row.hpp"
 
 namespace {
 

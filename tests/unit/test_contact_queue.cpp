@@ -9,7 +9,7 @@
 #include <random>
 #include <vector>
 
-#include "hardsphere/contact_queue.hpp"
+#include "contact_queue.hpp"
 
 namespace {
 

@@ -12,7 +12,7 @@
 #include <utility>
 #include <vector>
 
-#include "hardsphere/contact_resolver.hpp"
+#include "contact_resolver.hpp"
 
 namespace {
 

@@ -12,7 +12,7 @@
 #include <random>
 #include <vector>
 
-#include "../../standalone/src/distance_filter.hpp"
+#include "distance_filter.hpp"
 
 namespace {
 

@@ -12,7 +12,7 @@
 #include <random>
 #include <vector>
 
-#include "../../standalone/src/drift_kernel.hpp"
+#include "drift_kernel.hpp"
 
 namespace {
 

@@ -7,9 +7,9 @@
 #include <cmath>
 #include <limits>
 
+#include "event_calendar.hpp"
 #include "hardsphere/collision.hpp"
 #include "hardsphere/errors.hpp"
-#include "hardsphere/event_calendar.hpp"
 #include "hardsphere/event_engine.hpp"
 #include "hardsphere/init.hpp"
 #include "hardsphere/observables.hpp"

@@ -8,7 +8,7 @@
 #include <random>
 #include <vector>
 
-#include "../../standalone/src/gap_search.hpp"
+#include "gap_search.hpp"
 
 using namespace hardsphere;
 

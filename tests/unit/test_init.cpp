@@ -8,11 +8,11 @@
 #include <string>
 #include <vector>
 
-#include "../../standalone/src/lattice_sites.hpp"
 #include "hardsphere/errors.hpp"
 #include "hardsphere/init.hpp"
 #include "hardsphere/observables.hpp"
 #include "hardsphere/particles.hpp"
+#include "lattice_sites.hpp"
 #include "scenes.hpp"
 
 using namespace hardsphere;

@@ -10,7 +10,7 @@
 #include <string>
 #include <vector>
 
-#include "../../standalone/src/dense_packing.hpp"
+#include "dense_packing.hpp"
 #include "hardsphere/errors.hpp"
 #include "hardsphere/event_engine.hpp"
 #include "hardsphere/init.hpp"

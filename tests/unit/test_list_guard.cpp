@@ -6,10 +6,10 @@
 #include <cmath>
 #include <vector>
 
-#include "../../standalone/src/list_guard.hpp"
 #include "hardsphere/event_engine.hpp"
 #include "hardsphere/observables.hpp"
 #include "hardsphere/stepper.hpp"
+#include "list_guard.hpp"
 #include "scenes.hpp"
 
 using namespace hardsphere;

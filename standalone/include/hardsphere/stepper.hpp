@@ -1,14 +1,15 @@
 #pragma once
 //! The time-stepped, a posteriori hard-sphere engine of the seed paper.
 //!
-//! One step: drift every sphere by v dt; mirror spheres that crossed a wall; then find every
-//! overlapping *approaching* pair, rewind each to its exact contact time, apply the elastic
-//! impulse and re-advance. Contacts are resolved earliest first from a small heap; after each
-//! collision the two spheres' contacts over the rest of the step are predicted again (their
-//! straight-line motion since the collision), so nothing is dropped or taken out of order.
+//! One step: drift every sphere by v dt; then find every overlapping *approaching* pair (and
+//! every wall a sphere has crossed), rewind each to its exact contact time, apply the elastic
+//! impulse and re-advance. Contacts are resolved earliest first from a time-bucketed queue;
+//! after each collision the two spheres' contacts over the rest of the step are predicted
+//! again (their straight-line motion since the collision), so nothing is dropped or taken out
+//! of order.
 //!
 //! Contacts are found through a cell grid: every few steps the spheres are sorted by cell
-//! (structure of arrays, reordered for locality) and a candidate pair list with a skin is
+//! (one array per field, reordered for locality) and a candidate pair list with a skin is
 //! built from neighbouring cells; in between only the list is scanned. The list is rebuilt
 //! as soon as two unlisted spheres could have closed the gap between them, so no contact is
 //! ever missed.

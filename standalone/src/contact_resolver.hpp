@@ -21,12 +21,12 @@
 #include <utility>
 #include <vector>
 
-#include "hardsphere/always_inline.hpp"
+#include "always_inline.hpp"
+#include "contact_queue.hpp"
 #include "hardsphere/collision.hpp"
-#include "hardsphere/contact_queue.hpp"
-#include "hardsphere/neighbour_entry.hpp"
 #include "hardsphere/vec3.hpp"
-#include "hardsphere/xyz4.hpp"
+#include "neighbour_entry.hpp"
+#include "xyz4.hpp"
 
 namespace hardsphere {
 

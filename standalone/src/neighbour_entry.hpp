@@ -5,10 +5,13 @@
 //! contact resolver) and by the event engine's lists; each engine keeps its own image numbering.
 #include <cstdint>
 
+#include "hardsphere/limits.hpp"
+
 namespace hardsphere {
 
 constexpr int kAdjImageBits = 5;
 constexpr std::uint32_t kMaxAdjIndex = (std::uint32_t(1) << (32 - kAdjImageBits)) - 1;  //!< largest partner index
+static_assert(std::int64_t(kMaxAdjIndex) + 1 == kMaxSpheres, "kMaxSpheres must match the index bits");
 constexpr std::uint32_t adj_entry(std::uint32_t partner, std::uint8_t image) {
   return partner << kAdjImageBits | image;
 }

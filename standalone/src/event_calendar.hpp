@@ -18,7 +18,7 @@
 #include <limits>
 #include <vector>
 
-#include "hardsphere/always_inline.hpp"
+#include "always_inline.hpp"
 
 #if defined(__AVX__)
 #include <immintrin.h>
