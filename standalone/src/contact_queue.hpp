@@ -4,9 +4,9 @@
 //! so the earliest entry only moves later in time: a bucket queue over the step's back times
 //! (bucket k holds back in [k, k + 1) dt / kBuckets) with a cursor that only moves down serves
 //! it. Within the cursor's bucket the earliest entry is found by the resolver's own order, so
-//! entries come out exactly as from a binary heap with that order. The heap it replaces held
-//! ~100 entries at phi = 0.45, dt = 0.01 and ~380 at dt = 0.02 (most of them predictions that
-//! go stale before their time), and each push and pop sifted through 7-9 levels.
+//! entries come out exactly as from a binary heap with that order, which it replaces: most
+//! entries are predictions that go stale before their time, and each push and pop of the heap
+//! sifted through several levels (see docs/performance.md).
 #include <cstddef>
 #include <cstdint>
 #include <vector>

@@ -1,10 +1,10 @@
 #pragma once
 //! |a - b|^2 for the per-step list scan's distance filter. With AVX-512VL each position is one
-//! masked three-lane load and the squares are summed with two shuffles, ~19 instructions per
-//! pair in the scan instead of ~27 with six scalar loads (scan of N = 8000, phi = 0.45, float:
-//! ~18% fewer cycles). The lanes are summed in another order than dot(), so the result may
-//! differ from it in the last bits: kDistanceFilterSlack widens the filter, and the caller
-//! decides each pair that passes with the exact expression.
+//! masked three-lane load and the squares are summed with two shuffles: fewer instructions and
+//! cycles per pair than six scalar loads (see docs/performance.md). The lanes are summed in
+//! another order than dot(), so the result may differ from it in the last bits:
+//! kDistanceFilterSlack widens the filter, and the caller decides each pair that passes with
+//! the exact expression.
 #include <cstddef>
 #include <cstdint>
 
@@ -50,7 +50,8 @@ HS_ALWAYS_INLINE Real distance2_filter(const Vec3<Real>& a, const Vec3<Real>& b)
 //! index k of every pair (pairs[2k], pairs[2k + 1]) with distance2_filter() < lim2 (lim2 already
 //! widened by the caller) and returns their number; `hits` needs room for len + 4. In float with
 //! AVX-512VL four pairs at a time: their differences transposed into x, y and z vectors and one
-//! compress of the passing indices (~10 instructions per pair instead of ~19).
+//! compress of the passing indices (fewer instructions per pair than one pair at a time; see
+//! docs/performance.md).
 template <class Real>
 HS_ALWAYS_INLINE std::uint32_t filter_pairs(const Vec3<Real>* __restrict pos, const std::uint32_t* __restrict pairs,
                                             std::uint32_t len, Real lim2, std::uint32_t* __restrict hits) {

@@ -4,12 +4,12 @@
 //! Spheres are grouped in blocks of 32 consecutive indices (the engine numbers spheres along a
 //! space-filling curve, so a block is a patch of space). The keys sit in one flat array, a block
 //! in four adjacent cache lines, and an indexed 4-ary min-heap orders the blocks by their
-//! earliest key and remembers which sphere holds it. Why not one heap entry per sphere: at
-//! N = 10^6 that heap's 16 MB missed the caches on each of its lower levels, one dependent miss
-//! per level, and walking it took ~60% of a collision's own time. The block heap is 1/32 of it
-//! (0.5 MB at N = 10^6, mostly in L2); an update reads one block (misses that do not depend on
-//! each other, requested early by prefetch()) and touches the heap only when the block's
-//! earliest key changes. (Blocks of 16 and 64 measured slower than 32 at N = 10^6.)
+//! earliest key and remembers which sphere holds it. Why not one heap entry per sphere: in large
+//! systems that heap misses the caches on each of its lower levels, one dependent miss per level,
+//! and walking it dominated a collision's own time. The block heap is 1/32 of its size (mostly in
+//! L2); an update reads one block (misses that do not depend on each other, requested early by
+//! prefetch()) and touches the heap only when the block's earliest key changes. 32 is the block
+//! size that timed best (docs/event_engine.md).
 //!
 //! Heap layout: the root is at slot 3; the children of slot p are slots 4p-8 .. 4p-5; the
 //! parent of slot c is c/4 + 2 (slots 0-2 unused).

@@ -45,12 +45,8 @@ double rms_speed(const ParticleSystem& sys) {
 
 bool detects_by_sweep(Detect d, const ParticleSystem& sys, double dt) {
   if (d != Detect::Auto) return d == Detect::Sweep;
-  // Overlap detection misses grazes, pairs that touch and part within one step. Measured
-  // against the event engine (collision-rate deficit, N = 8000-10^4): within the noise (+-0.2%)
-  // up to v_rms dt = 0.07 diameters; 0.5-0.8% at 0.14 (dt 0.08: phi 0.1, 0.3); 1.2% at 0.35
-  // (phi 0.2, dt 0.2), where a sphere that collides while inside a missed graze can end the
-  // run overlapping its partner. Sweep detection costs 1.2-1.6x as much, so it is chosen only
-  // for the long steps.
+  // Overlap detection misses grazes (pairs that touch and part within one step), which matter only for
+  // long steps; sweeping costs more, so it is chosen only beyond kOverlapDetectionLimit (see docs/performance.md).
   double smallest = std::numeric_limits<double>::infinity();
   for (const double r : sys.radius) smallest = std::min(smallest, 2 * r);
   return rms_speed(sys) * dt > kOverlapDetectionLimit * smallest;
@@ -59,20 +55,17 @@ bool detects_by_sweep(Detect d, const ParticleSystem& sys, double dt) {
 double auto_skin(const ParticleSystem& sys, double dt) {
   // A thin skin means frequent rebuilds, a thick one longer scans and neighbour sweeps.
   // (1) A rebuild every ~4 steps at most for the fastest spheres (~2.5 rms speeds): skin >=
-  // 20 v_rms dt; more frequent rebuilds also fall mid-step in dense gases (measured optimum
-  // at phi 0.3-0.45, dt 0.01-0.04). (2) The list costs ~ phi s per step for a skin s and a
-  // rebuild ~ N (plus the pair build) every ~ s / (v dt) steps, so the sum is least near
-  // s ~ sqrt(v dt d / phi): thicker skins pay in dilute gases (prefactor from fixed-K runs at
-  // dt 0.01: optimum ~0.6 at phi 0.1-0.2). The larger of the two, within [0.3, 0.6] diameters.
+  // 20 v_rms dt; more frequent rebuilds also fall mid-step in dense gases. (2) The list costs
+  // ~ phi s per step for a skin s and a rebuild ~ N (plus the pair build) every ~ s / (v dt)
+  // steps, so the sum is least near s ~ sqrt(v dt d / phi): thicker skins pay in dilute gases.
+  // The larger of the two, within [0.3, 0.6] diameters (prefactors fitted, see docs/performance.md).
   // (3) With the pairwise list guard a list outlives the first sphere to cross half the skin,
-  // and dense gases do better with thinner skins: the upper bound falls from 0.6 at phi 0.2 to
-  // 0.4 at phi >= 0.3 (N = 8000, phi 0.3, dt 0.02-0.025: skin 0.42 ~4% cheaper than 0.6; phi
-  // 0.45 flat from 0.3 to 0.6; N = 1e5, phi 0.2, dt 0.01: 0.52 best of 0.39-0.52).
+  // so dense gases do better with thinner skins: the upper bound falls from 0.6 at phi 0.2 to
+  // 0.4 at phi >= 0.3 (see docs/performance.md).
   // (4) Long steps overrule (3): no sphere may move more than 0.85 skins between rebuilds, so a
   // skin below a few v_rms dt lets the fast spheres expire the list every step, and in the
-  // middle of steps (N = 8000, phi 0.3, dt 0.08: 271 rebuilds per 50 steps at skin 0.42, 3x the
-  // CPU time of skin 0.85-1.0; dt 0.12: 90 rebuilds per step, 20x). skin >= 6 v_rms dt gives a
-  // sphere at 3 v_rms about two steps to cross it.
+  // middle of steps, at a multiple of the cost (see docs/performance.md). skin >= 6 v_rms dt
+  // gives a sphere at 3 v_rms about two steps to cross it.
   const double v_rms = rms_speed(sys);
   const double diameter = 2 * sys.max_radius();
   const double phi = std::max(sys.packing_fraction(), 1e-3);
@@ -338,13 +331,8 @@ class Stepper final : public StepperBase {
 
   // Per-field arrays in cell order: a neighbour's position or velocity is one cache line.
   std::vector<V3<Real>> pos_, vel_, pos0_;  // pos0_: positions at the last rebuild
-  // |vel_|, set by drift(), kept by the resolver, for the neighbour sweeps' per-pair speed
-  // bound; only at phi >= 0.3, where sweeps are a large part of the loop (N = 8000, float,
-  // 6-8 alternating rounds: phi 0.45 0.0505-0.0515 -> 0.0485-0.0493 CPU s per unit time, phi
-  // 0.3 unchanged); at phi 0.2, N = 1e5 sweeps are ~6% and the extra loads cost more than they
-  // save (Google Benchmark Target, 8 rounds, medians 33.1 -> 32.3 M/s double, 40.4 -> 38.0 float),
-  // and so they do in large systems, where each speed is one more cache miss (N = 1e6, phi 0.3,
-  // perf: resolving and sweeps +40% against -31% in rebuilds).
+  // |vel_|, set by drift(), kept by the resolver, for the neighbour sweeps' per-pair speed bound. Only where
+  // sweeps are a large part of the loop and speeds stay in cache do their loads pay (see docs/performance.md).
   bool speeds_ = false;
   std::vector<Real> speed_;
   std::vector<Real> r_, m_;
@@ -472,7 +460,7 @@ Stepper<Real, Mono>::Stepper(const ParticleSystem& sys, const StepperConfig& cfg
   // 3 cells (so a cell is at least sigma + skin wide).
   guard_.configure(skin_, cfg.pairwise_list_check && grid_.half_stencil_ok(), std::max<std::size_t>(n / 32, 16));
   // Speeds pay where the sweeps' extra loads hit the cache: positions and speeds within ~1 MiB
-  // (the L2 of this machine's cores). At N = 1e6, phi 0.3 they cost more than they saved.
+  // (the L2 of this machine's cores); beyond it each speed is one more miss (see docs/performance.md).
   speeds_ = sys.packing_fraction() >= 0.3 && double(n) * double(sizeof(V3<Real>) + sizeof(Real)) <= 1048576.0;
   rebuild();
   counters_.rebuilds = 0;

@@ -44,13 +44,14 @@ struct EventConfig {
   double max_cells_per_sphere = 2.0;
   //! Stencil half-width in cells for list rebuilds: cells are at least (largest diameter +
   //! shell) / reach wide and a rebuild searches (2 reach + 1)^3 cells. 2 searches a smaller
-  //! volume through 125 cells; rebuilds are under 10% of the events, so 1 is the default.
+  //! volume through 125 cells; rebuilds are a small part of the events, so 1 is the default
+  //! (docs/event_engine.md).
   int reach = 1;
   //! Neighbour-list shell in units of the largest diameter: a sphere's list holds every sphere
   //! whose list centre is closer than sigma_ij + shell to its own, and is rebuilt when the
   //! sphere has moved shell / 2 from its centre. Shrunk automatically when a periodic axis or
   //! a user-given cell grid is too small for it. 0 = auto_shell(packing fraction): 0.6 in dense
-  //! gases (the measured optimum at phi = 0.45 is flat from 0.5 to 0.8), thicker in dilute ones,
+  //! gases (where the optimum of timed runs is flat, docs/event_engine.md), thicker in dilute ones,
   //! where free flights are long and a thin shell means several rebuilds per collision.
   double shell = 0;
   //! Events per sphere between re-basings of the clock (all spheres brought to the current time,
