@@ -58,6 +58,9 @@ struct ContactArrays {
   //! Optional: row s's entries before adj_plain_end[s] all have image kNoImage (the sweeps then
   //! skip their shift, a sizeable part of the filter's instructions; see docs/performance.md).
   const std::uint32_t* adj_plain_end = nullptr;
+  //! Optional: 1 for the spheres this engine owns (indexed like id): the tally's owned_* sums
+  //! then weight each collision by the owned share of its pair and each bounce by its sphere's.
+  const std::uint8_t* owned = nullptr;
 };
 
 //! Totals of resolved contacts.
@@ -69,6 +72,9 @@ struct ContactTally {
   double virial = 0;                            //!< sum over collisions of r_ij . dp_i at contact
   //! The same sum as a tensor, r_ij (x) dp_i: xx, yy, zz, xy, xz, yz (LAMMPS's virial order).
   std::array<double, 6> virial_tensor{0, 0, 0, 0, 0, 0};
+  //! The same weighted by ownership (ContactArrays::owned), so engines sharing spheres add up.
+  double owned_collisions = 0, owned_wall_collisions = 0, owned_virial = 0;
+  std::array<double, 6> owned_virial_tensor{0, 0, 0, 0, 0, 0};
 };
 
 //! Mono: every sphere has the diameter `sigma` and mass `mass` given to set_uniform().
@@ -439,6 +445,7 @@ class ContactResolver {
     return std::minmax(id(c.i), id(c.j));
   }
   std::int64_t id(std::uint32_t i) const { return a_.id_slot ? a_.id[a_.id_slot[i]] : a_.id[i]; }
+  double owned(std::uint32_t i) const { return a_.owned[a_.id_slot ? a_.id_slot[i] : i]; }
 
   //! Mirrors sphere c.i at the wall of axis c.image, `c.back` before the end of the step.
   template <class Hooks>
@@ -448,6 +455,7 @@ class ContactResolver {
     const Real v_before = v;
     kernel::reflect_from_walls(a_.pos[c.i][d], v, lo_[std::size_t(d)], hi_[std::size_t(d)], radius(c.i));
     ++tally.wall_collisions;
+    if (a_.owned) tally.owned_wall_collisions += owned(c.i);
     tally.wall_impulse[std::size_t(d)] += std::abs(double(Mono ? mass_ : a_.mass[c.i]) * double(v - v_before));
     mark_changed(c.i, c.back);
     hooks.after_bounce(c.i);
@@ -539,6 +547,13 @@ class ContactResolver {
     if (a_.speed) a_.speed[i] = speed_i, a_.speed[j] = speed_j;
     ++tally.collisions;
     tally.virial += virial;
+    if (a_.owned) {
+      const double w = 0.5 * (owned(i) + owned(j));
+      tally.owned_collisions += w;
+      tally.owned_virial += w * virial;
+      const double t[6] = {r[0] * dp[0], r[1] * dp[1], r[2] * dp[2], r[0] * dp[1], r[0] * dp[2], r[1] * dp[2]};
+      for (int k = 0; k < 6; ++k) tally.owned_virial_tensor[std::size_t(k)] += w * t[k];
+    }
     for (const std::uint32_t k : {i, j}) {
       mark_changed(k, back);
       hooks.after_collision(k, back);

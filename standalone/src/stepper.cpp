@@ -18,6 +18,7 @@
 #include "hardsphere/collision.hpp"
 #include "hardsphere/errors.hpp"
 #include "hardsphere/scene_limits.hpp"
+#include "hardsphere/state_exchange.hpp"
 #include "list_guard.hpp"
 
 namespace hardsphere {
@@ -81,7 +82,7 @@ using V3 = Vec3<Real>;
 
 //! Mono: every sphere has the same radius and mass (chosen from the scene by make_stepper).
 template <class Real, bool Mono>
-class Stepper final : public StepperBase {
+class Stepper final : public StepperBase, public StateExchange {
  public:
   Stepper(const ParticleSystem& sys, const StepperConfig& cfg);
 
@@ -122,6 +123,18 @@ class Stepper final : public StepperBase {
   std::size_t size() const override { return pos_.size(); }
   void copy_ids(std::int64_t* out) const override {
     for (std::size_t k = 0; k < slot_.size(); ++k) out[k] = id_[slot_[k]];
+  }
+  void copy_input_index(std::uint32_t* out) const override { std::copy(slot_.begin(), slot_.end(), out); }
+  void set_owned(const std::uint8_t* owned) override {
+    owned_.assign(owned, owned + slot_.size());
+    bind_resolver();
+  }
+  const OwnedCounters& owned_counters() const override {
+    owned_counters_.collisions = tally_.owned_collisions;
+    owned_counters_.wall_collisions = tally_.owned_wall_collisions;
+    owned_counters_.pair_virial = tally_.owned_virial;
+    owned_counters_.pair_virial_tensor = tally_.owned_virial_tensor;
+    return owned_counters_;
   }
   void copy_images(std::int32_t* out) const override {
     for (std::size_t k = 0; k < slot_.size(); ++k)
@@ -278,6 +291,7 @@ class Stepper final : public StepperBase {
   template <bool Sweep>
   void scan_pair_list();
   void rebuild();
+  void bind_resolver();
   void build_stencil();
   void build_pairs_half_stencil();
   void build_pairs_any_grid();
@@ -372,6 +386,8 @@ class Stepper final : public StepperBase {
   ContactResolver<Real, Mono> resolver_;
   ContactTally tally_;
   mutable StepCounters counters_;
+  mutable OwnedCounters owned_counters_;
+  std::vector<std::uint8_t> owned_;  // input order; empty: no ownership accounting
 };
 
 template <class Real, bool Mono>
@@ -647,9 +663,15 @@ void Stepper<Real, Mono>::rebuild() {
     speed_.resize(n);
     for (std::size_t k = 0; k < n; ++k) speed_[k] = norm(vel_[k]);
   }
-  resolver_.bind({pos_.data(), vel_.data(), r_.data(), m_.data(), id_.data(), slot_.data(), adj_start_.data(),
-                  adj_.data(), image_shift_, speeds_ ? speed_.data() : nullptr, adj_plain_end_.data()});
+  bind_resolver();
   ++counters_.rebuilds;
+}
+
+template <class Real, bool Mono>
+void Stepper<Real, Mono>::bind_resolver() {
+  resolver_.bind({pos_.data(), vel_.data(), r_.data(), m_.data(), id_.data(), slot_.data(), adj_start_.data(),
+                  adj_.data(), image_shift_, speeds_ ? speed_.data() : nullptr, adj_plain_end_.data(),
+                  owned_.empty() ? nullptr : owned_.data()});
 }
 
 template <class Real, bool Mono>
@@ -845,6 +867,11 @@ std::unique_ptr<StepperBase> make_stepper_for(const ParticleSystem& sys, const S
 std::unique_ptr<StepperBase> make_stepper(const ParticleSystem& sys, const StepperConfig& cfg, Precision precision) {
   if (precision == Precision::Float) return make_stepper_for<float>(sys, cfg);
   return make_stepper_for<double>(sys, cfg);
+}
+
+StateExchange& state_exchange(StepperBase& stepper) {
+  // Every engine make_stepper builds implements both interfaces.
+  return dynamic_cast<StateExchange&>(stepper);
 }
 
 }  // namespace hardsphere

@@ -9,6 +9,7 @@
 #include "hardsphere/event_engine.hpp"
 #include "hardsphere/init.hpp"
 #include "hardsphere/observables.hpp"
+#include "hardsphere/state_exchange.hpp"
 #include "hardsphere/stepper.hpp"
 #include "scenes.hpp"
 
@@ -87,15 +88,15 @@ TEST(StepperAdapterApi, WrapCountsKeepTheUnwrappedTrajectoryContinuous) {
   cfg.dt = 0.01;
   auto st = make_stepper(s, cfg);
   st->run(1000);  // t = 10: 37, 23 and 41 box lengths of 10 travelled
-  const std::size_t n = st->size();
+  const std::size_t n = hardsphere::state_exchange(*st).size();
   std::vector<std::int64_t> ids(n);
   std::vector<std::int32_t> img(3 * n);
   std::vector<std::uint32_t> dest{1, 0};  // written in reverse slot order
   std::vector<double> x(3 * n), v(3 * n);
   const std::vector<Vec3d> shift{{10, 0, 0}, {0, 0, -20}};
-  st->copy_ids(ids.data());
-  st->copy_images(img.data());
-  st->scatter_state(dest.data(), shift.data(), x.data(), v.data());
+  hardsphere::state_exchange(*st).copy_ids(ids.data());
+  hardsphere::state_exchange(*st).copy_images(img.data());
+  hardsphere::state_exchange(*st).scatter_state(dest.data(), shift.data(), x.data(), v.data());
   EXPECT_EQ(st->counters().collisions, 0);
   for (std::size_t k = 0; k < n; ++k) {
     const Vec3d x0 = ids[k] == 1 ? x1 : x2, v0 = ids[k] == 1 ? v1 : v2;

@@ -81,6 +81,7 @@ struct StepCounters {
 };
 
 //! Type-erased engine interface, so precision and scene specialisations are chosen at run time.
+//! Adapters that mirror the spheres reach them through state_exchange() (state_exchange.hpp).
 class StepperBase {
  public:
   virtual ~StepperBase() = default;
@@ -94,23 +95,6 @@ class StepperBase {
   virtual bool sweep_detection() const = 0;      //!< the detection mode in use (Auto resolved) is sweep
   //! Sub-steps the next step needs at the current speeds (1 unless dt is long for the skin).
   virtual double substeps_per_step() const = 0;
-
-  //! For adapters that keep their own copy of the spheres (the LAMMPS fix): the spheres in the
-  //! engine's internal order, which changes only when counters().rebuilds does. Positions are
-  //! the engine's (periodic coordinates may be re-wrapped at a rebuild).
-  virtual std::size_t size() const = 0;
-  virtual void copy_ids(std::int64_t* out) const = 0;
-  //! Per sphere and axis (3 per sphere), how many box lengths the engine has taken off its
-  //! position by wrapping since construction: position + image * L is continuous in time.
-  virtual void copy_images(std::int32_t* out) const = 0;
-  virtual void copy_state(Vec3d* pos, Vec3d* vel) const = 0;
-  //! Writes the state straight into an adapter's flat arrays (3 doubles per sphere): sphere k
-  //! goes to row dest[k], its position shifted by shift[k]. One pass, no intermediate copy.
-  virtual void scatter_state(const std::uint32_t* dest, const Vec3d* shift, double* x, double* v) const = 0;
-  //! Replaces every velocity (internal order), e.g. after a thermostat changed them.
-  virtual void set_velocities(const Vec3d* vel) = 0;
-  //! The same from an adapter's flat array: sphere k takes row src[k] of v.
-  virtual void gather_velocities(const std::uint32_t* src, const double* v) = 0;
 };
 
 //! Validates the configuration against the system (throws InputError) and builds the engine.

@@ -1,0 +1,53 @@
+#pragma once
+//! For adapters that keep their own copy of the spheres (the LAMMPS fix) and for engines that
+//! share spheres with others (one stepper per MPI rank over its owned and ghost spheres): the
+//! stepper's spheres in its internal order, and collision totals weighted by ownership.
+#include <array>
+#include <cstddef>
+#include <cstdint>
+
+#include "hardsphere/stepper.hpp"
+#include "hardsphere/vec3.hpp"
+
+namespace hardsphere {
+
+//! Totals weighted by ownership (see StateExchange::set_owned): a collision counts
+//! (owned_i + owned_j) / 2, a wall bounce owned_i, so engines that share spheres add up to
+//! the totals of one engine over all of them.
+struct OwnedCounters {
+  double collisions = 0;
+  double wall_collisions = 0;
+  double pair_virial = 0;                                      //!< sum of weight * r_ij . dp_i
+  std::array<double, 6> pair_virial_tensor{0, 0, 0, 0, 0, 0};  //!< xx yy zz xy xz yz
+};
+
+class StateExchange {
+ public:
+  virtual ~StateExchange() = default;
+  //! The spheres in the engine's internal order ("slots"), which changes only when
+  //! counters().rebuilds does.
+  virtual std::size_t size() const = 0;
+  virtual void copy_ids(std::int64_t* out) const = 0;
+  //! Each slot's index in the ParticleSystem the engine was made from.
+  virtual void copy_input_index(std::uint32_t* out) const = 0;
+  //! Per slot and axis (3 per slot), how many box lengths the engine has taken off the
+  //! position by wrapping since construction: position + image * L is continuous in time.
+  virtual void copy_images(std::int32_t* out) const = 0;
+  virtual void copy_state(Vec3d* pos, Vec3d* vel) const = 0;
+  //! Writes the state straight into an adapter's flat arrays (3 doubles per sphere): slot k
+  //! goes to row dest[k], its position shifted by shift[k]. One pass, no intermediate copy.
+  virtual void scatter_state(const std::uint32_t* dest, const Vec3d* shift, double* x, double* v) const = 0;
+  //! Replaces every velocity (slot order), e.g. after a thermostat changed them.
+  virtual void set_velocities(const Vec3d* vel) = 0;
+  //! The same from an adapter's flat array: slot k takes row src[k] of v.
+  virtual void gather_velocities(const std::uint32_t* src, const double* v) = 0;
+  //! Marks which spheres (input order, 1 = owned) this engine owns; owned_counters() then
+  //! accumulate from the next step on. Without it nothing is accumulated there.
+  virtual void set_owned(const std::uint8_t* owned) = 0;
+  virtual const OwnedCounters& owned_counters() const = 0;
+};
+
+//! The exchange interface of a stepper made by make_stepper.
+StateExchange& state_exchange(StepperBase& stepper);
+
+}  // namespace hardsphere
