@@ -28,7 +28,7 @@ using namespace FixConst;
 using hardsphere::kNoImage;
 
 namespace {
-constexpr int kVectorSize = 8;
+constexpr int kVectorSize = 10;
 std::string num(double x) {
   char b[64];
   snprintf(b, sizeof(b), "%.6g", x);
@@ -96,34 +96,11 @@ FixHardSphere::~FixHardSphere() {
 int FixHardSphere::setmask() { return INITIAL_INTEGRATE | POST_FORCE | PRE_NEIGHBOR; }
 
 void FixHardSphere::init() {
-  if (!atom->sphere_flag || !atom->radius_flag || !atom->rmass_flag)
-    error->all(FLERR, "fix hardsphere needs per-atom radius and mass: use 'atom_style sphere'");
-  if (igroup != 0) error->all(FLERR, "fix hardsphere must act on group 'all' (every atom is a hard sphere)");
-  if (!force->pair_match("hardsphere", 1))
-    error->all(FLERR,
-               "fix hardsphere needs 'pair_style hardsphere' and 'pair_coeff * *' (contact distances and the "
-               "neighbour cutoff); pair hybrid is not supported");
-  if (domain->triclinic) error->all(FLERR, "fix hardsphere supports orthogonal boxes only");
-  if (domain->box_change)  // the cell grid, walls and periodic images are set up for one box
-    error->all(FLERR,
-               "fix hardsphere needs a fixed box: remove fix deform/npt/box-changing fixes (compress hard "
-               "spheres by growing their radii between runs instead)");
-  for (int d = 0; d < 3; d++)
-    for (int s = 0; s < 2; s++)
-      if (domain->boundary[d][s] >= 2)
-        error->all(FLERR,
-                   "fix hardsphere reflects atoms at fixed box faces: use 'boundary p' or 'f' per axis, "
-                   "not shrink-wrapped s/m");
-  if (neighbor->every != 1 || neighbor->delay != 0)
-    error->all(FLERR, "fix hardsphere needs 'neigh_modify every 1 delay 0' (a later rebuild can miss collisions)");
-  for (int f = 0; f < modify->nfix; f++)
-    if (modify->fix[f] != this && modify->fix[f]->time_integrate)
-      error->all(FLERR, std::string("fix hardsphere is the time integrator: remove fix ") + modify->fix[f]->id + " (" +
-                            modify->fix[f]->style + ")");
+  check_input();  // fix_hardsphere_checks.cpp: styles, box, run style, other fixes, neighbour settings
   dt = update->dt;
   serial = comm->nprocs == 1 && !ghost_path_only;
+  serial_schedule();  // also tells the owned + ghost path when to re-measure the temperature
   if (serial) {
-    serial_schedule();
     list = nullptr;
     return;  // the stepper needs no ghost shell and no LAMMPS neighbour list
   }
@@ -181,6 +158,8 @@ void FixHardSphere::pre_neighbor() {
 void FixHardSphere::setup(int vflag) {
   check_setup();
   if (serial) serial_setup();
+  t_now = temperature_now();
+  run_set_up = true;
   for (int i = 0; i < atom->nlocal; i++) wall_axes[i] = 0.0;
   // Thermo at a run's first step reports the last resolved step's collision virial (zero
   // before any step): setup resolves no collisions itself.
@@ -266,6 +245,9 @@ void FixHardSphere::initial_integrate(int) {
     serial_step();
     return;
   }
+  if (!run_set_up || others_acted(update->ntimestep - 1)) t_now = temperature_now();
+  run_set_up = true;
+  t_integral += t_now * dt;
   double **x = atom->x, **v = atom->v;
   const int nlocal = atom->nlocal;
   n_wall_start = n_wall;
@@ -490,6 +472,7 @@ struct FixHardSphere::Hooks {
 
 void FixHardSphere::post_run() {
   if (serial && stepper && !state_written) serial_write();  // a run cut short (timer timeout)
+  run_set_up = false;                                       // a following 'run ... pre no' starts without setup()
 }
 
 void FixHardSphere::post_force(int vflag) {
@@ -603,12 +586,29 @@ void FixHardSphere::resolve_step(hardsphere::ContactResolver<double, Mono> &res)
   res.end_step();
 }
 
+double FixHardSphere::temperature_now() const {
+  double mv2 = 0.0, all = 0.0;
+  for (int i = 0; i < atom->nlocal; i++) {
+    const double *v = atom->v[i];
+    mv2 += atom->rmass[i] * (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+  }
+  MPI_Allreduce(&mv2, &all, 1, MPI_DOUBLE, MPI_SUM, world);
+  return atom->natoms > 0 ? all / (3.0 * double(atom->natoms)) : 0.0;
+}
+
 double FixHardSphere::compute_vector(int n) {
-  double loc[kVectorSize] = {n_coll, n_coll_step, virial_sum, sim_time, n_wall, n_global, n_forced, n_unresolved};
+  double loc[8] = {n_coll, n_coll_step, virial_sum, sim_time, n_wall, n_global, n_forced, n_unresolved};
   if (n == 3 || n == 5 || n == 6) return loc[n];  // identical on every rank
+  const int k = n < 8 ? n : 2;                    // Z and P need the summed collision virial
   double all = 0;
-  MPI_Allreduce(&loc[n], &all, 1, MPI_DOUBLE, MPI_SUM, world);
-  return all;
+  MPI_Allreduce(&loc[k], &all, 1, MPI_DOUBLE, MPI_SUM, world);
+  if (n < 8) return all;
+  // Z = PV/(NkT) = 1 + W / (3 N <T> t) as the standalone computes it (W: collision virial,
+  // <T>: time-averaged 2 KE / (3N), t: simulated time); P = N <T> Z / V with V the box volume.
+  const double natoms = double(atom->natoms), t_mean = sim_time > 0.0 ? t_integral / sim_time : t_now;
+  const double z = sim_time > 0.0 && natoms > 0.0 && t_integral > 0.0 ? 1.0 + all / (3.0 * natoms * t_integral) : 1.0;
+  if (n == 8) return z;
+  return natoms * t_mean * z / (domain->xprd * domain->yprd * domain->zprd);
 }
 
 int FixHardSphere::pack_forward_comm(int n, int *list_, double *buf, int, int *) {

@@ -1,15 +1,18 @@
 #pragma once
 //! fix ID all hardsphere [detect overlap|sweep] [max_events N] [ghost auto|user] [path auto|ghosts]
 //!
-//! Time integrator for hard spheres (instead of fix nve/sphere). On one rank it hands the atoms
-//! to the standalone stepper (fix_hardsphere_serial.cpp). Under MPI (or 'path ghosts') it drifts
-//! the owned atoms by v dt and mirrors them at fixed (f) box faces (LAMMPS keeps atoms inside),
-//! then undoes the mirrors and resolves the step's collisions and wall bounces in time order with
-//! hardsphere::ContactResolver (the standalone stepper's implementation) over owned + ghost atoms, checks the ghosts
-//! against their owners and re-runs the step for all atoms if they disagree. Needs atom_style sphere and pair_style
-//! hardsphere. Global vector (f_ID[1..8]): collisions (cumulative), collisions in the last step, sum of r_ij.dp_i over
-//! collisions, simulated time, wall bounces, steps re-run for all atoms at once because a ghost copy disagreed with its
-//! owner, forced reneighbourings, steps that hit max_events.
+//! Time integrator for hard spheres (instead of fix nve/sphere); user documentation in
+//! docs/fix_hardsphere.md. On one rank it hands the atoms to the standalone stepper
+//! (fix_hardsphere_serial.cpp). Under MPI (or 'path ghosts') it drifts the owned atoms by v dt and
+//! mirrors them at fixed (f) box faces (LAMMPS keeps atoms inside), then undoes the mirrors and
+//! resolves the step's collisions and wall bounces in time order with hardsphere::ContactResolver
+//! (the standalone stepper's implementation) over owned + ghost atoms, checks the ghosts against
+//! their owners and re-runs the step for all atoms if they disagree. What it refuses (other fixes,
+//! boundaries, minimize, ...) is decided in fix_hardsphere_checks.cpp. Global vector
+//! (f_ID[1..10]): collisions (cumulative), collisions in the last step, sum of r_ij.dp_i over
+//! collisions, simulated time, wall bounces, steps re-run for all atoms at once because a ghost
+//! copy disagreed with its owner, forced reneighbourings, steps that hit max_events,
+//! compressibility factor Z and pressure P (time averages since the fix was defined).
 #include <array>
 #include <cstdint>
 #include <memory>
@@ -54,6 +57,14 @@ class FixHardSphere : public Fix {
   void record_build();
   void build_adjacency();
   void check_setup();
+  // fix_hardsphere_checks.cpp: what the fix refuses, and the neighbour settings it needs.
+  void check_input();
+  void check_other_fixes();
+  void apply_neighbor_settings();
+  //! 2 KE / (3 N) over all atoms (the standalone's temperature: 3N degrees of freedom).
+  double temperature_now() const;
+  //! Whether another fix may have changed velocities at the end of `step`.
+  bool others_acted(bigint step) const;
   void on_collision(int i, int j, double back);
   bool ghosts_agree_with_owners();
   void resolve_globally();
@@ -133,6 +144,12 @@ class FixHardSphere : public Fix {
   double max_disp2 = 0.0;
   double n_coll = 0, n_coll_step = 0, virial_sum = 0, n_wall = 0, n_global = 0, n_forced = 0, n_unresolved = 0;
   double sim_time = 0.0;
+  // Time-averaged temperature for Z and P (f_ID[9], f_ID[10]): collisions keep the kinetic
+  // energy, so the temperature is recomputed only when something else may have changed it.
+  double t_now = 0.0;        //!< current temperature, 2 KE / (3 N)
+  double t_integral = 0.0;   //!< sum over steps of t_now * dt (since the fix was defined)
+  bool run_set_up = false;   //!< setup() ran for this run ('run ... pre no' skips it)
+  bool neigh_noted = false;  //!< the neighbour settings message was printed
 };
 
 }  // namespace LAMMPS_NS

@@ -14,6 +14,7 @@
 #include "fix_hardsphere.h"
 #include "hardsphere/errors.hpp"
 #include "hardsphere/particles.hpp"
+#include "hardsphere/state_exchange.hpp"
 #include "modify.h"
 #include "output.h"
 #include "update.h"
@@ -89,12 +90,16 @@ void FixHardSphere::serial_schedule() {
   }
 }
 
+bool FixHardSphere::others_acted(bigint step) const {
+  if (others_every_step) return true;
+  for (const int every : others_every)
+    if (step % every == 0) return true;
+  return false;
+}
+
 bool FixHardSphere::serial_must_write() const {
   const bigint t = update->ntimestep;
-  if (others_every_step || t == output->next || t >= update->laststep) return true;
-  for (const int every : others_every)
-    if (t % every == 0) return true;
-  return false;
+  return t == output->next || t >= update->laststep || others_acted(t);
 }
 
 hardsphere::ParticleSystem FixHardSphere::empty_system() const {
@@ -136,12 +141,12 @@ void FixHardSphere::serial_map() {
   // that has travelled far while nothing was written (sparse writes) is re-imaged here, so
   // that x stays within half a box of the box. Needed after the stepper re-sorted its cells or
   // LAMMPS re-neighboured, and only before a write.
-  const std::size_t n = stepper->size();
+  const std::size_t n = hardsphere::state_exchange(*stepper).size();
   slot_id.resize(n), slot_image.resize(3 * n), slot_local.resize(n), slot_shift.resize(n);
   slot_pos.resize(n), slot_vel.resize(n), local_slot.resize(n);
-  stepper->copy_ids(slot_id.data());
-  stepper->copy_images(slot_image.data());
-  stepper->copy_state(slot_pos.data(), slot_vel.data());
+  hardsphere::state_exchange(*stepper).copy_ids(slot_id.data());
+  hardsphere::state_exchange(*stepper).copy_images(slot_image.data());
+  hardsphere::state_exchange(*stepper).copy_state(slot_pos.data(), slot_vel.data());
   imageint *image = atom->image;
   for (std::size_t k = 0; k < n; k++) {
     const std::size_t tag = std::size_t(slot_id[k]);
@@ -176,9 +181,9 @@ void FixHardSphere::serial_follow_lammps() {
   // Otherwise it only wrapped some atoms, each wrap changing an image flag: shift those.
   lammps_moved = false;
   const int nlocal = atom->nlocal;
-  if (std::size_t(nlocal) != stepper->size())
+  if (std::size_t(nlocal) != hardsphere::state_exchange(*stepper).size())
     error->all(FLERR, "fix hardsphere: atoms were added or removed during a run (" + std::to_string(nlocal) + " now, " +
-                          std::to_string(stepper->size()) + " at its start)");
+                          std::to_string(hardsphere::state_exchange(*stepper).size()) + " at its start)");
   if (!std::equal(atom->tag, atom->tag + nlocal, mapped_tags.begin())) {
     map_tags();
     slots_dirty = true;
@@ -196,11 +201,17 @@ void FixHardSphere::serial_follow_lammps() {
 
 void FixHardSphere::serial_write() {
   serial_map_if_stale();
-  if (!slot_local.empty()) stepper->scatter_state(slot_local.data(), slot_shift.data(), atom->x[0], atom->v[0]);
+  if (!slot_local.empty())
+    hardsphere::state_exchange(*stepper).scatter_state(slot_local.data(), slot_shift.data(), atom->x[0], atom->v[0]);
   state_written = true;
 }
 
 void FixHardSphere::serial_step() {
+  if (!run_set_up) {  // 'run ... pre no': no setup(), but commands between runs may have changed atoms
+    serial_setup();
+    t_now = temperature_now();
+    run_set_up = true;
+  }
   if (lammps_moved) serial_follow_lammps();
   const int nlocal = atom->nlocal;
   double *v = nlocal ? atom->v[0] : nullptr;  // LAMMPS's per-atom rows are one contiguous block
@@ -212,7 +223,8 @@ void FixHardSphere::serial_step() {
   if (!v_written.empty()) {
     if (v_written.size() != std::size_t(3 * nlocal) || !std::equal(v, v + 3 * nlocal, v_written.begin())) {
       serial_map_if_stale();
-      stepper->gather_velocities(slot_local.data(), v);
+      hardsphere::state_exchange(*stepper).gather_velocities(slot_local.data(), v);
+      t_now = temperature_now();
     }
     v_written.clear();
   }
@@ -233,4 +245,5 @@ void FixHardSphere::serial_step() {
   n_wall += double(after.wall_collisions - before.wall_collisions);
   n_unresolved += double(after.unresolved_steps - before.unresolved_steps);
   sim_time += dt;
+  t_integral += t_now * dt;
 }

@@ -2,6 +2,7 @@
 
 #include <mpi.h>
 
+#include <cmath>
 #include <cstring>
 #include <string>
 
@@ -27,6 +28,7 @@ PairHardSphere::~PairHardSphere() {
     memory->destroy(setflag);
     memory->destroy(cutsq);
     memory->destroy(cut);
+    memory->destroy(diam);
   }
 }
 
@@ -36,6 +38,7 @@ void PairHardSphere::allocate() {
   memory->create(setflag, n + 1, n + 1, "pair:setflag");
   memory->create(cutsq, n + 1, n + 1, "pair:cutsq");
   memory->create(cut, n + 1, n + 1, "pair:cut");
+  memory->create(diam, n + 1, n + 1, "pair:diam");
   for (int i = 1; i <= n; i++)
     for (int j = i; j <= n; j++) setflag[i][j] = 0;
 }
@@ -65,7 +68,7 @@ void PairHardSphere::coeff(int narg, char **arg) {
   int count = 0;
   for (int i = ilo; i <= ihi; i++)
     for (int j = (jlo > i ? jlo : i); j <= jhi; j++) {
-      cut[i][j] = d;
+      diam[i][j] = d;
       setflag[i][j] = 1;
       count++;
     }
@@ -74,15 +77,20 @@ void PairHardSphere::coeff(int narg, char **arg) {
 
 void PairHardSphere::init_style() {
   if (!atom->radius_flag || !atom->rmass_flag)
-    error->all(FLERR, "pair_style hardsphere needs per-atom radius and mass: use atom_style sphere");
+    error->all(FLERR, "pair_style hardsphere needs per-atom radius and mass: use 'atom_style sphere'");
   if (modify->find_fix_by_style("^hardsphere$") < 0)
     error->all(FLERR,
                "pair_style hardsphere only provides contact distances: add 'fix ID all hardsphere' "
                "to move the atoms (and no other time integrator)");
   // No neighbour list of its own: fix hardsphere requests the one it needs.
+  auto_diameter = -1.0;
 }
 
 double PairHardSphere::auto_cut() {
+  if (atom->natoms == 0)
+    error->all(FLERR,
+               "pair_style hardsphere: the box has no atoms ('pair_coeff * *' takes the contact distance from "
+               "their diameters); create or read them (create_atoms, read_data) before 'run'");
   double rmax = 0.0;
   for (int i = 0; i < atom->nlocal; i++)
     if (atom->radius[i] > rmax) rmax = atom->radius[i];
@@ -94,18 +102,26 @@ double PairHardSphere::auto_cut() {
   return 2.0 * all;
 }
 
+double PairHardSphere::per_atom_diameter() {
+  if (!(auto_diameter > 0.0)) auto_diameter = auto_cut();  // once per init (init_style resets it)
+  return auto_diameter;
+}
+
+double PairHardSphere::resolved(int i, int j) { return diam[i][j] > 0.0 ? diam[i][j] : per_atom_diameter(); }
+
 double PairHardSphere::init_one(int i, int j) {
-  double c;
+  // diam keeps what pair_coeff gave (< 0: the per-atom diameters); cut is what is in use.
+  double c = 0.0;
   if (setflag[i][j])
-    c = cut[i][j];
-  else if (setflag[i][i] && setflag[j][j] && cut[i][i] > 0 && cut[j][j] > 0)
-    c = mix_distance(cut[i][i], cut[j][j]);
+    c = resolved(i, j);
   else if (setflag[i][i] && setflag[j][j])
-    c = -1.0;
+    c = diam[i][i] > 0.0 && diam[j][j] > 0.0 ? mix_distance(diam[i][i], diam[j][j]) : per_atom_diameter();
   else
     error->all(FLERR, "pair_style hardsphere: pair_coeff missing for types " + std::to_string(i) + " " +
                           std::to_string(j) + " (use 'pair_coeff * *' to take the per-atom diameters)");
-  if (c < 0.0) c = auto_cut();
+  // write_data stores only the I I values unless given 'pair ij', and warns when LAMMPS's
+  // mixed_flag says that mixing them would not give every I J.
+  if (i != j && std::abs(c - mix_distance(resolved(i, i), resolved(j, j))) > 1e-12 * c) mixed_flag = 0;
   cut[i][j] = cut[j][i] = c;
   return c;
 }
@@ -114,7 +130,7 @@ void PairHardSphere::write_restart(FILE *fp) {
   for (int i = 1; i <= atom->ntypes; i++)
     for (int j = i; j <= atom->ntypes; j++) {
       fwrite(&setflag[i][j], sizeof(int), 1, fp);
-      if (setflag[i][j]) fwrite(&cut[i][j], sizeof(double), 1, fp);
+      if (setflag[i][j]) fwrite(&diam[i][j], sizeof(double), 1, fp);
     }
 }
 
@@ -126,8 +142,8 @@ void PairHardSphere::read_restart(FILE *fp) {
       if (me == 0) utils::sfread(FLERR, &setflag[i][j], sizeof(int), 1, fp, nullptr, error);
       MPI_Bcast(&setflag[i][j], 1, MPI_INT, 0, world);
       if (setflag[i][j]) {
-        if (me == 0) utils::sfread(FLERR, &cut[i][j], sizeof(double), 1, fp, nullptr, error);
-        MPI_Bcast(&cut[i][j], 1, MPI_DOUBLE, 0, world);
+        if (me == 0) utils::sfread(FLERR, &diam[i][j], sizeof(double), 1, fp, nullptr, error);
+        MPI_Bcast(&diam[i][j], 1, MPI_DOUBLE, 0, world);
       }
     }
 }

@@ -5,6 +5,7 @@
 //!   pair_coeff I J [diameter]   diameter: contact distance of types I and J (mixed with the
 //!                               pair_modify mix rule when I != J is not given); without it,
 //!                               the largest per-atom diameter 2*max(radius) is used.
+//! User documentation: docs/pair_hardsphere.md.
 #include "pair.h"
 
 namespace LAMMPS_NS {
@@ -26,13 +27,18 @@ class PairHardSphere : public Pair {
     fforce = 0.0;
     return 0.0;
   }
-  //! Contact distance of types i, j (<0: from per-atom radii). Valid after init().
+  //! Contact distance (neighbour cutoff) of types i, j in use. Valid after init().
   double contact(int i, int j) const { return cut[i][j]; }
 
  protected:
-  double **cut = nullptr;  //!< contact distance per type pair; < 0 means per-atom radii
+  double **cut = nullptr;       //!< contact distance per type pair in use (set by init_one)
+  double **diam = nullptr;      //!< per type pair as pair_coeff gave it; < 0 means the per-atom diameters
+  double auto_diameter = -1.0;  //!< 2 max(radius) over all atoms, when a coefficient needs it
   void allocate();
   double auto_cut();
+  double per_atom_diameter();
+  //! The contact distance pair_coeff I J gives, with the per-atom diameters resolved.
+  double resolved(int i, int j);
 };
 
 }  // namespace LAMMPS_NS

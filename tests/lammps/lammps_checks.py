@@ -2,7 +2,7 @@
 """LAMMPS styles (fix hardsphere, pair_style hardsphere) against the standalone stepper.
 
 Usage: lammps_checks.py CHECK --lmp PATH --hs PATH [--mpirun PATH] [--np N]
-CHECK: identical | conservation | errors | runs
+CHECK: identical | conservation | errors | runs | defaults | outputs
 Each check builds its own initial state with `hardsphere run --write-data` in a temporary dir.
 """
 import argparse
@@ -271,31 +271,297 @@ write_data lmp.data
     return ok
 
 
+WALLS = """units lj
+atom_style sphere
+boundary p p f
+lattice fcc 0.5
+region box block 0 4 0 4 0 4
+create_box 1 box
+region inner block INF INF INF INF 0.2 3.8
+create_atoms 1 region inner
+set type 1 diameter 1.0
+set type 1 mass 1.0
+velocity all create 1.0 87287 dist gaussian mom yes
+pair_style hardsphere
+pair_coeff * *
+neighbor 0.5 bin
+timestep 0.01
+fix hs all hardsphere
+"""
+
+
 def errors(args):
-    """Bad inputs end with a LAMMPS error naming what to change."""
+    """Bad inputs end with a LAMMPS error naming what to change: the offending command or value
+    and the fix's advice, exactly. Under --np 2 the cases marked for MPI (error->all must stop
+    every rank the same way)."""
     ok = True
     with tempfile.TemporaryDirectory() as d:
         standalone(args, d, "--n", "100", "--phi", "0.2", "--steps", "0", "--write-data", "init.data")
         base = HEADER.format(data="init.data", skin=0.5, dt=0.01)
+        force = ("adds or acts on forces, but hard spheres have no forces (fix hardsphere moves them by collisions "
+                 "only), so it would have no effect: remove it")
+        thermostat = " (thermostat with an end-of-step fix instead, e.g. temp/berendsen or temp/rescale)"
+        wall = ("is a wall fix, which hard spheres would not feel (they have no forces): walls come from the box, use "
+                "'boundary f' on that axis (spheres bounce off fixed faces) and remove 'fix w'")
+        inserts = ("inserts or deletes atoms during a run, but fix hardsphere follows one set of atoms through a "
+                   "run: remove it and add or delete atoms between runs (create_atoms, delete_atoms)")
+        region = "region ins block 0.5 3.5 0.5 3.5 2 3.5\n"
+        # name: (script, exact phrase in the ERROR line, run on 2 ranks too)
         cases = {
             "wrong atom style": ("units lj\natom_style atomic\nregion b block 0 5 0 5 0 5\ncreate_box 1 b\n"
                                  "create_atoms 1 single 1 1 1\nmass 1 1\npair_style hardsphere\npair_coeff * * 1.0\n"
-                                 "fix hs all hardsphere\nrun 1\n", "atom_style sphere"),
+                                 "fix hs all hardsphere\nrun 1\n", "use 'atom_style sphere'", False),
             "pair without fix": (base.replace("fix hs all hardsphere\n", "fix nve all nve/sphere\n") + "run 1\n",
-                                 "add 'fix ID all hardsphere'"),
+                                 "add 'fix ID all hardsphere'", False),
             "fix without pair": (base.replace("pair_style hardsphere\npair_coeff * *\n", "") + "run 1\n",
-                                 "needs 'pair_style hardsphere'"),
+                                 "needs 'pair_style hardsphere'", False),
+            "another integrator": (base + "fix nve all nve/sphere\nrun 1\n",
+                                   "fix hardsphere is the time integrator: remove fix nve (nve/sphere)", False),
             "overlapping atoms": (base + "set atom 1 x 0.0 y 0.0 z 0.0\nset atom 2 x 0.3 y 0.0 z 0.0\nrun 1\n",
-                                  "overlap"),
-            "dt too large": (HEADER.format(data="init.data", skin=0.5, dt=0.2) + "run 1\n", "timestep too large"),
-            "neigh_modify delay": (base + "neigh_modify every 1 delay 5\nrun 1\n", "neigh_modify every 1 delay 0"),
-            "diameter too small": (base + "pair_coeff * * 0.5\nrun 1\n", "raise that pair_coeff diameter"),
-            "changing box": (base + "fix d all deform 1 x scale 1.1\nrun 1\n", "needs a fixed box"),
+                                  "overlap", False),
+            "dt too large": (HEADER.format(data="init.data", skin=0.5, dt=0.2) + "run 1\n", "timestep too large", False),
+            "diameter too small": (base + "pair_coeff * * 0.5\nrun 1\n", "raise that pair_coeff diameter", False),
+            "changing box": (base + "fix d all deform 1 x scale 1.1\nrun 1\n",
+                             "fix hardsphere needs a fixed box: fix d (deform) changes it", False),
+            # Fixes that add or act on forces would have no effect: refused, named, with the reason.
+            "fix gravity": (base + "fix g all gravity 1.0 vector 0 0 -1\nrun 1\n",
+                            "fix hardsphere: fix g (gravity) adds a force, but hard spheres have no forces (they fly "
+                            "straight between collisions), so it would have no effect. Gravity comes with the granular "
+                            "support; until then remove 'fix g'", True),
+            "fix viscous": (base + "fix v all viscous 0.1\nrun 1\n",
+                            "fix hardsphere: fix v (viscous) " + force + thermostat, True),
+            "fix langevin": (base + "fix l all langevin 1.0 1.0 1.0 48279\nrun 1\n",
+                             "fix hardsphere: fix l (langevin) " + force + thermostat, True),
+            "fix addforce": (base + "fix a all addforce 1.0 0.0 0.0\nrun 1\n",
+                             "fix hardsphere: fix a (addforce) " + force, True),
+            "fix wall/gran": (WALLS + "fix w all wall/gran hooke 1000 NULL 0 NULL 0 0 zplane 0 NULL\nrun 1\n",
+                              "fix hardsphere: fix w (wall/gran) " + wall, True),
+            "fix wall/lj93": (WALLS + "fix w all wall/lj93 zlo EDGE 1.0 1.0 2.5\nrun 1\n",
+                              "fix hardsphere: fix w (wall/lj93) " + wall, False),
+            "fix wall/reflect": (WALLS + "fix w all wall/reflect zlo EDGE\nrun 1\n",
+                                 "fix hardsphere: fix w (wall/reflect) " + wall, False),
+            "fix setforce 1 NULL NULL": (base + "fix s all setforce 1.0 NULL NULL\nrun 1\n",
+                                         "fix hardsphere: fix s (setforce) " + force +
+                                         " ('setforce NULL NULL NULL', which sets nothing, is allowed)", False),
+            "fix setforce v_f NULL NULL": (base + "variable f equal 0.0\nfix s all setforce v_f NULL NULL\nrun 1\n",
+                                           "fix hardsphere: fix s (setforce) " + force, False),
+            "fix spring": (base + "fix sp all spring tether 1.0 0 0 0 0.0\nrun 1\n",
+                           "fix hardsphere: fix sp (spring) " + force, False),
+            "fix spring/self": (base + "fix sp all spring/self 10.0\nrun 1\n",
+                                "fix hardsphere: fix sp (spring/self) " + force, False),
+            "fix efield": (base + "fix e all efield 1.0 0.0 0.0\nrun 1\n", "fix hardsphere: fix e (efield) " + force,
+                           False),
+            "fix aveforce": (base + "fix a all aveforce 1.0 0.0 0.0\nrun 1\n",
+                             "fix hardsphere: fix a (aveforce) " + force, False),
+            "fix recenter": (base + "fix r all recenter INIT INIT INIT\nrun 1\n",
+                             "fix hardsphere: fix r (recenter) moves atoms inside the time step (initial_integrate)",
+                             False),
+            "fix dt/reset": (base + "fix dt all dt/reset 1 NULL NULL 0.1\nrun 1\n",
+                             "fix hardsphere: fix dt (dt/reset) changes the timestep during a run", False),
+            # Messages that point at the real cause.
+            "empty box": ("units lj\natom_style sphere\nregion b block 0 5 0 5 0 5\ncreate_box 1 b\n"
+                          "pair_style hardsphere\npair_coeff * *\nfix hs all hardsphere\nrun 1\n",
+                          "pair_style hardsphere: the box has no atoms", True),
+            "empty box, pair_coeff with diameter": (
+                "units lj\natom_style sphere\nregion b block 0 5 0 5 0 5\ncreate_box 1 b\npair_style hardsphere\n"
+                "pair_coeff * * 1.0\nfix hs all hardsphere\nrun 1\n",
+                "fix hardsphere: the box has no atoms; create or read them (create_atoms, read_data) before 'run'",
+                False),
+            "boundary m": (base.replace("boundary p p p", "boundary p p fm") + "run 1\n",
+                           "fix hardsphere: boundary 'm' on z: shrink-wrapped faces move; use 'f' (fixed walls, "
+                           "spheres bounce off them) or 'p'", True),
+            "boundary s": (base.replace("boundary p p p", "boundary s p p") + "run 1\n",
+                           "fix hardsphere: boundary 's' on x: shrink-wrapped faces move", False),
+            "fix pour": (WALLS + region + "fix g all gravity 1.0 vector 0 0 -1\nfix p all pour 10 1 4767 region ins\n"
+                         "run 1\n", "fix hardsphere: fix p (pour) " + inserts, True),
+            "fix deposit": (WALLS + region + "fix dp all deposit 10 1 10 4767 region ins\nrun 1\n",
+                            "fix hardsphere: fix dp (deposit) " + inserts, False),
+            "fix evaporate": (WALLS + "fix e all evaporate 1 1 inner 1\nrun 1\n",
+                              "fix hardsphere: fix e (evaporate) " + inserts, False),
+            "minimize": (base + "minimize 0.0 0.0 10 10\n",
+                         "fix hardsphere: hard spheres have no potential energy to minimise; use 'run'", True),
+            "run_style respa": (base + "run_style respa 2 2\nrun 1\n",
+                                "fix hardsphere: run_style respa is not supported", False),
         }
-        for name, (script, phrase) in cases.items():
-            rc, out = run_lmp(args, script, d, expect_ok=False)
+        for name, (script, phrase, mpi) in cases.items():
+            if args.np > 1 and not mpi:
+                continue
+            rc, out = run_lmp(args, script, d, np_=args.np, expect_ok=False)
             err = [l for l in out.splitlines() if "ERROR" in l]
-            ok &= check(rc != 0 and err and phrase in " ".join(err), f"{name}: {err[:1]}")
+            ok &= check(rc != 0 and err and phrase in err[0], f"np={args.np}: {name}: {err[:1]}")
+    return ok
+
+
+def defaults(args):
+    """An input without 'neigh_modify every 1 delay 0 check yes' runs: the fix sets those itself and
+    says so once; the collisions are those with the explicit setting and the standalone stepper's.
+    Allowed fixes (setforce NULL NULL NULL, momentum, balance) change nothing."""
+    ok = True
+    tag = f"np={args.np}: "
+    with tempfile.TemporaryDirectory() as d:
+        standalone(args, d, "--n", "500", "--phi", "0.3", "--steps", "0", "--write-data", "init.data")
+        ref = standalone(args, d, "--read-data", "init.data", "--steps", "200", "--dt", "0.01")
+        explicit = HEADER.format(data="init.data", skin=0.5, dt=0.01) + """
+thermo_style custom step ke f_hs[1]
+thermo 100
+run 100
+run 100
+"""
+        default = explicit.replace("neigh_modify every 1 delay 0 check yes\n", "")
+        note = "fix hardsphere: neighbour lists set to 'neigh_modify every 1 delay 0 check yes'"
+        counts = {}
+        for name, script in (("explicit", explicit), ("default", default),
+                             ("every 2 delay 4 check no", explicit.replace("every 1 delay 0 check yes",
+                                                                          "every 2 delay 4 check no"))):
+            rc, out = run_lmp(args, script, d, np_=args.np)
+            rows = thermo(out)
+            counts[name] = rows[-1]["f_hs[1]"]
+            notes = [l for l in out.splitlines() if note in l]
+            if name == "explicit":
+                ok &= check(not notes, tag + "explicit neigh_modify every 1 delay 0 check yes: no note")
+            else:
+                was = "every 1 delay 10 check yes" if name == "default" else name
+                ok &= check(len(notes) == 1 and f"(were '{was}')" in notes[0],
+                            tag + f"{name}: one note over two runs: {notes}")
+        ok &= check(counts["explicit"] == counts["default"] == counts["every 2 delay 4 check no"] == ref["collisions"],
+                    tag + f"collisions explicit / default / every 2 delay 4 check no / standalone: "
+                    f"{counts['explicit']:.0f} / {counts['default']:.0f} / {counts['every 2 delay 4 check no']:.0f} "
+                    f"/ {ref['collisions']}")
+        # Fixes that are allowed: setforce NULL NULL NULL (sets nothing), momentum (end of step;
+        # the total momentum is zero already), balance (moves sub-domain boundaries only).
+        allowed = default.replace("run 100\nrun 100\n", "") + """fix idle all setforce NULL NULL NULL
+fix mom all momentum 50 linear 1 1 1
+fix lb all balance 50 1.0 shift x 10 1.0
+run 200
+"""
+        rc, out = run_lmp(args, allowed, d, np_=args.np)
+        n = thermo(out)[-1]["f_hs[1]"]
+        ok &= check(n == ref["collisions"], tag + f"setforce NULL NULL NULL + momentum + balance: collisions {n:.0f} == "
+                    f"standalone {ref['collisions']}")
+        # A mixture with per-atom diameters for type 1 ('pair_coeff 1 1') and 0.6 for type 2: the
+        # 1-2 pair takes the per-atom diameters too (not a mix of the resolved 1 1 value), also
+        # after write_restart/read_restart.
+        mix = """units lj
+atom_style sphere
+boundary p p p
+lattice fcc 0.5
+region box block 0 4 0 4 0 4
+create_box 2 box
+create_atoms 1 box
+set type 1 type/fraction 2 0.3 2934
+set type 1 diameter 1.0
+set type 2 diameter 0.6
+set type 1 mass 1.0
+set type 2 mass 0.216
+velocity all create 1.0 3049 dist gaussian mom yes
+pair_style hardsphere
+pair_coeff 1 1
+pair_coeff 2 2 0.6
+neighbor 0.5 bin
+timestep 0.005
+fix hs all hardsphere
+thermo_style custom step ke f_hs[1]
+run 100
+write_restart mix.restart
+"""
+        rc, out = run_lmp(args, mix, d, np_=args.np, expect_ok=False)
+        rc2, out2 = run_lmp(args, "read_restart mix.restart\nfix hs all hardsphere\nthermo_style custom step ke "
+                            "f_hs[1]\nrun 100\n", d, np_=args.np, expect_ok=False)
+        good = rc == 0 and rc2 == 0 and thermo(out)[-1]["f_hs[1]"] > 0 and thermo(out2)[-1]["f_hs[1]"] > 0
+        ok &= check(good, tag + "pair_coeff 1 1 (per-atom) + 2 2 0.6: runs, and again after read_restart" +
+                    ("" if good else ": " + [l for l in (out + out2).splitlines() if "ERROR" in l][:1].__str__()))
+    return ok
+
+
+def outputs(args):
+    """f_ID[9] (Z) and f_ID[10] (P) against the standalone run's compressibility_factor and
+    pressure on the same state, dt and steps; P == N <T> Z / V; the temperature averaged over
+    the steps when it changes (velocity between runs, a thermostat)."""
+    ok = True
+    tag = f"np={args.np}: "
+    # Serial: the standalone stepper itself, so Z agrees to round-off. Two ranks: the same
+    # collisions, the virial to round-off amplified by chaotic dynamics (see identical()).
+    tol = 1e-12 if args.np == 1 else 1e-9
+    with tempfile.TemporaryDirectory() as d:
+        standalone(args, d, "--n", "1000", "--phi", "0.3", "--steps", "0", "--write-data", "init.data")
+        ref = standalone(args, d, "--read-data", "init.data", "--steps", "200", "--dt", "0.01")
+        script = HEADER.format(data="init.data", skin=0.5, dt=0.01) + """
+compute p all pressure thermo_temp
+fix pav all ave/time 1 200 200 c_p
+thermo_style custom step atoms vol ke f_hs[1] f_hs[9] f_hs[10] f_pav
+thermo_modify format float %.17g
+thermo 200
+run 200
+"""
+        rc, out = run_lmp(args, script, d, np_=args.np)
+        last = thermo(out)[-1]
+        n, vol = last["Atoms"], last["Volume"]
+        t = 2.0 * last["KinEng"] / 3.0  # thermo ke is per atom in lj units; T = 2 KE / (3N)
+        z, p = last["f_hs[9]"], last["f_hs[10]"]
+        ok &= check(last["f_hs[1]"] == ref["collisions"], tag + f"collisions {last['f_hs[1]']:.0f} == {ref['collisions']}")
+        ok &= check(abs(z / ref["compressibility_factor"] - 1) < tol,
+                    tag + f"f_hs[9] Z {z!r} vs standalone {ref['compressibility_factor']!r} "
+                    f"(rel {abs(z / ref['compressibility_factor'] - 1):.1e} < {tol:g})")
+        ok &= check(abs(p / ref["pressure"] - 1) < tol,
+                    tag + f"f_hs[10] P {p!r} vs standalone {ref['pressure']!r}")
+        ok &= check(abs(p / (n * t * z / vol) - 1) < 1e-12, tag + f"f_hs[10] == N T Z / V = {n * t * z / vol!r}")
+        # LAMMPS's own pressure, averaged over the run's steps, is the same time average.
+        ok &= check(abs(p / last["f_pav"] - 1) < 1e-12, tag + f"f_hs[10] == <press> over the run {last['f_pav']!r}")
+
+        # Walls (boundary p p f): V is the box volume, as in the standalone (which reports the
+        # wall pressures separately).
+        run_lmp(args, WALLS.split("pair_style")[0] + "write_data walls.data\n", d)
+        ref = standalone(args, d, "--read-data", "walls.data", "--boundary", "p,p,w", "--steps", "200", "--dt", "0.01")
+        script = HEADER.format(data="walls.data", skin=0.5, dt=0.01).replace("boundary p p p", "boundary p p f") + """
+thermo_style custom step atoms vol ke f_hs[1] f_hs[5] f_hs[9] f_hs[10]
+thermo_modify format float %.17g
+thermo 200
+run 200
+"""
+        rc, out = run_lmp(args, script, d, np_=args.np)
+        last = thermo(out)[-1]
+        z, p = last["f_hs[9]"], last["f_hs[10]"]
+        n, vol, t = last["Atoms"], last["Volume"], 2.0 * last["KinEng"] / 3.0
+        ok &= check(last["f_hs[1]"] == ref["collisions"] and last["f_hs[5]"] == ref["wall_collisions"],
+                    tag + f"walls: collisions {last['f_hs[1]']:.0f} == {ref['collisions']}, "
+                    f"bounces {last['f_hs[5]']:.0f} == {ref['wall_collisions']}")
+        ok &= check(abs(z / ref["compressibility_factor"] - 1) < tol and abs(p / ref["pressure"] - 1) < tol
+                    and abs(p / (n * t * z / vol) - 1) < 1e-12,
+                    tag + f"walls: Z {z!r} vs {ref['compressibility_factor']!r}, P {p!r} vs {ref['pressure']!r} "
+                    f"== N T Z / V with V = box volume {vol:g}")
+
+        # The temperature in Z is averaged over the steps: a velocity change between runs and a
+        # thermostat acting every step (temp/berendsen) both enter with their duration.
+        script = HEADER.format(data="init.data", skin=0.5, dt=0.01) + """
+thermo_style custom step atoms ke f_hs[3] f_hs[4] f_hs[9] f_hs[10]
+thermo_modify format float %.17g
+thermo 1
+run 100
+velocity all scale 1.5
+run 50
+fix tb all temp/berendsen 1.0 1.0 0.1
+run 50
+"""
+        rc, out = run_lmp(args, script, d, np_=args.np)
+        rows = {}
+        for line in out.splitlines():  # every step's row once (each run repeats its first step)
+            s = line.split()
+            if len(s) == 7 and s[0].isdigit():
+                try:
+                    rows[int(s[0])] = [float(v) for v in s]
+                except ValueError:
+                    pass
+        # Step k of the fix uses the temperature at the end of step k - 1, after end_of_step fixes
+        # and, at a run's first step, after the commands between runs (each run's first row,
+        # which repeats the previous run's last step, comes later in the log and is kept).
+        temps = [2.0 * rows[k][2] / 3.0 for k in range(200)]
+        last = rows[200]
+        n, w, tt, z, p = last[1], last[3], last[4], last[5], last[6]
+        t_mean = sum(temps) * 0.01 / tt
+        z_expect = 1.0 + w / (3.0 * n * t_mean * tt)
+        ok &= check(abs(z / z_expect - 1) < 1e-10 and abs(t_mean / temps[0] - 1) > 0.05,
+                    tag + f"T over the steps ({temps[0]:.4f} -> {temps[120]:.4f} -> {temps[-1]:.4f}, mean "
+                    f"{t_mean:.6f}): f_hs[9] {z!r} == 1 + W / (3 N <T> t) = {z_expect!r}")
     return ok
 
 
@@ -418,6 +684,26 @@ run 200
         ok &= check(len(t5) == 8 and max(abs(t - 0.5) for t in t5) < 1e-12 and r5[-1]["f_hs[1]"] > 500,
                     f"np={args.np}: fix temp/rescale every 10 steps: T {r5[0]['Temp']:.3f} -> "
                     f"{min(t5):.15f}..{max(t5):.15f} at every thermo step after (target 0.5, elastic steps keep it)")
+        # 'run N pre no every M COMMAND' skips the fix's setup between the pieces: commands that
+        # change velocities or delete atoms still take effect (the serial path re-reads the atoms).
+        for command, expect in (("velocity all scale 2.0", "T 2"), ("delete_atoms region corner", "fewer atoms")):
+            script = """read_restart r.restart
+fix hs all hardsphere
+region corner block 0 2 0 2 0 2
+thermo_style custom step atoms temp ke f_hs[1]
+thermo_modify format float %.17g
+thermo 50
+run 100 pre no every 50 "{}"
+""".format(command)
+            rc, out6 = run_lmp(args, script, d, np_=args.np)
+            r6 = thermo(out6)  # the second piece: steps 50 .. 100
+            if expect == "T 2":
+                good = abs(r6[0]["Temp"] - 2.0) < 1e-12 and abs(r6[-1]["KinEng"] / r6[0]["KinEng"] - 1) < 1e-12
+            else:
+                good = r6[0]["Atoms"] < 500 and abs(r6[-1]["KinEng"] / r6[0]["KinEng"] - 1) < 1e-12
+            ok &= check(good and r6[-1]["f_hs[1]"] > r6[0]["f_hs[1]"],
+                        f"np={args.np}: run pre no every 50 \"{command}\": {r6[0]['Atoms']:.0f} atoms, T "
+                        f"{r6[0]['Temp']:.12f}, energy kept over the second piece ({expect})")
         blocks, cur = [], None
         for line in (out1 + out2).splitlines():
             s = line.split()
@@ -438,7 +724,7 @@ run 200
 
 def main():
     ap = argparse.ArgumentParser()
-    ap.add_argument("check", choices=["identical", "conservation", "errors", "runs"])
+    ap.add_argument("check", choices=["identical", "conservation", "errors", "runs", "defaults", "outputs"])
     ap.add_argument("--lmp", required=True)
     ap.add_argument("--hs", required=True)
     ap.add_argument("--mpirun", default="mpirun")

@@ -1,0 +1,200 @@
+// What fix hardsphere refuses at init, and the neighbour settings it sets for itself. Every
+// refusal names the command or value at fault and what to use instead (docs/fix_hardsphere.md,
+// "Restrictions"). Hard spheres have no forces and no potential energy: a fix that adds or acts
+// on forces would change nothing, so it is refused rather than silently ignored.
+#include <string>
+
+#include "atom.h"
+#include "comm.h"
+#include "domain.h"
+#include "error.h"
+#include "fix_hardsphere.h"
+#include "fix_setforce.h"
+#include "force.h"
+#include "group.h"
+#include "modify.h"
+#include "neighbor.h"
+#include "update.h"
+#include "utils.h"
+
+using namespace LAMMPS_NS;
+using namespace FixConst;
+
+namespace {
+
+// FixSetForce keeps its per-axis settings protected. A class derived from it may form pointers
+// to those members, and such a member pointer applies to any FixSetForce object.
+struct SetForceAxes : FixSetForce {
+  //! True for 'fix ID group setforce NULL NULL NULL': an axis given as NULL has no variable name
+  //! and style 0 (NONE in LAMMPS's fix_setforce.cpp; a number sets 1, a variable its name).
+  static bool all_null(Fix *fix) {
+    auto *f = static_cast<FixSetForce *>(fix);
+    int FixSetForce::*const styles[3] = {&SetForceAxes::xstyle, &SetForceAxes::ystyle, &SetForceAxes::zstyle};
+    char *FixSetForce::*const names[3] = {&SetForceAxes::xstr, &SetForceAxes::ystr, &SetForceAxes::zstr};
+    for (int d = 0; d < 3; d++)
+      if (f->*names[d] != nullptr || f->*styles[d] != 0) return false;
+    return true;
+  }
+};
+
+bool is_style(const Fix *f, const char *name) { return std::string(f->style) == name; }
+
+bool inserts_or_deletes_atoms(const Fix *f) {
+  for (const char *s : {"pour", "deposit", "evaporate", "gcmc", "charge/regulation"})
+    if (is_style(f, s)) return true;
+  return false;
+}
+
+//! The stages inside a step (between the start of the step and end_of_step) named in `mask`.
+std::string in_step_stages(int mask) {
+  const struct {
+    int bit;
+    const char *name;
+  } stages[] = {{INITIAL_INTEGRATE | INITIAL_INTEGRATE_RESPA, "initial_integrate"},
+                {POST_INTEGRATE | POST_INTEGRATE_RESPA, "post_integrate"},
+                {FINAL_INTEGRATE | FINAL_INTEGRATE_RESPA, "final_integrate"}};
+  std::string out;
+  for (const auto &s : stages)
+    if (mask & s.bit) out += (out.empty() ? "" : ", ") + std::string(s.name);
+  return out;
+}
+
+}  // namespace
+
+void FixHardSphere::check_input() {
+  if (!atom->sphere_flag || !atom->radius_flag || !atom->rmass_flag)
+    error->all(FLERR, "fix hardsphere needs per-atom radius and mass: use 'atom_style sphere'");
+  if (igroup != 0)
+    error->all(FLERR, std::string("fix hardsphere must act on group 'all', not '") + group->names[igroup] +
+                          "' (every atom is a hard sphere)");
+  if (update->whichflag == 2)
+    error->all(FLERR, "fix hardsphere: hard spheres have no potential energy to minimise; use 'run'");
+  if (utils::strmatch(update->integrate_style, "^respa"))
+    error->all(FLERR, std::string("fix hardsphere: run_style ") + update->integrate_style +
+                          " is not supported (hard spheres have no forces to split into levels); use 'run_style "
+                          "verlet'");
+  if (atom->natoms == 0)
+    error->all(FLERR,
+               "fix hardsphere: the box has no atoms; create or read them (create_atoms, read_data) before 'run'");
+  if (!force->pair_match("hardsphere", 1))
+    error->all(FLERR,
+               "fix hardsphere needs 'pair_style hardsphere' and 'pair_coeff * *' (contact distances and the "
+               "neighbour cutoff); pair hybrid is not supported");
+  if (domain->dimension != 3) error->all(FLERR, "fix hardsphere: 'dimension 2' is not supported; use 'dimension 3'");
+  if (domain->triclinic)
+    error->all(FLERR, "fix hardsphere supports orthogonal boxes only: create the box without tilt factors");
+  // Shrink-wrapped faces follow the atoms, which LAMMPS also reports as a changing box: name
+  // the boundary before blaming box-changing fixes.
+  const char axis[3] = {'x', 'y', 'z'}, letter[4] = {'p', 'f', 's', 'm'};
+  for (int d = 0; d < 3; d++)
+    for (int s = 0; s < 2; s++)
+      if (domain->boundary[d][s] >= 2)
+        error->all(FLERR, std::string("fix hardsphere: boundary '") + letter[domain->boundary[d][s]] + "' on " +
+                              axis[d] +
+                              ": shrink-wrapped faces move; use 'f' (fixed walls, spheres bounce off them) or 'p'");
+  // The cell grid, walls and periodic images are set up for one box. Fixes that only move the
+  // sub-domain boundaries between ranks (fix balance) leave it alone.
+  for (int i = 0; i < modify->nfix; i++)
+    if (modify->fix[i]->box_change & (Fix::BOX_CHANGE_SIZE | Fix::BOX_CHANGE_SHAPE))
+      error->all(FLERR, std::string("fix hardsphere needs a fixed box: fix ") + modify->fix[i]->id + " (" +
+                            modify->fix[i]->style +
+                            ") changes it; remove it (compress hard spheres by growing their radii between runs, "
+                            "'set ... diameter', instead)");
+  if (domain->box_change_size || domain->box_change_shape)
+    error->all(FLERR,
+               "fix hardsphere needs a fixed box: remove what changes it (compress hard spheres by growing their "
+               "radii between runs, 'set ... diameter', instead)");
+  check_other_fixes();
+  apply_neighbor_settings();
+}
+
+void FixHardSphere::check_other_fixes() {
+  // Refused by what each fix tells LAMMPS it does (its mask): acting on forces (pre_force,
+  // pre_reverse, post_force, with their rRESPA variants), moving atoms inside the step
+  // (initial/post/final_integrate), or changing the atoms between steps (pre_exchange). Fixes
+  // acting only at end_of_step (thermostats by velocity scaling, averages, output), at
+  // re-neighbouring or only in minimisations are allowed, as are 'setforce NULL NULL NULL'
+  // (sets nothing), store/force (records the zero forces) and balance (load balancing).
+  const int force_stages = PRE_FORCE | PRE_FORCE_RESPA | PRE_REVERSE | POST_FORCE | POST_FORCE_RESPA;
+  const int move_stages = INITIAL_INTEGRATE | INITIAL_INTEGRATE_RESPA | POST_INTEGRATE | POST_INTEGRATE_RESPA |
+                          FINAL_INTEGRATE | FINAL_INTEGRATE_RESPA;
+  auto name = [](const Fix *f) { return "fix " + std::string(f->id) + " (" + f->style + ")"; };
+  // Most specific first: another integrator, then fixes that insert or delete atoms (fix pour
+  // needs fix gravity, which would otherwise be named first).
+  for (int i = 0; i < modify->nfix; i++) {
+    Fix *f = modify->fix[i];
+    if (f != this && f->time_integrate) error->all(FLERR, "fix hardsphere is the time integrator: remove " + name(f));
+  }
+  for (int i = 0; i < modify->nfix; i++)
+    if (inserts_or_deletes_atoms(modify->fix[i]))
+      error->all(FLERR, "fix hardsphere: " + name(modify->fix[i]) +
+                            " inserts or deletes atoms during a run, but fix hardsphere follows one set of atoms "
+                            "through a run: remove it and add or delete atoms between runs (create_atoms, "
+                            "delete_atoms)");
+  for (int i = 0; i < modify->nfix; i++) {
+    Fix *f = modify->fix[i];
+    const int mask = modify->fmask[i];
+    if (f == this) continue;
+    if (is_style(f, "store/force") || is_style(f, "balance")) continue;
+    if (is_style(f, "setforce") && SetForceAxes::all_null(f)) continue;
+    if (is_style(f, "gravity"))
+      error->all(FLERR, "fix hardsphere: " + name(f) +
+                            " adds a force, but hard spheres have no forces (they fly straight between "
+                            "collisions), so it would have no effect. Gravity comes with the granular support; "
+                            "until then remove 'fix " +
+                            f->id + "'");
+    if (utils::strmatch(f->style, "^wall/"))
+      error->all(FLERR, "fix hardsphere: " + name(f) +
+                            " is a wall fix, which hard spheres would not feel (they have no forces): walls "
+                            "come from the box, use 'boundary f' on that axis (spheres bounce off fixed faces) "
+                            "and remove 'fix " +
+                            f->id + "'");
+    if (is_style(f, "adapt"))
+      error->all(FLERR, "fix hardsphere: " + name(f) +
+                            " changes parameters during a run, which fix hardsphere takes only at a run's start: "
+                            "remove it and change diameters between runs ('set ... diameter')");
+    if (is_style(f, "dt/reset"))
+      error->all(FLERR, "fix hardsphere: " + name(f) +
+                            " changes the timestep during a run; hard spheres need a fixed 'timestep' "
+                            "(4 v_max dt < skin): remove it");
+    if (mask & force_stages) {
+      std::string hint;
+      if (utils::strmatch(f->style, "^langevin") || utils::strmatch(f->style, "^viscous"))
+        hint = " (thermostat with an end-of-step fix instead, e.g. temp/berendsen or temp/rescale)";
+      else if (is_style(f, "setforce"))
+        hint = " ('setforce NULL NULL NULL', which sets nothing, is allowed)";
+      error->all(FLERR, "fix hardsphere: " + name(f) +
+                            " adds or acts on forces, but hard spheres have no forces (fix hardsphere moves them "
+                            "by collisions only), so it would have no effect: remove it" +
+                            hint);
+    }
+    if (mask & move_stages)
+      error->all(FLERR, "fix hardsphere: " + name(f) + " moves atoms inside the time step (" + in_step_stages(mask) +
+                            "), where fix hardsphere owns positions and velocities: remove it (fixes acting at "
+                            "the end of a step, e.g. temp/berendsen, temp/rescale or momentum, are allowed)");
+    if (mask & PRE_EXCHANGE)
+      error->all(FLERR, "fix hardsphere: " + name(f) +
+                            " changes atoms between steps (pre_exchange: inserting, deleting, moving or retyping "
+                            "them), which fix hardsphere does not follow within a run: remove it");
+  }
+}
+
+void FixHardSphere::apply_neighbor_settings() {
+  // The owned + ghost path resolves collisions from LAMMPS's neighbour list and must have it
+  // rebuilt as soon as an atom could reach a pair it does not hold: the list is checked every
+  // step (the fix forces rebuilds earlier still, see post_force). LAMMPS reads these settings
+  // in Neighbor::init(), after the fixes' init(), so they hold from this run on. The serial path
+  // uses no LAMMPS list; the same settings keep both paths alike.
+  const Neighbor *nb = neighbor;
+  if (nb->every == 1 && nb->delay == 0 && nb->dist_check == 1 && nb->build_once == 0) return;
+  const std::string was = "every " + std::to_string(nb->every) + " delay " + std::to_string(nb->delay) + " check " +
+                          (nb->dist_check ? "yes" : "no") + (nb->build_once ? " once yes" : "");
+  neighbor->every = 1;
+  neighbor->delay = 0;
+  neighbor->dist_check = 1;
+  neighbor->build_once = 0;
+  if (comm->me == 0 && !neigh_noted)
+    utils::logmesg(lmp, "fix hardsphere: neighbour lists set to 'neigh_modify every 1 delay 0 check yes' (were '" +
+                            was + "'): hard spheres need the lists checked every step\n");
+  neigh_noted = true;
+}
