@@ -3,11 +3,9 @@
 //!
 //! Time integrator for hard spheres (instead of fix nve/sphere); user documentation in
 //! docs/fix_hardsphere.md. On one rank it hands the atoms to the standalone stepper
-//! (fix_hardsphere_serial.cpp). Under MPI (or 'path ghosts') it drifts the owned atoms by v dt and
-//! mirrors them at fixed (f) box faces (LAMMPS keeps atoms inside), then undoes the mirrors and
-//! resolves the step's collisions and wall bounces in time order with hardsphere::ContactResolver
-//! (the standalone stepper's implementation) over owned + ghost atoms, checks the ghosts against
-//! their owners and re-runs the step for all atoms if they disagree. What it refuses (other fixes,
+//! (fix_hardsphere_serial.cpp). Under MPI (or 'path ghosts') each rank runs one standalone stepper
+//! over its owned atoms and the ghosts around its sub-domain (rank_stepper.h), checks the ghosts
+//! against their owners and re-runs the step for all atoms if they disagree. What it refuses (other fixes,
 //! boundaries, minimize, ...) is decided in fix_hardsphere_checks.cpp. Global vector
 //! (f_ID[1..10]): collisions (cumulative), collisions in the last step, sum of r_ij.dp_i over
 //! collisions, simulated time, wall bounces, steps re-run for all atoms at once because a ghost
@@ -18,9 +16,9 @@
 #include <memory>
 #include <vector>
 
-#include "contact_resolver.hpp"
 #include "fix.h"
 #include "hardsphere/stepper.hpp"
+#include "rank_stepper.h"
 
 namespace LAMMPS_NS {
 
@@ -30,7 +28,6 @@ class FixHardSphere : public Fix {
   ~FixHardSphere() override;
   int setmask() override;
   void init() override;
-  void init_list(int, class NeighList *) override;
   void setup(int) override;
   void setup_pre_neighbor() override;
   void pre_neighbor() override;
@@ -42,20 +39,9 @@ class FixHardSphere : public Fix {
 
   int pack_forward_comm(int, int *, double *, int, int *) override;
   void unpack_forward_comm(int, int, double *) override;
-  void grow_arrays(int) override;
-  void copy_arrays(int, int, int) override;
-  int pack_exchange(int, double *) override;
-  int unpack_exchange(int, double *) override;
-  double memory_usage() override;
 
  private:
   using V3 = hardsphere::Vec3<double>;
-  template <bool Mono>
-  struct Hooks;
-  template <bool Mono>
-  void resolve_step(hardsphere::ContactResolver<double, Mono> &res);
-  void record_build();
-  void build_adjacency();
   void check_setup();
   // fix_hardsphere_checks.cpp: what the fix refuses, and the neighbour settings it needs.
   void check_input();
@@ -65,9 +51,8 @@ class FixHardSphere : public Fix {
   double temperature_now() const;
   //! Whether another fix may have changed velocities at the end of `step`.
   bool others_acted(bigint step) const;
-  void on_collision(int i, int j, double back);
-  bool ghosts_agree_with_owners();
-  void resolve_globally();
+  // Owned + ghost path (rank_stepper.cpp): one stepper per rank.
+  void ghost_path_step();
   // Serial path (fix_hardsphere_serial.cpp): the standalone stepper on the owned atoms.
   void serial_setup();
   void serial_step();
@@ -82,16 +67,10 @@ class FixHardSphere : public Fix {
   hardsphere::ParticleSystem empty_system() const;
   //! A standalone stepper for `sys` with this fix's dt, detection mode and event limit.
   std::unique_ptr<hardsphere::StepperBase> new_stepper(const hardsphere::ParticleSystem &sys) const;
-  void unmirror(int k);
-  void note_disp(int k, const V3 &p);
 
-  class NeighList *list = nullptr;
   double dt = 0.0;
   bool sweep = false;
   bool ghost_auto = true;
-  double ghost_factor = 2.0;
-  bool mono = false;
-  double mono_sigma = 0.0, mono_mass = 0.0;
   std::int64_t max_events = 100000000;
 
   // Serial runs (one rank) hand the owned atoms to the standalone stepper, which handles
@@ -118,30 +97,11 @@ class FixHardSphere : public Fix {
   bool lammps_moved = false;                   //!< LAMMPS re-neighboured: it may have wrapped or sorted atoms
   bool state_written = true;                   //!< LAMMPS's x and v hold the stepper's current state
 
-  double *wall_axes = nullptr;  //!< per atom: bit d set if the drift of this step mirrored it on axis d
+  std::unique_ptr<RankStepper> rank;  //!< the owned + ghost path's stepper
 
-  // Cross-check of ghost copies against their owners (see ghosts_agree_with_owners).
-  int comm_mode = 0;                    //!< forward comm: 0 velocity + wall_axes, 1 owners' final velocity
-  std::vector<std::uint8_t> met_owned;  //!< per ghost: collided with an owned atom in this step
-  std::vector<V3> v_owner;              //!< per ghost: its owner's velocity at the end of the step
-  double **start = nullptr;             //!< per atom: this step's drift displacement, velocity before it
-  std::vector<V3> x_start;              //!< scratch: owned positions at the start of the step
-  double n_wall_start = 0;
-  bool adjacency_dirty = true;
-
-  // Local (owned + ghost) arrays for the resolver.
-  std::vector<V3> pos, vel, vprev, xbuild;
-  std::vector<double> rad, mass;
-  std::vector<std::int64_t> tags;
-  std::vector<std::uint32_t> adj_start, adj;  // adj: hardsphere::adj_entry(partner, image)
-  V3 zero_shift[27];
-  hardsphere::ContactResolver<double, true> res_mono;
-  hardsphere::ContactResolver<double, false> res_poly;
-
-  // Per-step and cumulative tallies (local: each collision is counted on the rank owning the
-  // atom with the smaller tag; compute_vector sums over ranks).
+  // Per-step and cumulative tallies (local, weighted by ownership on the owned + ghost path;
+  // compute_vector sums over ranks).
   double step_virial[6] = {0, 0, 0, 0, 0, 0};
-  double max_disp2 = 0.0;
   double n_coll = 0, n_coll_step = 0, virial_sum = 0, n_wall = 0, n_global = 0, n_forced = 0, n_unresolved = 0;
   double sim_time = 0.0;
   // Time-averaged temperature for Z and P (f_ID[9], f_ID[10]): collisions keep the kinetic

@@ -22,6 +22,9 @@ using namespace FixConst;
 
 namespace {
 
+// neigh_modify every: large enough that LAMMPS never re-neighbours on its own schedule.
+constexpr int kFixDecides = 1 << 30;
+
 // FixSetForce keeps its per-axis settings protected. A class derived from it may form pointers
 // to those members, and such a member pointer applies to any FixSetForce object.
 struct SetForceAxes : FixSetForce {
@@ -180,21 +183,27 @@ void FixHardSphere::check_other_fixes() {
 }
 
 void FixHardSphere::apply_neighbor_settings() {
-  // The owned + ghost path resolves collisions from LAMMPS's neighbour list and must have it
-  // rebuilt as soon as an atom could reach a pair it does not hold: the list is checked every
-  // step (the fix forces rebuilds earlier still, see post_force). LAMMPS reads these settings
-  // in Neighbor::init(), after the fixes' init(), so they hold from this run on. The serial path
-  // uses no LAMMPS list; the same settings keep both paths alike.
+  // LAMMPS reads these settings in Neighbor::init(), after the fixes' init(), so they hold from
+  // this run on. Serial: LAMMPS's own check every step keeps its wrapping and sorting regular
+  // (the stepper needs no LAMMPS list). Owned + ghost path: re-neighbouring refreshes the ghosts
+  // each rank's stepper is made from, and the fix asks for it exactly when an atom could have
+  // used up the ghost shell's slack (rank_stepper.cpp); LAMMPS's own checks would only make
+  // the steppers again more often.
+  const int every = serial ? 1 : kFixDecides;
   const Neighbor *nb = neighbor;
-  if (nb->every == 1 && nb->delay == 0 && nb->dist_check == 1 && nb->build_once == 0) return;
+  if (nb->every == every && nb->delay == 0 && nb->dist_check == 1 && nb->build_once == 0) return;
   const std::string was = "every " + std::to_string(nb->every) + " delay " + std::to_string(nb->delay) + " check " +
                           (nb->dist_check ? "yes" : "no") + (nb->build_once ? " once yes" : "");
-  neighbor->every = 1;
+  neighbor->every = every;
   neighbor->delay = 0;
   neighbor->dist_check = 1;
   neighbor->build_once = 0;
   if (comm->me == 0 && !neigh_noted)
-    utils::logmesg(lmp, "fix hardsphere: neighbour lists set to 'neigh_modify every 1 delay 0 check yes' (were '" +
-                            was + "'): hard spheres need the lists checked every step\n");
+    utils::logmesg(lmp, serial ? "fix hardsphere: neighbour lists set to 'neigh_modify every 1 delay 0 check yes' "
+                                 "(were '" +
+                                     was + "'): hard spheres need the lists checked every step\n"
+                               : "fix hardsphere: neighbour lists rebuilt only when the fix asks (were '" + was +
+                                     "'): on the owned + ghost path it re-neighbours when an atom could reach past "
+                                     "the ghost shell\n");
   neigh_noted = true;
 }

@@ -61,6 +61,9 @@ struct ContactArrays {
   //! Optional: 1 for the spheres this engine owns (indexed like id): the tally's owned_* sums
   //! then weight each collision by the owned share of its pair and each bounce by its sphere's.
   const std::uint8_t* owned = nullptr;
+  //! With owned: set to 1 for each sphere not owned that collided with an owned one (indexed
+  //! like id), so an adapter can check those copies against their owners.
+  std::uint8_t* met_owned = nullptr;
 };
 
 //! Totals of resolved contacts.
@@ -445,7 +448,8 @@ class ContactResolver {
     return std::minmax(id(c.i), id(c.j));
   }
   std::int64_t id(std::uint32_t i) const { return a_.id_slot ? a_.id[a_.id_slot[i]] : a_.id[i]; }
-  double owned(std::uint32_t i) const { return a_.owned[a_.id_slot ? a_.id_slot[i] : i]; }
+  std::uint32_t id_index(std::uint32_t i) const { return a_.id_slot ? a_.id_slot[i] : i; }
+  double owned(std::uint32_t i) const { return a_.owned[id_index(i)]; }
 
   //! Mirrors sphere c.i at the wall of axis c.image, `c.back` before the end of the step.
   template <class Hooks>
@@ -549,6 +553,7 @@ class ContactResolver {
     tally.virial += virial;
     if (a_.owned) {
       const double w = 0.5 * (owned(i) + owned(j));
+      if (w == 0.5) a_.met_owned[id_index(owned(i) != 0.0 ? j : i)] = 1;
       tally.owned_collisions += w;
       tally.owned_virial += w * virial;
       const double t[6] = {r[0] * dp[0], r[1] * dp[1], r[2] * dp[2], r[0] * dp[1], r[0] * dp[2], r[1] * dp[2]};

@@ -87,6 +87,7 @@ class Stepper final : public StepperBase, public StateExchange {
   Stepper(const ParticleSystem& sys, const StepperConfig& cfg);
 
   void run(std::int64_t steps) override {
+    std::fill(met_owned_.begin(), met_owned_.end(), std::uint8_t(0));
     // Scene features select a specialised kernel once per run, not per pair.
     const int key = (all_periodic_ ? 2 : 0) + (sweep_ ? 1 : 0);
     switch (key) {
@@ -124,10 +125,17 @@ class Stepper final : public StepperBase, public StateExchange {
   void copy_ids(std::int64_t* out) const override {
     for (std::size_t k = 0; k < slot_.size(); ++k) out[k] = id_[slot_[k]];
   }
-  void copy_input_index(std::uint32_t* out) const override { std::copy(slot_.begin(), slot_.end(), out); }
+  void copy_input_index(std::uint32_t* out) const override {
+    for (std::size_t k = 0; k < slot_.size(); ++k) out[k] = input_of_rank_[slot_[k]];
+  }
   void set_owned(const std::uint8_t* owned) override {
-    owned_.assign(owned, owned + slot_.size());
+    owned_.resize(slot_.size());  // in id order, like every field reached through slot_
+    for (std::size_t r = 0; r < owned_.size(); ++r) owned_[r] = owned[input_of_rank_[r]];
+    met_owned_.assign(owned_.size(), 0);
     bind_resolver();
+  }
+  void copy_met_owned(std::uint8_t* out) const override {
+    for (std::size_t k = 0; k < slot_.size(); ++k) out[k] = met_owned_.empty() ? 0 : met_owned_[slot_[k]];
   }
   const OwnedCounters& owned_counters() const override {
     owned_counters_.collisions = tally_.owned_collisions;
@@ -162,6 +170,16 @@ class Stepper final : public StepperBase, public StateExchange {
   }
   void set_velocities(const Vec3d* vel) override {
     for (std::size_t k = 0; k < vel_.size(); ++k) vel_[k] = {Real(vel[k].x), Real(vel[k].y), Real(vel[k].z)};
+    refresh_speed_bound();
+  }
+  void set_spheres(const std::uint32_t* slots, std::size_t count, const Vec3d* pos, const Vec3d* vel) override {
+    // A changed position is a displacement like any other: the next drift measures it from the
+    // rebuild position, so the list guard sees it.
+    for (std::size_t i = 0; i < count; ++i) {
+      const std::uint32_t k = slots[i];
+      pos_[k] = {Real(pos[i].x - origin_[0]), Real(pos[i].y - origin_[1]), Real(pos[i].z - origin_[2])};
+      vel_[k] = {Real(vel[i].x), Real(vel[i].y), Real(vel[i].z)};
+    }
     refresh_speed_bound();
   }
   void gather_velocities(const std::uint32_t* src, const double* v) override {
@@ -387,7 +405,9 @@ class Stepper final : public StepperBase, public StateExchange {
   ContactTally tally_;
   mutable StepCounters counters_;
   mutable OwnedCounters owned_counters_;
-  std::vector<std::uint8_t> owned_;  // input order; empty: no ownership accounting
+  std::vector<std::uint8_t> owned_;           // id order; empty: no ownership accounting
+  std::vector<std::uint8_t> met_owned_;       // id order: not owned, collided with an owned sphere in this run()
+  std::vector<std::uint32_t> input_of_rank_;  // id rank -> index in the constructor's input
 };
 
 template <class Real, bool Mono>
@@ -453,6 +473,7 @@ Stepper<Real, Mono>::Stepper(const ParticleSystem& sys, const StepperConfig& cfg
   std::iota(by_id.begin(), by_id.end(), std::size_t(0));
   if (!std::is_sorted(sys.id.begin(), sys.id.end()))
     std::stable_sort(by_id.begin(), by_id.end(), [&](std::size_t a, std::size_t b) { return sys.id[a] < sys.id[b]; });
+  input_of_rank_.assign(by_id.begin(), by_id.end());
   for (std::size_t i = 0; i < n; ++i) {
     const std::size_t s = by_id[i];
     slot_[i] = std::uint32_t(i);
@@ -671,7 +692,7 @@ template <class Real, bool Mono>
 void Stepper<Real, Mono>::bind_resolver() {
   resolver_.bind({pos_.data(), vel_.data(), r_.data(), m_.data(), id_.data(), slot_.data(), adj_start_.data(),
                   adj_.data(), image_shift_, speeds_ ? speed_.data() : nullptr, adj_plain_end_.data(),
-                  owned_.empty() ? nullptr : owned_.data()});
+                  owned_.empty() ? nullptr : owned_.data(), owned_.empty() ? nullptr : met_owned_.data()});
 }
 
 template <class Real, bool Mono>

@@ -41,10 +41,16 @@ class StateExchange {
   virtual void set_velocities(const Vec3d* vel) = 0;
   //! The same from an adapter's flat array: slot k takes row src[k] of v.
   virtual void gather_velocities(const std::uint32_t* src, const double* v) = 0;
+  //! Overwrites the position (the engine's frame, as copy_state gives it) and velocity of the
+  //! given slots, e.g. copies of spheres another engine owns; the next step treats a moved
+  //! position like any displacement. Positions must not overlap other spheres.
+  virtual void set_spheres(const std::uint32_t* slots, std::size_t count, const Vec3d* pos, const Vec3d* vel) = 0;
   //! Marks which spheres (input order, 1 = owned) this engine owns; owned_counters() then
   //! accumulate from the next step on. Without it nothing is accumulated there.
   virtual void set_owned(const std::uint8_t* owned) = 0;
   virtual const OwnedCounters& owned_counters() const = 0;
+  //! Per slot: 1 if the sphere is not owned and collided with an owned one in the last run().
+  virtual void copy_met_owned(std::uint8_t* out) const = 0;
 };
 
 //! The exchange interface of a stepper made by make_stepper.

@@ -1,0 +1,104 @@
+#!/usr/bin/python3
+"""MPI scaling of `lmp_hs` + `fix hardsphere`: the same run serial and on 2 ranks, alternating,
+medians of LAMMPS's loop (wall) time; prints a markdown table. Speed is reported, never asserted.
+
+  compare/lammps_scaling.py --hs build/standalone/hardsphere --lmp build/plugin/lmp_hs \
+      [--n 64000 1000000] [--phi 0.3 0.45] [--steps 300] [--rounds 3] [--weak 32000]
+
+Columns: speed-up = serial time / 2-rank time; cost per sphere-step on 2 ranks over serial =
+2 x 2-rank time / serial time (all ranks counted); collisions of both runs (equal while the
+runs stay deterministic; chaos makes them differ in the last digits over long runs); steps re-run
+for all atoms because a ghost copy disagreed with its owner; re-neighbourings forced by the fix.
+Weak scaling: 1 rank with N/2 spheres against 2 ranks with N at the same density.
+"""
+import argparse
+import re
+import statistics
+import subprocess
+import tempfile
+from pathlib import Path
+
+INPUT = """units lj
+atom_style sphere
+boundary p p p
+read_data {data}
+pair_style hardsphere
+pair_coeff * *
+neighbor 0.5 bin
+neigh_modify every 1 delay 0 check yes
+timestep {dt}
+fix hs all hardsphere
+thermo_style custom step f_hs[1] f_hs[6] f_hs[7]
+thermo {steps}
+run {steps}
+"""
+
+
+def make_state(hs, d, n, phi, name):
+    subprocess.run([hs, "run", "--n", str(n), "--phi", str(phi), "--steps", "100", "--quiet", "--write-data", name],
+                   cwd=d, check=True, capture_output=True)
+
+
+def run(lmp, d, data, ranks, dt, steps, mpirun):
+    (Path(d) / "in.scaling").write_text(INPUT.format(data=data, dt=dt, steps=steps))
+    cmd = [lmp, "-in", "in.scaling", "-log", "none", "-echo", "none"]
+    if ranks > 1:
+        cmd = [mpirun, "--allow-run-as-root", "--oversubscribe", "-np", str(ranks)] + cmd
+    out = subprocess.run(cmd, cwd=d, capture_output=True, text=True, check=True).stdout
+    loop = float(re.search(r"Loop time of ([0-9.eE+-]+) on", out).group(1))
+    last = [ln.split() for ln in out.splitlines() if ln.split()[:1] == [str(steps)]][-1]
+    return loop, float(last[1]), float(last[2]), float(last[3])
+
+
+def alternate(lmp, d, data, dt, steps, rounds, mpirun, ranks=(1, 2)):
+    runs = {r: [] for r in ranks}
+    for _ in range(rounds):
+        for r in ranks:
+            runs[r].append(run(lmp, d, data, r, dt, steps, mpirun))
+    return {r: (statistics.median(x[0] for x in v), v[0]) for r, v in runs.items()}
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--hs", required=True)
+    ap.add_argument("--lmp", required=True)
+    ap.add_argument("--mpirun", default="mpirun")
+    ap.add_argument("--n", type=int, nargs="+", default=[64000, 1000000])
+    ap.add_argument("--phi", type=float, nargs="+", default=[0.3, 0.45])
+    ap.add_argument("--dt", type=float, default=0.01)
+    ap.add_argument("--steps", type=int, default=300)
+    ap.add_argument("--rounds", type=int, default=3)
+    ap.add_argument("--weak", type=int, default=32000, help="spheres per rank of the weak-scaling rows (0: none)")
+    a = ap.parse_args()
+    hs, lmp = str(Path(a.hs).resolve()), str(Path(a.lmp).resolve())
+    print(f"dt {a.dt}, {a.steps} steps, medians of {a.rounds} alternating rounds of LAMMPS's loop time (s)\n")
+    print("| N | phi | serial | 2 ranks | speed-up | cost per sphere-step, 2 ranks / serial | "
+          "collisions serial / 2 ranks | re-run steps | forced re-neighbourings |")
+    print("|---|---|---|---|---|---|---|---|---|")
+    with tempfile.TemporaryDirectory() as d:
+        for phi in a.phi:
+            for n in a.n:
+                data = f"n{n}_phi{phi}.data"
+                make_state(hs, d, n, phi, data)
+                res = alternate(lmp, d, data, a.dt, a.steps, a.rounds, a.mpirun)
+                (t1, r1), (t2, r2) = res[1], res[2]
+                print(f"| {n} | {phi} | {t1:.3g} | {t2:.3g} | {t1 / t2:.2f} | {2 * t2 / t1:.2f} | "
+                      f"{r1[1]:.0f} / {r2[1]:.0f} | {r2[2]:.0f} | {r2[3]:.0f} |", flush=True)
+        if a.weak:
+            print("\nWeak scaling (same density, N per rank fixed):\n")
+            print("| N per rank | phi | 1 rank | 2 ranks | efficiency |")
+            print("|---|---|---|---|---|")
+            for phi in a.phi:
+                small, big = f"w{a.weak}_phi{phi}.data", f"w{2 * a.weak}_phi{phi}.data"
+                make_state(hs, d, a.weak, phi, small)
+                make_state(hs, d, 2 * a.weak, phi, big)
+                t1s, t2s = [], []
+                for _ in range(a.rounds):
+                    t1s.append(run(lmp, d, small, 1, a.dt, a.steps, a.mpirun)[0])
+                    t2s.append(run(lmp, d, big, 2, a.dt, a.steps, a.mpirun)[0])
+                t1, t2 = statistics.median(t1s), statistics.median(t2s)
+                print(f"| {a.weak} | {phi} | {t1:.3g} | {t2:.3g} | {100 * t1 / t2:.0f}% |", flush=True)
+
+
+if __name__ == "__main__":
+    main()

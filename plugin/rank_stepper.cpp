@@ -1,0 +1,377 @@
+#include "rank_stepper.h"
+
+#include <mpi.h>
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+#include "atom.h"
+#include "comm.h"
+#include "domain.h"
+#include "error.h"
+#include "fix.h"
+#include "hardsphere/errors.hpp"
+#include "hardsphere/particles.hpp"
+
+using namespace LAMMPS_NS;
+using hardsphere::Vec3d;
+
+namespace {
+
+double norm2(const Vec3d &a) { return a.x * a.x + a.y * a.y + a.z * a.z; }
+
+// How far p lies outside the box [lo, hi] (0 inside).
+double distance_outside(const double *p, const double *lo, const double *hi) {
+  double s = 0;
+  for (int d = 0; d < 3; d++) {
+    const double e = std::max({lo[d] - p[d], p[d] - hi[d], 0.0});
+    s += e * e;
+  }
+  return std::sqrt(s);
+}
+
+}  // namespace
+
+void RankStepper::build() {
+  // Ghost velocities come from their owners; LAMMPS refreshed the ghost positions.
+  comm_mode_ = 0;
+  comm->forward_comm_fix(fix_, kForwardSize);
+
+  const int nlocal = atom->nlocal, nall = nlocal + atom->nghost;
+  double **x = atom->x, **v = atom->v;
+  double rmax = 0;
+  for (int i = 0; i < nlocal; i++) rmax = std::max(rmax, atom->radius[i]);
+  MPI_Allreduce(MPI_IN_PLACE, &rmax, 1, MPI_DOUBLE, MPI_MAX, world);
+  const double dmax = 2 * rmax;
+  const double shell = std::min({comm->cutghost[0], comm->cutghost[1], comm->cutghost[2]});
+
+  // The rank's box: an axis that is periodic and not split keeps its period (LAMMPS's images
+  // of it are left out); a split axis ends at the real walls of the box or, inside it, at
+  // walls no ghost reaches before LAMMPS re-neighbours (it starts within the shell and moves
+  // less than half the shell's slack).
+  hardsphere::ParticleSystem sys;
+  std::array<bool, 3> whole{};
+  double lo[3], hi[3];
+  for (int d = 0; d < 3; d++) {
+    const bool periodic = domain->periodicity[d] != 0;
+    whole[std::size_t(d)] = periodic && comm->procgrid[d] == 1;
+    lo[d] = domain->sublo[d] - shell, hi[d] = domain->subhi[d] + shell;
+    if (whole[std::size_t(d)]) {
+      sys.box.lo[d] = domain->boxlo[d], sys.box.hi[d] = domain->boxhi[d];
+    } else {
+      const double margin = 1.5 * shell + 2 * dmax;
+      const bool wall_lo = !periodic && domain->sublo[d] == domain->boxlo[d];
+      const bool wall_hi = !periodic && domain->subhi[d] == domain->boxhi[d];
+      sys.box.lo[d] = wall_lo ? domain->boxlo[d] : domain->sublo[d] - margin;
+      sys.box.hi[d] = wall_hi ? domain->boxhi[d] : domain->subhi[d] + margin;
+    }
+    sys.box.periodic[d] = whole[std::size_t(d)];
+  }
+
+  // Owned atoms, then the ghosts within the shell that are not periodic images along a whole
+  // axis. Ids are tags (the stepper breaks ties by id); a second copy of one atom (possible
+  // in boxes a few shells wide) gets an id past every tag.
+  tagint max_tag = 0;
+  for (int i = 0; i < nall; i++) max_tag = std::max(max_tag, atom->tag[i]);
+  std::vector<std::uint8_t> seen(std::size_t(max_tag) + 1, 0);
+  std::vector<std::uint8_t> owned;
+  input_local_.clear();
+  input_shift_.clear();
+  std::int64_t extra_id = std::int64_t(max_tag) + 1;
+  for (int i = 0; i < nall; i++) {
+    if (i >= nlocal) {
+      bool keep = true;
+      for (int d = 0; d < 3 && keep; d++) {
+        if (whole[std::size_t(d)])
+          keep = x[i][d] >= domain->boxlo[d] && x[i][d] < domain->boxhi[d];
+        else
+          keep = x[i][d] >= lo[d] && x[i][d] <= hi[d];
+      }
+      if (!keep) continue;
+    }
+    Vec3d p{x[i][0], x[i][1], x[i][2]};
+    for (int d = 0; d < 3; d++)
+      if (whole[std::size_t(d)]) {
+        const double len = domain->prd[d];
+        p[d] -= len * std::floor((p[d] - domain->boxlo[d]) / len);
+        if (p[d] >= domain->boxhi[d]) p[d] -= len;
+      }
+    const tagint tag = atom->tag[i];
+    const std::int64_t id = seen[std::size_t(tag)] ? extra_id++ : std::int64_t(tag);
+    seen[std::size_t(tag)] = 1;
+    sys.push_back(id, atom->type[i], atom->radius[i], atom->rmass[i], p, {v[i][0], v[i][1], v[i][2]});
+    owned.push_back(i < nlocal ? 1 : 0);
+    input_local_.push_back(i);
+    input_shift_.push_back(Vec3d{x[i][0], x[i][1], x[i][2]} - p);
+  }
+
+  if (epoch_) start_epoch(shell, dmax);
+
+  hardsphere::StepperConfig cfg;
+  cfg.dt = settings_.dt;
+  cfg.detect = settings_.detect;
+  cfg.max_events_per_step = settings_.max_events;
+  stepper_.reset();
+  if (!sys.size()) {
+    stale_ = false;
+    return;
+  }
+  try {
+    stepper_ = hardsphere::make_stepper(sys, cfg);
+  } catch (const std::exception &e) {
+    error->one(FLERR, std::string("fix hardsphere: ") + e.what());
+  }
+  auto &exch = hardsphere::state_exchange(*stepper_);
+  exch.set_owned(owned.data());
+  last_ = hardsphere::OwnedCounters{};
+  last_unresolved_ = 0;
+  map_slots();
+  stale_ = false;
+}
+
+void RankStepper::start_epoch(double shell, double dmax) {
+  // Slack of the shell: a ghost that meets an owned atom (at most `outside` beyond the
+  // sub-domain) is within one contact distance of it, and its own partners within another;
+  // an atom that is not a ghost was at least `shell` from the sub-domain. The copies of the
+  // ghosts an owned atom meets stay complete until the moves of two atoms close the rest.
+  const int nlocal = atom->nlocal;
+  double **x = atom->x;
+  x_ref_.resize(std::size_t(nlocal));
+  double outside = 0;
+  for (int i = 0; i < nlocal; i++) {
+    x_ref_[std::size_t(i)] = {x[i][0], x[i][1], x[i][2]};
+    outside = std::max(outside, distance_outside(x[i], domain->sublo, domain->subhi));
+  }
+  reach_ = shell - 2 * dmax - outside;
+  MPI_Allreduce(MPI_IN_PLACE, &reach_, 1, MPI_DOUBLE, MPI_MIN, world);
+  if (!(reach_ > 0))
+    error->all(FLERR, "fix hardsphere: the ghost shell (" + std::to_string(shell) +
+                          ") does not exceed twice the largest contact distance (" + std::to_string(dmax) +
+                          "); raise it with 'comm_modify cutoff'");
+  epoch_ = false;
+}
+
+void RankStepper::map_slots() {
+  // Which LAMMPS row each stepper slot is, and the shift from the stepper's position to
+  // LAMMPS's continuous one (the build's wrap plus the stepper's own wraps since).
+  auto &exch = hardsphere::state_exchange(*stepper_);
+  const std::size_t n = exch.size();
+  slot_input_.resize(n), slot_image_.resize(3 * n), slot_local_.resize(n), slot_shift_.resize(n);
+  exch.copy_input_index(slot_input_.data());
+  exch.copy_images(slot_image_.data());
+  for (std::size_t k = 0; k < n; k++) {
+    const std::uint32_t in = slot_input_[k];
+    slot_local_[k] = std::uint32_t(input_local_[in]);
+    Vec3d s = input_shift_[in];
+    for (int d = 0; d < 3; d++) s[d] += double(slot_image_[3 * k + std::size_t(d)]) * domain->prd[d];
+    slot_shift_[k] = s;
+  }
+  ghost_slots_.clear();
+  for (std::size_t k = 0; k < n; k++)
+    if (int(slot_local_[k]) >= atom->nlocal) ghost_slots_.push_back(std::uint32_t(k));
+  mapped_rebuilds_ = stepper_->counters().rebuilds;
+}
+
+void RankStepper::sync_ghosts() {
+  // Each ghost copy starts the step as its owner ended the last one: LAMMPS has refreshed the
+  // ghosts' positions, the owner check brought their velocities. Copies then differ only by
+  // what one step's collision chains from beyond the shell can do, which the check catches.
+  if (stepper_->counters().rebuilds != mapped_rebuilds_) map_slots();
+  double **x = atom->x;
+  const std::size_t n = ghost_slots_.size();
+  ghost_pos_.resize(n), ghost_vel_.resize(n);
+  for (std::size_t i = 0; i < n; i++) {
+    const std::uint32_t k = ghost_slots_[i];
+    const int g = int(slot_local_[k]);
+    ghost_pos_[i] = Vec3d{x[g][0], x[g][1], x[g][2]} - slot_shift_[k];
+    ghost_vel_[i] = v_owner_[std::size_t(g)];
+  }
+  hardsphere::state_exchange(*stepper_).set_spheres(ghost_slots_.data(), n, ghost_pos_.data(), ghost_vel_.data());
+}
+
+RankStepper::StepTotals RankStepper::step() {
+  if (stale_) {
+    build();
+  } else if (stepper_) {
+    if (refresh_v_) {  // every atom's velocity from LAMMPS, the ghosts' from their owners
+      comm_mode_ = 0;
+      comm->forward_comm_fix(fix_, kForwardSize);
+      if (stepper_->counters().rebuilds != mapped_rebuilds_) map_slots();
+      hardsphere::state_exchange(*stepper_).gather_velocities(slot_local_.data(), atom->v[0]);
+      double **v = atom->v;
+      for (std::size_t k = 0; k < ghost_slots_.size(); k++) {
+        const int g = int(slot_local_[ghost_slots_[k]]);
+        v_owner_[std::size_t(g)] = {v[g][0], v[g][1], v[g][2]};
+      }
+    }
+    sync_ghosts();
+  }
+  refresh_v_ = false;
+  const int nlocal = atom->nlocal;
+  double **x = atom->x, **v = atom->v;
+  x_start_.resize(std::size_t(nlocal)), v_start_.resize(std::size_t(nlocal));
+  for (int i = 0; i < nlocal; i++)
+    x_start_[std::size_t(i)] = {x[i][0], x[i][1], x[i][2]}, v_start_[std::size_t(i)] = {v[i][0], v[i][1], v[i][2]};
+
+  StepTotals t;
+  if (stepper_) {
+    try {
+      stepper_->run(1);
+    } catch (const std::exception &e) {
+      error->one(FLERR, std::string("fix hardsphere: ") + e.what());
+    }
+    if (stepper_->counters().rebuilds != mapped_rebuilds_) map_slots();
+    // Owned and ghost rows alike: the ghosts' rows hold this rank's copies until LAMMPS
+    // refreshes them from their owners.
+    hardsphere::state_exchange(*stepper_).scatter_state(slot_local_.data(), slot_shift_.data(), x[0], v[0]);
+  }
+
+  // Largest owned move since the build, for the shell's slack and the owner check's zone.
+  double disp2 = 0, v2 = 0;
+  for (int i = 0; i < nlocal; i++) {
+    disp2 = std::max(disp2, norm2(Vec3d{x[i][0], x[i][1], x[i][2]} - x_ref_[std::size_t(i)]));
+    v2 = std::max(v2, v[i][0] * v[i][0] + v[i][1] * v[i][1] + v[i][2] * v[i][2]);
+  }
+  const double disp = std::sqrt(disp2), vmax_local = std::sqrt(v2);
+  const bool agree = ghosts_agree();
+  double loc[3] = {agree ? 0.0 : 1.0, disp, vmax_local}, glob[3];
+  MPI_Allreduce(loc, glob, 3, MPI_DOUBLE, MPI_MAX, world);
+
+  if (glob[0] != 0.0) {
+    t = rerun_globally();
+    stale_ = true;
+  } else if (stepper_) {
+    const hardsphere::OwnedCounters &c = hardsphere::state_exchange(*stepper_).owned_counters();
+    t.collisions = c.collisions - last_.collisions;
+    t.wall_collisions = c.wall_collisions - last_.wall_collisions;
+    for (std::size_t k = 0; k < 6; k++) t.virial[k] = c.pair_virial_tensor[k] - last_.pair_virial_tensor[k];
+    last_ = c;
+    const std::int64_t unresolved = stepper_->counters().unresolved_steps;
+    t.unresolved = double(unresolved - last_unresolved_);
+    last_unresolved_ = unresolved;
+  }
+  // Before the next step every atom that can meet an owned atom must be here: re-neighbour
+  // when the moves since the build (both atoms of a pair) and one more step could use up the
+  // shell's slack.
+  reneighbor_ = 2.0 * (glob[1] + 2.0 * glob[2] * settings_.dt) >= reach_;
+  return t;
+}
+
+bool RankStepper::ghosts_agree() {
+  // A ghost copy evolves from what this rank sees around it. An owned atom's step is right if
+  // every ghost it met was right; each such ghost must end the step with its owner's velocity
+  // (rounding differs between copies by ~1e-15). The owners' velocities also start the ghost
+  // copies' next step (sync_ghosts).
+  const int nall = atom->nlocal + atom->nghost;
+  v_owner_.resize(std::size_t(nall));
+  comm_mode_ = 1;
+  comm->forward_comm_fix(fix_, kForwardSize);
+  comm_mode_ = 0;
+  if (!stepper_) return true;
+  met_.resize(slot_local_.size());
+  hardsphere::state_exchange(*stepper_).copy_met_owned(met_.data());
+  double **v = atom->v;
+  for (std::size_t k = 0; k < slot_local_.size(); k++) {
+    if (!met_[k]) continue;
+    const int g = int(slot_local_[k]);
+    const Vec3d d = Vec3d{v[g][0], v[g][1], v[g][2]} - v_owner_[std::size_t(g)];
+    if (!(std::sqrt(norm2(d)) <= 1e-9 * (1.0 + std::sqrt(norm2(v_owner_[std::size_t(g)]))))) return false;
+  }
+  return true;
+}
+
+RankStepper::StepTotals RankStepper::rerun_globally() {
+  // Re-run this step for all atoms at once with one standalone stepper (the same algorithm,
+  // so the result a complete ghost shell gives), on every rank from the gathered start state;
+  // each rank keeps its own atoms. Rare.
+  const int nlocal = atom->nlocal;
+  constexpr int kFields = 10;  // tag, type, radius, mass, x[3], v[3]
+  std::vector<double> mine(std::size_t(nlocal) * kFields);
+  for (int i = 0; i < nlocal; i++) {
+    double *o = &mine[std::size_t(i) * kFields];
+    const Vec3d &p = x_start_[std::size_t(i)], &u = v_start_[std::size_t(i)];
+    o[0] = double(atom->tag[i]), o[1] = atom->type[i], o[2] = atom->radius[i], o[3] = atom->rmass[i];
+    o[4] = p.x, o[5] = p.y, o[6] = p.z, o[7] = u.x, o[8] = u.y, o[9] = u.z;
+  }
+  const int nprocs = comm->nprocs;
+  int count = nlocal * kFields;
+  std::vector<int> counts(static_cast<std::size_t>(nprocs)), displs(static_cast<std::size_t>(nprocs), 0);
+  MPI_Allgather(&count, 1, MPI_INT, counts.data(), 1, MPI_INT, world);
+  for (int r = 1; r < nprocs; r++) displs[std::size_t(r)] = displs[std::size_t(r - 1)] + counts[std::size_t(r - 1)];
+  std::vector<double> all(std::size_t(displs.back() + counts.back()));
+  MPI_Allgatherv(mine.data(), count, MPI_DOUBLE, all.data(), counts.data(), displs.data(), MPI_DOUBLE, world);
+
+  hardsphere::ParticleSystem sys;
+  for (int d = 0; d < 3; d++) {
+    sys.box.lo[d] = domain->boxlo[d], sys.box.hi[d] = domain->boxhi[d];
+    sys.box.periodic[d] = domain->periodicity[d] != 0;
+  }
+  for (std::size_t k = 0; k < all.size(); k += kFields) {
+    const double *o = &all[k];
+    sys.push_back(std::int64_t(o[0]), int(o[1]), o[2], o[3], {o[4], o[5], o[6]}, {o[7], o[8], o[9]});
+  }
+  hardsphere::wrap_periodic(sys);
+  hardsphere::ParticleSystem out;
+  hardsphere::StepCounters c;
+  try {
+    hardsphere::StepperConfig cfg;
+    cfg.dt = settings_.dt;
+    cfg.detect = settings_.detect;
+    cfg.max_events_per_step = settings_.max_events;
+    auto global = hardsphere::make_stepper(sys, cfg);
+    global->run(1);
+    out = global->state();
+    c = global->counters();
+  } catch (const std::exception &e) {
+    error->all(FLERR, std::string("fix hardsphere: re-running a step for all atoms failed: ") + e.what());
+  }
+
+  // Owned atoms move by the stepper's displacement from where they started (LAMMPS keeps its
+  // own periodic wrapping and image flags).
+  double **x = atom->x, **v = atom->v;
+  for (int i = 0; i < nlocal; i++) {
+    const auto it = std::lower_bound(out.id.begin(), out.id.end(), std::int64_t(atom->tag[i]));
+    const std::size_t k = std::size_t(it - out.id.begin());
+    Vec3d d = out.pos[k] - x_start_[std::size_t(i)];
+    for (int a = 0; a < 3; a++)
+      if (sys.box.periodic[a]) d[a] -= sys.box.length(a) * std::nearbyint(d[a] / sys.box.length(a));
+    const Vec3d p = x_start_[std::size_t(i)] + d;
+    x[i][0] = p.x, x[i][1] = p.y, x[i][2] = p.z;
+    v[i][0] = out.vel[k].x, v[i][1] = out.vel[k].y, v[i][2] = out.vel[k].z;
+  }
+  StepTotals t;
+  t.rerun = true;
+  if (comm->me == 0) {  // the stepper counted every atom: rank 0 reports the totals
+    t.collisions = double(c.collisions);
+    t.wall_collisions = double(c.wall_collisions);
+    t.unresolved = double(c.unresolved_steps);
+    for (std::size_t k = 0; k < 6; k++) t.virial[k] = c.pair_virial_tensor[k];
+  }
+  return t;
+}
+
+int RankStepper::pack_forward(int n, int *list, double *buf) {
+  double **v = atom->v;
+  int m = 0;
+  for (int k = 0; k < n; k++) {
+    const int j = list[k];
+    if (comm_mode_ == 1 && j >= atom->nlocal) {  // a ghost passed on: its owner's value
+      const Vec3d &o = v_owner_[std::size_t(j)];
+      buf[m++] = o.x, buf[m++] = o.y, buf[m++] = o.z;
+    } else {
+      buf[m++] = v[j][0], buf[m++] = v[j][1], buf[m++] = v[j][2];
+    }
+  }
+  return m;
+}
+
+void RankStepper::unpack_forward(int n, int first, double *buf) {
+  double **v = atom->v;
+  for (int i = first, m = 0; i < first + n; i++, m += 3) {
+    if (comm_mode_ == 1)  // owners' results, kept apart from this rank's copies
+      v_owner_[std::size_t(i)] = {buf[m], buf[m + 1], buf[m + 2]};
+    else
+      v[i][0] = buf[m], v[i][1] = buf[m + 1], v[i][2] = buf[m + 2];
+  }
+}

@@ -1,0 +1,87 @@
+#pragma once
+//! The MPI path of fix hardsphere: on each rank one standalone stepper over the rank's owned
+//! atoms and the ghost atoms LAMMPS provides around its sub-domain (an axis that is periodic and
+//! not split keeps its period; LAMMPS's images along it are left out). LAMMPS decomposes the box,
+//! migrates atoms and makes new ghosts when this class asks it to re-neighbour; in between, each
+//! rank's copies of its ghosts start every step as their owners ended the last one. Every ghost
+//! that met an owned atom in a step must end it like its owner; if one does not (a collision
+//! chain ran in from beyond the ghost shell), the step is re-run for all atoms at once.
+//! Collision totals are weighted by ownership, so the ranks add up to one stepper's totals.
+#include <array>
+#include <cstdint>
+#include <memory>
+#include <vector>
+
+#include "hardsphere/state_exchange.hpp"
+#include "hardsphere/stepper.hpp"
+#include "pointers.h"
+
+namespace LAMMPS_NS {
+
+class RankStepper : protected Pointers {
+ public:
+  struct Settings {
+    double dt = 0;
+    hardsphere::Detect detect = hardsphere::Detect::Overlap;
+    std::int64_t max_events = 100000000;
+  };
+  //! What one step did on this rank (ownership-weighted, so sums over ranks are totals).
+  struct StepTotals {
+    double collisions = 0, wall_collisions = 0, unresolved = 0;
+    std::array<double, 6> virial{0, 0, 0, 0, 0, 0};
+    bool rerun = false;  //!< the step was re-run for all atoms (rank 0 carries the totals)
+  };
+
+  RankStepper(LAMMPS *lmp, class Fix *fix) : Pointers(lmp), fix_(fix) {}
+  void configure(const Settings &s) { settings_ = s; }
+  //! The ghost shell for contact distance `contact` and LAMMPS's skin: a ghost an owned atom
+  //! meets must see all its own partners (two contact distances), and the skin twice over plus
+  //! one more contact distance is what atoms may move before LAMMPS re-neighbours.
+  static double ghost_cutoff(double contact, double skin) { return 3.0 * contact + 2.0 * skin; }
+  //! LAMMPS has re-neighboured (or a run starts): new ghosts, atoms may have changed ranks; the
+  //! stepper is made again before the next step.
+  void neighbours_changed() { stale_ = epoch_ = true; }
+  //! Commands between runs may have changed atoms: the stepper is made again from LAMMPS's.
+  void atoms_changed() { stale_ = true; }
+  //! Another fix or command may have changed velocities: they are read again before the next step.
+  void velocities_changed() { refresh_v_ = true; }
+  //! Advances the owned atoms (and this rank's ghost copies) by one step.
+  StepTotals step();
+  //! Whether LAMMPS must re-neighbour before the next step so that every atom an owned atom
+  //! can meet is among this rank's ghosts.
+  bool needs_reneighbor() const { return reneighbor_; }
+
+  int pack_forward(int n, int *list, double *buf);
+  void unpack_forward(int n, int first, double *buf);
+  static constexpr int kForwardSize = 3;
+
+ private:
+  void build();
+  void start_epoch(double shell, double dmax);
+  void map_slots();
+  void sync_ghosts();
+  bool ghosts_agree();
+  StepTotals rerun_globally();
+
+  class Fix *fix_;
+  Settings settings_;
+  bool stale_ = true, epoch_ = true, refresh_v_ = false, reneighbor_ = false;
+  std::unique_ptr<hardsphere::StepperBase> stepper_;
+  hardsphere::OwnedCounters last_;  //!< owned counters after the previous step
+  std::int64_t last_unresolved_ = 0;
+  std::int64_t mapped_rebuilds_ = -1;           //!< stepper rebuilds when the slots were mapped
+  std::vector<int> input_local_;                //!< stepper input index -> LAMMPS local index
+  std::vector<hardsphere::Vec3d> input_shift_;  //!< LAMMPS x - stepper position at build, per input
+  std::vector<std::uint32_t> slot_input_, slot_local_, ghost_slots_;
+  std::vector<hardsphere::Vec3d> ghost_pos_, ghost_vel_;  //!< scratch for sync_ghosts
+  std::vector<std::int32_t> slot_image_;
+  std::vector<hardsphere::Vec3d> slot_shift_;
+  std::vector<std::uint8_t> met_;                     //!< per slot: a ghost that met an owned atom in this step
+  std::vector<hardsphere::Vec3d> x_ref_;              //!< owned positions when LAMMPS last re-neighboured
+  std::vector<hardsphere::Vec3d> x_start_, v_start_;  //!< owned state at the step's start
+  std::vector<hardsphere::Vec3d> v_owner_;            //!< per ghost: its owner's velocity after the step
+  int comm_mode_ = 0;                                 //!< 0: velocities, 1: owners' results
+  double reach_ = 0;  //!< slack of the ghost shell when LAMMPS last re-neighboured (length)
+};
+
+}  // namespace LAMMPS_NS
