@@ -12,11 +12,12 @@ for all atoms because a ghost copy disagreed with its owner; re-neighbourings fo
 Weak scaling: 1 rank with N/2 spheres against 2 ranks with N at the same density.
 """
 import argparse
-import re
 import statistics
 import subprocess
 import tempfile
 from pathlib import Path
+
+from lammps_speed import run_lammps
 
 INPUT = """units lj
 atom_style sphere
@@ -40,14 +41,9 @@ def make_state(hs, d, n, phi, name):
 
 
 def run(lmp, d, data, ranks, dt, steps, mpirun):
-    (Path(d) / "in.scaling").write_text(INPUT.format(data=data, dt=dt, steps=steps))
-    cmd = [lmp, "-in", "in.scaling", "-log", "none", "-echo", "none"]
-    if ranks > 1:
-        cmd = [mpirun, "--allow-run-as-root", "--oversubscribe", "-np", str(ranks)] + cmd
-    out = subprocess.run(cmd, cwd=d, capture_output=True, text=True, check=True).stdout
-    loop = float(re.search(r"Loop time of ([0-9.eE+-]+) on", out).group(1))
-    last = [ln.split() for ln in out.splitlines() if ln.split()[:1] == [str(steps)]][-1]
-    return loop, float(last[1]), float(last[2]), float(last[3])
+    """Loop time, collisions, steps re-run for all atoms, forced re-neighbourings."""
+    loop, row = run_lammps(lmp, d, INPUT.format(data=data, dt=dt, steps=steps), ranks, mpirun)
+    return loop, row[1], row[2], row[3]
 
 
 def alternate(lmp, d, data, dt, steps, rounds, mpirun, ranks=(1, 2)):

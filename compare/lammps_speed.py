@@ -45,15 +45,22 @@ def standalone(hs, d, *opts):
     return json.loads(p.stdout)
 
 
-def lammps(lmp, d, script, np_, mpirun):
+def run_lammps(lmp, d, script, np_, mpirun):
+    """Runs `script` with lmp on np_ ranks in d; returns LAMMPS's loop time and the fields of the
+    last thermo row."""
     (Path(d) / "in.speed").write_text(script)
     cmd = [lmp, "-in", "in.speed", "-log", "none", "-echo", "none"]
     if np_ > 1:
         cmd = [mpirun, "--allow-run-as-root", "--oversubscribe", "-np", str(np_)] + cmd
     out = subprocess.run(cmd, cwd=d, capture_output=True, text=True, check=True).stdout
     m = re.search(r"Loop time of ([0-9.eE+-]+) on (\d+) procs for (\d+) steps with (\d+) atoms", out)
-    coll = float([ln.split() for ln in out.splitlines() if ln.split()[:1] and ln.split()[0].isdigit()][-1][3])
-    return float(m.group(1)), coll
+    last = [ln.split() for ln in out.splitlines() if ln.split()[:1] and ln.split()[0].isdigit()][-1]
+    return float(m.group(1)), [float(f) for f in last]
+
+
+def lammps(lmp, d, script, np_, mpirun):
+    loop, row = run_lammps(lmp, d, script, np_, mpirun)
+    return loop, row[3]
 
 
 def main():
