@@ -361,9 +361,11 @@ class DataFile {
     if (!(density > 0)) r_.fail("density " + w[3] + " of atom " + id_s + " must be positive");
     const Vec3d p{r_.real(w[4], "x of atom", &id_s), r_.real(w[5], "y of atom", &id_s),
                   r_.real(w[6], "z of atom", &id_s)};
-    // Image flags are checked, not applied: positions are wrapped into periodic boxes anyway.
+    // Image flags: kept, so unwrapped positions continue from the file's.
+    std::array<std::int32_t, 3> image{0, 0, 0};
     for (std::size_t c = 7; c < w.size(); ++c)
-      r_.integer(w[c], "image flag of atom", INT32_MIN, INT32_MAX, "32-bit integers", &id_s);
+      image[c - 7] =
+          std::int32_t(r_.integer(w[c], "image flag of atom", INT32_MIN, INT32_MAX, "32-bit integers", &id_s));
     const double radius = 0.5 * diameter;
     // Same operation order as LAMMPS AtomVecSphere, so masses agree to the last bit.
     const double mass = density * (4.0 * M_PI / 3.0 * radius * radius * radius);
@@ -380,7 +382,9 @@ class DataFile {
       widest_ = sys_.size();
     }
     atom_line_.push_back(r_.line());
-    sys_.push_back(id, int(type), radius, mass, p, {});
+    for (int d = 0; d < 3; ++d)
+      if (!sys_.box.periodic[d]) image[std::size_t(d)] = 0;  // walls: no images (as LAMMPS)
+    sys_.push_back(id, int(type), radius, mass, p, {}, image);
   }
 
   LineReader& r_;

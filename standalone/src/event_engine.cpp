@@ -93,10 +93,11 @@ struct EventEngine::Impl {
   int ncap = 16;
   std::vector<std::uint64_t> mark;  // rebuild bookkeeping: stamp of the last rebuild that saw j
   std::uint64_t stamp = 0;
-  std::vector<std::uint32_t> old_list, fresh;  // rebuild buffers
-  std::vector<double> soa;                     // relative positions/velocities of the candidates of a scan
-  std::vector<int> hits;                       // candidates passing the contact screen
-  std::vector<std::uint32_t> orig;             // internal index -> input index
+  std::vector<std::uint32_t> old_list, fresh;      // rebuild buffers
+  std::vector<double> soa;                         // relative positions/velocities of the candidates of a scan
+  std::vector<int> hits;                           // candidates passing the contact screen
+  std::vector<std::uint32_t> orig;                 // internal index -> input index
+  std::vector<std::array<std::int64_t, 3>> wraps;  // input index: box lengths removed by wrapping
 
   // Per-sphere predictions: best pair collision and the boundary (rebuild or wall) event.
   // The second-best collision is kept too: when the best turns stale (its partner collided
@@ -484,9 +485,9 @@ struct EventEngine::Impl {
     for (std::size_t d = 0; d < 3; ++d) {
       if (!periodic[d]) continue;
       if (*pos[d] < lo[d])
-        *pos[d] += len[d], wrapped = true;
+        *pos[d] += len[d], wrapped = true, --wraps[orig[std::size_t(i)]][d];
       else if (*pos[d] >= lo[d] + len[d])
-        *pos[d] -= len[d], wrapped = true;
+        *pos[d] -= len[d], wrapped = true, ++wraps[orig[std::size_t(i)]][d];
     }
     Pred& pi = pred[std::size_t(i)];
     pi.cx = s.x;
@@ -733,6 +734,7 @@ EventEngine::EventEngine(const ParticleSystem& sys, const EventConfig& cfg) : im
   if (!(cfg.shell >= 0) || !std::isfinite(cfg.shell))
     throw InputError("event engine: shell " + std::to_string(cfg.shell) + " must be positive (or 0 for auto)");
   m.proto = sys;
+  m.proto.image.resize(sys.size(), {0, 0, 0});
   m.mono = sys.monodisperse();
   m.mass0 = n ? sys.mass[0] : 1.0;
   if (cfg.reach < 1 || cfg.reach > 2)
@@ -816,6 +818,7 @@ EventEngine::EventEngine(const ParticleSystem& sys, const EventConfig& cfg) : im
     key[i] = m.cell_index(k0[i]);
   }
   m.orig.resize(n);
+  m.wraps.assign(n, {0, 0, 0});
   for (std::size_t i = 0; i < n; ++i) m.orig[i] = std::uint32_t(i);
   std::stable_sort(m.orig.begin(), m.orig.end(), [&](std::uint32_t a, std::uint32_t b) { return key[a] < key[b]; });
 
@@ -870,6 +873,9 @@ ParticleSystem EventEngine::state() const {
     const std::size_t i = m.orig[k];
     out.pos[i] = {s.x + s.vx * dt, s.y + s.vy * dt, s.z + s.vz * dt};
     out.vel[i] = {s.vx, s.vy, s.vz};
+    for (std::size_t d = 0; d < 3; ++d)
+      out.image[i][d] = std::int32_t(
+          std::clamp(m.proto.image[i][d] + m.wraps[i][d], std::int64_t(INT32_MIN), std::int64_t(INT32_MAX)));
   }
   wrap_periodic(out);
   return out;

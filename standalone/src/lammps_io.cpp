@@ -21,8 +21,9 @@ void write_data(std::ostream& o, const ParticleSystem& sys, const std::string& t
   for (std::size_t i = 0; i < sys.size(); ++i) {
     const double r = sys.radius[i];
     const double density = sys.mass[i] / (4.0 * M_PI / 3.0 * r * r * r);
+    const auto img = i < sys.image.size() ? sys.image[i] : std::array<std::int32_t, 3>{0, 0, 0};
     o << sys.id[i] << ' ' << sys.type[i] << ' ' << 2 * r << ' ' << density << ' ' << sys.pos[i].x << ' ' << sys.pos[i].y
-      << ' ' << sys.pos[i].z << " 0 0 0\n";
+      << ' ' << sys.pos[i].z << ' ' << img[0] << ' ' << img[1] << ' ' << img[2] << '\n';
   }
   o << "\nVelocities\n\n";
   for (std::size_t i = 0; i < sys.size(); ++i)
@@ -42,10 +43,15 @@ void DumpWriter::write_frame(std::int64_t timestep, const ParticleSystem& sys) {
   for (int d = 0; d < 3; ++d) o << (sys.box.periodic[d] ? " pp" : " ff");
   o << '\n';
   for (int d = 0; d < 3; ++d) o << sys.box.lo[d] << ' ' << sys.box.hi[d] << '\n';
-  o << "ITEM: ATOMS id type radius x y z vx vy vz\n";
-  for (std::size_t i = 0; i < sys.size(); ++i)
+  // Image flags make the unwrapped position x + ix L continuous in time (mean-squared
+  // displacements from dumps).
+  o << "ITEM: ATOMS id type radius x y z vx vy vz ix iy iz\n";
+  for (std::size_t i = 0; i < sys.size(); ++i) {
+    const auto img = i < sys.image.size() ? sys.image[i] : std::array<std::int32_t, 3>{0, 0, 0};
     o << sys.id[i] << ' ' << sys.type[i] << ' ' << sys.radius[i] << ' ' << sys.pos[i].x << ' ' << sys.pos[i].y << ' '
-      << sys.pos[i].z << ' ' << sys.vel[i].x << ' ' << sys.vel[i].y << ' ' << sys.vel[i].z << '\n';
+      << sys.pos[i].z << ' ' << sys.vel[i].x << ' ' << sys.vel[i].y << ' ' << sys.vel[i].z << ' ' << img[0] << ' '
+      << img[1] << ' ' << img[2] << '\n';
+  }
   // A full disk or a file size limit shows here, at the frame, not only after the whole run.
   if (!o)
     throw InputError("error while writing '" + file_.path() + "'" +

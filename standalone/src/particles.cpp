@@ -19,6 +19,7 @@ void ParticleSystem::resize(std::size_t n) {
   mass.resize(n);
   pos.resize(n);
   vel.resize(n);
+  image.resize(n, {0, 0, 0});
 }
 
 void ParticleSystem::reserve(std::size_t n) {
@@ -28,15 +29,18 @@ void ParticleSystem::reserve(std::size_t n) {
   mass.reserve(n);
   pos.reserve(n);
   vel.reserve(n);
+  image.reserve(n);
 }
 
-void ParticleSystem::push_back(std::int64_t i, int t, double r, double m, Vec3d p, Vec3d v) {
+void ParticleSystem::push_back(std::int64_t i, int t, double r, double m, Vec3d p, Vec3d v,
+                               std::array<std::int32_t, 3> img) {
   id.push_back(i);
   type.push_back(t);
   radius.push_back(r);
   mass.push_back(m);
   pos.push_back(p);
   vel.push_back(v);
+  image.push_back(img);
 }
 
 bool ParticleSystem::monodisperse() const {
@@ -58,17 +62,24 @@ double ParticleSystem::packing_fraction() const {
 }
 
 void wrap_periodic(ParticleSystem& sys) {
-  for (auto& p : sys.pos)
+  sys.image.resize(sys.size(), {0, 0, 0});
+  for (std::size_t i = 0; i < sys.size(); ++i) {
+    Vec3d& p = sys.pos[i];
     for (int d = 0; d < 3; ++d) {
       if (!sys.box.periodic[d]) continue;
       const double lo = sys.box.lo[d], hi = sys.box.hi[d], len = sys.box.length(d);
       if (p[d] >= lo && p[d] < hi) continue;
       // fmod is exact, so even far coordinates land in the box (rounding can still reach hi).
+      const double before = p[d];
       double r = std::fmod(p[d] - lo, len);
       if (r < 0) r += len;
       p[d] = lo + r;
       if (!(p[d] >= lo && p[d] < hi)) p[d] = lo;
+      std::int32_t& img = sys.image[i][std::size_t(d)];
+      const double shifted = double(img) + std::nearbyint((before - p[d]) / len);
+      img = std::int32_t(std::clamp(shifted, double(INT32_MIN), double(INT32_MAX)));
     }
+  }
 }
 
 namespace {

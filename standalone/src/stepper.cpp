@@ -372,7 +372,8 @@ class Stepper final : public StepperBase, public StateExchange {
   // of the sphere at each position of the cell order), so a rebuild moves 4 bytes, not 24.
   std::vector<std::uint32_t> slot_;
   std::vector<std::int64_t> id_;
-  std::vector<std::array<std::int32_t, 3>> image_;  // box lengths removed by wrapping, per axis
+  std::vector<std::array<std::int32_t, 3>> image_;   // box lengths removed by wrapping, per axis
+  std::vector<std::array<std::int32_t, 3>> image0_;  // id order: the input's image flags
   std::vector<int> type_, cell_;
   std::vector<std::uint32_t> cell_start_, order_;
   // Candidate pairs within r_i + r_j + skin at the last rebuild: those inside the box (most)
@@ -467,6 +468,7 @@ Stepper<Real, Mono>::Stepper(const ParticleSystem& sys, const StepperConfig& cfg
   id_.resize(n);
   type_.resize(n);
   image_.assign(n, {0, 0, 0});
+  image0_.assign(n, {0, 0, 0});
   // Internal order starts from the ids, not the input order: the cell sorts are stable, so the
   // same spheres give the same run bit for bit in whatever order an adapter hands them over.
   std::vector<std::size_t> by_id(n);
@@ -479,6 +481,7 @@ Stepper<Real, Mono>::Stepper(const ParticleSystem& sys, const StepperConfig& cfg
     slot_[i] = std::uint32_t(i);
     id_[i] = sys.id[s];
     type_[i] = sys.type[s];
+    if (s < sys.image.size()) image0_[i] = sys.image[s];
     pos_[i] = {Real(sys.pos[s].x - origin_[0]), Real(sys.pos[s].y - origin_[1]), Real(sys.pos[s].z - origin_[2])};
     vel_[i] = {Real(sys.vel[s].x), Real(sys.vel[s].y), Real(sys.vel[s].z)};
     r_[i] = Real(sys.radius[s]);
@@ -870,8 +873,12 @@ ParticleSystem Stepper<Real, Mono>::state() const {
     for (int d = 0; d < 3; ++d)  // rounding back to the caller's coordinates must not leave a wall
       if (!user_box_.periodic[d])
         p[d] = std::clamp(p[d], user_box_.lo[d] + double(r_[k]), user_box_.hi[d] - double(r_[k]));
+    std::array<std::int32_t, 3> image{};
+    for (std::size_t d = 0; d < 3; ++d)
+      image[d] = std::int32_t(
+          std::clamp(std::int64_t(image0_[s][d]) + image_[s][d], std::int64_t(INT32_MIN), std::int64_t(INT32_MAX)));
     out.push_back(id_[s], type_[s], double(r_[k]), double(m_[k]), p,
-                  {double(vel_[k].x), double(vel_[k].y), double(vel_[k].z)});
+                  {double(vel_[k].x), double(vel_[k].y), double(vel_[k].z)}, image);
   }
   wrap_periodic(out);
   return out;

@@ -1,6 +1,7 @@
 #pragma once
 //! The canonical particle state exchanged between engines, initialisers and file I/O.
 //! Engines keep their own reordered, precision-specific copies; this one is ordered as read.
+#include <array>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -18,11 +19,15 @@ struct ParticleSystem {
   std::vector<double> mass;
   std::vector<Vec3d> pos;
   std::vector<Vec3d> vel;
+  //! Periodic images crossed (LAMMPS's image flags): the unwrapped position, continuous in
+  //! time, is pos + image * box length per periodic axis. Zero on wall axes.
+  std::vector<std::array<std::int32_t, 3>> image;
 
   std::size_t size() const { return pos.size(); }
   void resize(std::size_t n);
   void reserve(std::size_t n);
-  void push_back(std::int64_t id, int type, double radius, double mass, Vec3d pos, Vec3d vel);
+  void push_back(std::int64_t id, int type, double radius, double mass, Vec3d pos, Vec3d vel,
+                 std::array<std::int32_t, 3> image = {0, 0, 0});
 
   bool monodisperse() const;  //!< all radii and all masses equal
   double max_radius() const;
@@ -50,7 +55,8 @@ std::string atom_origin(const ParticleSystem& sys, std::size_t i, const std::str
 //! Largest pair overlap max(0, R_i + R_j - |r_ij|) over all pairs (minimum image), via a cell grid.
 double max_overlap(const ParticleSystem& sys);
 
-//! Wraps periodic coordinates into [lo, hi).
+//! Wraps periodic coordinates into [lo, hi) and counts the box lengths taken off in `image`
+//! (saturating at the int32 range).
 void wrap_periodic(ParticleSystem& sys);
 
 }  // namespace hardsphere
