@@ -755,7 +755,11 @@ EventEngine::EventEngine(const ParticleSystem& sys, const EventConfig& cfg) : im
     if (sys.box.periodic[d] && (l < min_cells * dmax / m.reach || (cfg.cells[d] > 0 && cfg.cells[d] < min_cells)))
       throw InputError("event engine: periodic axis " + std::string(1, char('x' + d)) + " of length " +
                        std::to_string(l) + " needs at least " + std::to_string(min_cells) +
-                       " cells of width >= the largest diameter / reach " + std::to_string(dmax / m.reach));
+                       " cells of width >= the largest diameter / reach " + std::to_string(dmax / m.reach) +
+                       " (a sphere's partners are searched in the cells around its own, which must be " +
+                       "distinct periodic images); use --engine stepper, which takes any periodic box " +
+                       "longer than 2 largest diameters, or a box of at least " +
+                       std::to_string(min_cells * dmax / m.reach));
     shell = std::min(shell, w * m.reach - dmax);
   }
   if (n > 0 && !(shell > 1e-6 * dmax))
