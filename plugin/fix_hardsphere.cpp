@@ -48,6 +48,14 @@ FixHardSphere::FixHardSphere(LAMMPS *lmp, int narg, char **arg) : Fix(lmp, narg,
     } else if (key == "max_events") {
       max_events = utils::bnumeric(FLERR, arg[a + 1], false, lmp);
       if (max_events < 1) error->all(FLERR, "fix hardsphere: max_events must be >= 1");
+    } else if (key == "restitution") {
+      restitution = utils::numeric(FLERR, arg[a + 1], false, lmp);
+      if (!(restitution > 0.0 && restitution <= 1.0))
+        error->all(FLERR, "fix hardsphere: restitution " + val + " must be in (0, 1] (1: elastic)");
+    } else if (key == "contact_time") {
+      contact_time = utils::numeric(FLERR, arg[a + 1], false, lmp);
+      if (!(contact_time >= 0.0 && std::isfinite(contact_time)))
+        error->all(FLERR, "fix hardsphere: contact_time " + val + " must be finite and >= 0");
     } else if (key == "ghost") {
       if (val == "auto")
         ghost_auto = true;
@@ -63,7 +71,8 @@ FixHardSphere::FixHardSphere(LAMMPS *lmp, int narg, char **arg) : Fix(lmp, narg,
       else
         error->all(FLERR, "fix hardsphere: path must be 'auto' or 'ghosts', got '" + val + "'");
     } else {
-      error->all(FLERR, "fix hardsphere: unknown keyword '" + key + "' (known: detect, max_events, ghost, path)");
+      error->all(FLERR, "fix hardsphere: unknown keyword '" + key +
+                            "' (known: detect, max_events, restitution, contact_time, ghost, path)");
     }
   }
   time_integrate = 1;
@@ -125,7 +134,8 @@ void FixHardSphere::setup(int vflag) {
   if (serial) {
     serial_setup();
   } else {
-    rank->configure({dt, sweep ? hardsphere::Detect::Sweep : hardsphere::Detect::Overlap, max_events});
+    rank->configure(
+        {dt, sweep ? hardsphere::Detect::Sweep : hardsphere::Detect::Overlap, max_events, restitution, contact_time});
     rank->neighbours_changed();
   }
   t_now = temperature_now();

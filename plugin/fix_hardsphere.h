@@ -1,5 +1,6 @@
 #pragma once
-//! fix ID all hardsphere [detect overlap|sweep] [max_events N] [ghost auto|user] [path auto|ghosts]
+//! fix ID all hardsphere [detect overlap|sweep] [max_events N] [restitution e] [contact_time tc]
+//!                       [ghost auto|user] [path auto|ghosts]
 //!
 //! Time integrator for hard spheres (instead of fix nve/sphere); user documentation in
 //! docs/fix_hardsphere.md. On one rank it hands the atoms to the standalone stepper
@@ -72,6 +73,8 @@ class FixHardSphere : public Fix {
   bool sweep = false;
   bool ghost_auto = true;
   std::int64_t max_events = 100000000;
+  double restitution = 1.0;                               //!< normal restitution of collisions
+  double contact_time = hardsphere::kDefaultContactTime;  //!< TC model (used when restitution < 1)
 
   // Serial runs (one rank) hand the owned atoms to the standalone stepper, which handles
   // periodic images itself: no ghosts, no neighbour list, the standalone result by construction.

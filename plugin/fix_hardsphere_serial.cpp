@@ -116,6 +116,8 @@ std::unique_ptr<hardsphere::StepperBase> FixHardSphere::new_stepper(const hardsp
   cfg.dt = dt;
   cfg.detect = sweep ? hardsphere::Detect::Sweep : hardsphere::Detect::Overlap;
   cfg.max_events_per_step = max_events;
+  cfg.restitution = restitution;
+  cfg.contact_time = contact_time;
   return hardsphere::make_stepper(sys, cfg);
 }
 

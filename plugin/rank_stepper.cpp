@@ -108,17 +108,13 @@ void RankStepper::build() {
 
   if (epoch_) start_epoch(shell, dmax);
 
-  hardsphere::StepperConfig cfg;
-  cfg.dt = settings_.dt;
-  cfg.detect = settings_.detect;
-  cfg.max_events_per_step = settings_.max_events;
   stepper_.reset();
   if (!sys.size()) {
     stale_ = false;
     return;
   }
   try {
-    stepper_ = hardsphere::make_stepper(sys, cfg);
+    stepper_ = hardsphere::make_stepper(sys, config());
   } catch (const std::exception &e) {
     error->one(FLERR, std::string("fix hardsphere: ") + e.what());
   }
@@ -128,6 +124,16 @@ void RankStepper::build() {
   last_unresolved_ = 0;
   map_slots();
   stale_ = false;
+}
+
+hardsphere::StepperConfig RankStepper::config() const {
+  hardsphere::StepperConfig cfg;
+  cfg.dt = settings_.dt;
+  cfg.detect = settings_.detect;
+  cfg.max_events_per_step = settings_.max_events;
+  cfg.restitution = settings_.restitution;
+  cfg.contact_time = settings_.contact_time;
+  return cfg;
 }
 
 void RankStepper::start_epoch(double shell, double dmax) {
@@ -315,11 +321,7 @@ RankStepper::StepTotals RankStepper::rerun_globally() {
   hardsphere::ParticleSystem out;
   hardsphere::StepCounters c;
   try {
-    hardsphere::StepperConfig cfg;
-    cfg.dt = settings_.dt;
-    cfg.detect = settings_.detect;
-    cfg.max_events_per_step = settings_.max_events;
-    auto global = hardsphere::make_stepper(sys, cfg);
+    auto global = hardsphere::make_stepper(sys, config());
     global->run(1);
     out = global->state();
     c = global->counters();

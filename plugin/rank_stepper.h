@@ -24,6 +24,7 @@ class RankStepper : protected Pointers {
     double dt = 0;
     hardsphere::Detect detect = hardsphere::Detect::Overlap;
     std::int64_t max_events = 100000000;
+    double restitution = 1.0, contact_time = 0.0;
   };
   //! What one step did on this rank (ownership-weighted, so sums over ranks are totals).
   struct StepTotals {
@@ -56,6 +57,7 @@ class RankStepper : protected Pointers {
   static constexpr int kForwardSize = 3;
 
  private:
+  hardsphere::StepperConfig config() const;
   void build();
   void start_epoch(double shell, double dmax);
   void map_slots();

@@ -5,6 +5,8 @@
 #include <cstdlib>
 #include <iostream>
 #include <new>
+#include <sstream>
+#include <string>
 
 #include "hardsphere/atomic_file.hpp"
 #include "hardsphere/errors.hpp"
@@ -15,6 +17,17 @@ using namespace hardsphere;
 
 namespace {
 
+// Elastic runs show how well energy was kept; inelastic ones what the collisions dissipated.
+std::string energy_line(const nlohmann::json& j) {
+  std::ostringstream o;
+  if (j["restitution"].get<double>() < 1.0)
+    o << "  dissipated energy " << j["dissipated_energy"].get<double>() << " (restitution "
+      << j["restitution"].get<double>() << ")\n";
+  else
+    o << "  energy drift      " << j["energy_rel_drift"].get<double>() << " (relative)\n";
+  return o.str();
+}
+
 void print_event_summary(const nlohmann::json& j, std::ostream& o) {
   o << "hardsphere: " << j["n"] << " spheres, packing fraction " << j["packing_fraction"].get<double>()
     << ", event-driven for time " << j["sim_time"].get<double>() << " (" << j["scene_kernel"].get<std::string>()
@@ -24,8 +37,7 @@ void print_event_summary(const nlohmann::json& j, std::ostream& o) {
     << "  temperature       " << j["temperature"].get<double>() << "\n"
     << "  Z = PV/NkT        " << j["compressibility_factor"].get<double>() << " +- "
     << j["compressibility_factor_error"].get<double>() << "\n"
-    << "  energy drift      " << j["energy_rel_drift"].get<double>() << " (relative)\n"
-    << "  max overlap       " << j["max_overlap"].get<double>() << "\n"
+    << energy_line(j) << "  max overlap       " << j["max_overlap"].get<double>() << "\n"
     << "  speed KS distance " << j["speed_ks_distance"].get<double>() << " from Maxwell-Boltzmann\n"
     << "  CPU time (loop)   " << j["loop_cpu_seconds"].get<double>() << " s, "
     << j["collisions_per_second"].get<double>() << " collisions/s, " << j["events_per_second"].get<double>()
@@ -41,8 +53,7 @@ void print_summary(const nlohmann::json& j, std::ostream& o) {
     << " per particle per unit time)\n"
     << "  temperature       " << j["temperature"].get<double>() << "\n"
     << "  Z = PV/NkT        " << j["compressibility_factor"].get<double>() << "\n"
-    << "  energy drift      " << j["energy_rel_drift"].get<double>() << " (relative)\n"
-    << "  max overlap       " << j["max_overlap"].get<double>() << "\n"
+    << energy_line(j) << "  max overlap       " << j["max_overlap"].get<double>() << "\n"
     << "  speed KS distance " << j["speed_ks_distance"].get<double>() << " from Maxwell-Boltzmann\n"
     << "  CPU time (loop)   " << j["loop_cpu_seconds"].get<double>() << " s, "
     << j["particle_steps_per_second"].get<double>() << " particle-steps/s\n";

@@ -14,6 +14,7 @@
 #include "hardsphere/atomic_file.hpp"
 #include "hardsphere/errors.hpp"
 #include "hardsphere/limits.hpp"
+#include "hardsphere/stepper.hpp"
 
 namespace hardsphere::cli {
 
@@ -139,7 +140,7 @@ CommandLine parse_command_line(int argc, const char* const* argv) {
   std::string n_s = "1000", phi_s = "0.2", box_s, radius_s, mass_s, t_s, speed_s, dt_s, steps_s, equil_s;
   std::string boundary_s = "p", cells_s = "auto", precision_s = "double", init_s = "auto", json_s, detect_s = "auto";
   std::string read_data_s, write_data_s, dump_s, seed_s = "1", engine_s = "stepper", time_s, etime_s, blocks_s;
-  std::string dump_every_s, bins_s;
+  std::string dump_every_s, bins_s, restitution_s, contact_time_s;
 
   auto* o_n = run->add_option("--n", n_s, "number of spheres (default 1000)")->type_name("INT");
   auto* o_phi =
@@ -167,6 +168,16 @@ CommandLine parse_command_line(int argc, const char* const* argv) {
                                    "contact detection: auto (default: sweep for steps with v_rms dt > 0.1 diameters, "
                                    "else overlap), overlap (a posteriori) or sweep (whole step)");
   run->add_option("--engine", engine_s, "stepper (time-stepped, default) or event (exact event-driven)");
+  auto* o_restitution =
+      run->add_option("--restitution", restitution_s,
+                      "normal restitution e of sphere collisions, 0 < e <= 1 (default 1: elastic; walls stay elastic)")
+          ->type_name("FLOAT");
+  auto* o_contact_time =
+      run->add_option("--contact-time", contact_time_s,
+                      "TC model: a collision within this time of a sphere's previous one is elastic (default 1e-4 "
+                      "with --restitution below 1; 0 turns it off)")
+          ->type_name("FLOAT")
+          ->needs(o_restitution);
   auto* o_time = run->add_option("--time", time_s, "simulated time measured (event engine; stepper: steps = time/dt)")
                      ->type_name("FLOAT");
   auto* o_etime =
@@ -208,6 +219,15 @@ CommandLine parse_command_line(int argc, const char* const* argv) {
   if (o_blocks->count()) spec.blocks = int(whole("--blocks", blocks_s, 1, kMaxBlocks));
   if (o_dump_every->count()) spec.dump_every = whole("--dump-every", dump_every_s, 1, LLONG_MAX);
   if (o_bins->count()) spec.histogram_bins = int(whole("--histogram-bins", bins_s, 1, kMaxBins));
+  if (o_restitution->count()) {
+    const double e = real("--restitution", restitution_s);
+    const double tc = o_contact_time->count() ? real("--contact-time", contact_time_s) : kDefaultContactTime;
+    if (!(e > 0 && e <= 1)) throw InputError("--restitution " + restitution_s + " must be in (0, 1] (1: elastic)");
+    if (!(tc >= 0 && std::isfinite(tc)))
+      throw InputError("--contact-time " + contact_time_s + " must be finite and >= 0");
+    spec.stepper.restitution = spec.event.restitution = e;
+    spec.stepper.contact_time = spec.event.contact_time = tc;
+  }
   const double time = o_time->count() ? real("--time", time_s) : 0.0;
   const double etime = o_etime->count() ? real("--equilibrate-time", etime_s) : 0.0;
 

@@ -118,6 +118,16 @@ class ContactResolver {
   const std::vector<std::uint32_t>& changed() const { return changed_; }
   //! No contact was left unresolved: resolve() ran the whole step.
   static constexpr Real kWholeStep = Real(-1);
+  //! Normal restitution e (1: elastic) with the TC model of inelastic collapse: a collision
+  //! within `contact_time` of either sphere's previous one is elastic. `last` (indexed like id)
+  //! holds each sphere's last collision time on the clock of set_step_end().
+  void set_restitution(Real e, double contact_time, double* last) {
+    restitution_ = e;
+    contact_time_ = contact_time;
+    last_collision_ = last;
+  }
+  //! The time at the end of the current step, on the clock of the last collision times.
+  void set_step_end(double t) { step_end_ = t; }
   void set_uniform(Real sigma, Real mass) {
     sigma_ = sigma;
     mass_ = mass;
@@ -450,6 +460,12 @@ class ContactResolver {
   std::int64_t id(std::uint32_t i) const { return a_.id_slot ? a_.id[a_.id_slot[i]] : a_.id[i]; }
   std::uint32_t id_index(std::uint32_t i) const { return a_.id_slot ? a_.id_slot[i] : i; }
   double owned(std::uint32_t i) const { return a_.owned[id_index(i)]; }
+  //! TC model: a collision `back` before the step's end is elastic if either sphere collided
+  //! within contact_time_ before it.
+  bool collided_recently(std::uint32_t i, std::uint32_t j, Real back) const {
+    const double t = step_end_ - double(back);
+    return t - last_collision_[id_index(i)] < contact_time_ || t - last_collision_[id_index(j)] < contact_time_;
+  }
 
   //! Mirrors sphere c.i at the wall of axis c.image, `c.back` before the end of the step.
   template <class Hooks>
@@ -527,11 +543,19 @@ class ContactResolver {
     const Vec3<Real> contact = ri - rj - shift;
     const Vec3<Real> vi_before = vi;
     double virial;
-    if constexpr (Mono)
+    const bool restituted = restitution_ != Real(1) && !collided_recently(i, j, back);
+    if (restituted) {
+      if constexpr (Mono)
+        virial = double(mass_) * double(kernel::collide_equal_mass(contact, vi, vj, restitution_));
+      else
+        virial = double(kernel::collide(contact, vi, vj, a_.mass[i], a_.mass[j], restitution_));
+    } else if constexpr (Mono) {
       virial = double(mass_) * double(kernel::collide_equal_mass(contact, vi, vj));
-    else
+    } else {
       virial = double(kernel::collide(contact, vi, vj, a_.mass[i], a_.mass[j]));
+    }
     if (virial == 0.0) return false;  // receding at the rewound contact: nothing to resolve
+    if (restitution_ != Real(1)) last_collision_[id_index(i)] = last_collision_[id_index(j)] = step_end_ - double(back);
     const double mi = Mono ? double(mass_) : double(a_.mass[i]);
     const Vec3<Real> dvi = vi - vi_before;
     const double dp[3] = {mi * double(dvi.x), mi * double(dvi.y), mi * double(dvi.z)};
@@ -568,6 +592,9 @@ class ContactResolver {
 
   ContactArrays<Real> a_;
   Real dt_ = 0, sigma_ = 0, mass_ = 0;
+  Real restitution_ = 1;  // normal restitution (1: elastic)
+  double contact_time_ = 0, step_end_ = 0;
+  double* last_collision_ = nullptr;  // id-indexed last collision times (restitution_ < 1 only)
   Real speed_bound_ = std::numeric_limits<Real>::infinity();
   std::int64_t max_events_ = 100000000;
   std::vector<Change> change_, moved_;  // moved_: scratch for permute()

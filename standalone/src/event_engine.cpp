@@ -98,6 +98,8 @@ struct EventEngine::Impl {
   std::vector<int> hits;                           // candidates passing the contact screen
   std::vector<std::uint32_t> orig;                 // internal index -> input index
   std::vector<std::array<std::int64_t, 3>> wraps;  // input index: box lengths removed by wrapping
+  double restitution = 1.0, contact_time = 0.0;
+  std::vector<double> last_collision;  // input index: time of the last collision (restitution < 1)
 
   // Per-sphere predictions: best pair collision and the boundary (rebuild or wall) event.
   // The second-best collision is kept too: when the best turns stale (its partner collided
@@ -456,8 +458,20 @@ struct EventEngine::Impl {
     for (int d = 0; d < 3; ++d)  // at contact |dr| <= largest diameter < L/2: minimum image
       if (periodic[std::size_t(d)]) dr[d] -= len[std::size_t(d)] * std::nearbyint(dr[d] / len[std::size_t(d)]);
     Vec3d va{a.vx, a.vy, a.vz}, vb{b.vx, b.vy, b.vz};
-    const double w = mono ? mass0 * kernel::collide_equal_mass(dr, va, vb)
-                          : kernel::collide(dr, va, vb, mass[std::size_t(i)], mass[std::size_t(j)]);
+    double w;
+    if (restitution != 1.0) {
+      // TC model: elastic if either sphere collided within contact_time before.
+      const double t = base + now;
+      double& ti = last_collision[orig[std::size_t(i)]];
+      double& tj = last_collision[orig[std::size_t(j)]];
+      const double e = t - ti < contact_time || t - tj < contact_time ? 1.0 : restitution;
+      w = mono ? mass0 * kernel::collide_equal_mass(dr, va, vb, e)
+               : kernel::collide(dr, va, vb, mass[std::size_t(i)], mass[std::size_t(j)], e);
+      ti = tj = t;
+    } else {
+      w = mono ? mass0 * kernel::collide_equal_mass(dr, va, vb)
+               : kernel::collide(dr, va, vb, mass[std::size_t(i)], mass[std::size_t(j)]);
+    }
     a.vx = va.x;
     a.vy = va.y;
     a.vz = va.z;
@@ -735,6 +749,10 @@ EventEngine::EventEngine(const ParticleSystem& sys, const EventConfig& cfg) : im
     throw InputError("event engine: shell " + std::to_string(cfg.shell) + " must be positive (or 0 for auto)");
   m.proto = sys;
   m.proto.image.resize(sys.size(), {0, 0, 0});
+  check_restitution(cfg.restitution, cfg.contact_time);
+  m.restitution = cfg.restitution;
+  m.contact_time = cfg.contact_time;
+  if (cfg.restitution != 1.0) m.last_collision.assign(sys.size(), -std::numeric_limits<double>::infinity());
   m.mono = sys.monodisperse();
   m.mass0 = n ? sys.mass[0] : 1.0;
   if (cfg.reach < 1 || cfg.reach > 2)

@@ -117,6 +117,10 @@ nlohmann::json run_event_simulation(const RunSpec& spec) {
   nlohmann::json j = physics_summary(fin, totals, !spec.read_data.has_value(), spec.init.seed, spec.histogram_bins,
                                      overlap_tolerance(fin, std::numeric_limits<double>::epsilon()));
   j["engine"] = "event";
+  j["restitution"] = spec.event.restitution;
+  j["contact_time"] = spec.event.contact_time;
+  // Inelastic collisions turn kinetic energy into heat: what they took over the measured run.
+  j["dissipated_energy"] = j["kinetic_energy_initial"].get<double>() - j["kinetic_energy_final"].get<double>();
   j["sim_time"] = c.sim_time;
   j["equilibrate_time"] = spec.equilibrate_time;
   j["blocks"] = spec.blocks;

@@ -168,4 +168,17 @@ void check_engine_numbers(const ParticleSystem& sys, double dt, const std::strin
 template void check_engine_numbers<float>(const ParticleSystem&, double, const std::string&);
 template void check_engine_numbers<double>(const ParticleSystem&, double, const std::string&);
 
+void check_restitution(double restitution, double contact_time) {
+  if (!(restitution > 0 && restitution <= 1)) {
+    std::ostringstream m;
+    m << "restitution " << restitution << " must be in (0, 1] (1: elastic)";
+    throw InputError(m.str());
+  }
+  if (!(contact_time >= 0 && std::isfinite(contact_time))) {
+    std::ostringstream m;
+    m << "contact time " << contact_time << " must be finite and >= 0";
+    throw InputError(m.str());
+  }
+}
+
 }  // namespace hardsphere

@@ -119,6 +119,10 @@ nlohmann::json run_simulation(const RunSpec& spec) {
   nlohmann::json j = physics_summary(fin, totals, !spec.read_data.has_value(), spec.init.seed, spec.histogram_bins,
                                      overlap_tolerance(fin, rounding_epsilon(spec.precision)));
   j["engine"] = "stepper";
+  j["restitution"] = spec.stepper.restitution;
+  j["contact_time"] = spec.stepper.contact_time;
+  // Inelastic collisions turn kinetic energy into heat: what they took over the measured run.
+  j["dissipated_energy"] = j["kinetic_energy_initial"].get<double>() - j["kinetic_energy_final"].get<double>();
   j["steps"] = c.steps;
   j["equilibrate_steps"] = spec.equilibrate;
   j["dt"] = spec.stepper.dt;

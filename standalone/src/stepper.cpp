@@ -406,9 +406,12 @@ class Stepper final : public StepperBase, public StateExchange {
   ContactTally tally_;
   mutable StepCounters counters_;
   mutable OwnedCounters owned_counters_;
-  std::vector<std::uint8_t> owned_;           // id order; empty: no ownership accounting
-  std::vector<std::uint8_t> met_owned_;       // id order: not owned, collided with an owned sphere in this run()
-  std::vector<std::uint32_t> input_of_rank_;  // id rank -> index in the constructor's input
+  std::vector<std::uint8_t> owned_;      // id order; empty: no ownership accounting
+  std::vector<std::uint8_t> met_owned_;  // id order: not owned, collided with an owned sphere in this run()
+  std::vector<std::uint32_t> input_of_rank_;
+  std::vector<double> last_collision_;  // id order: time of each sphere's last collision (restitution < 1)
+  double clock_ =
+      0;  // time since construction, for the collision times  // id rank -> index in the constructor's input
 };
 
 template <class Real, bool Mono>
@@ -425,6 +428,7 @@ Stepper<Real, Mono>::Stepper(const ParticleSystem& sys, const StepperConfig& cfg
     throw InputError(m.str());
   }
   if (cfg.max_events_per_step < 1) throw InputError("max events per step must be >= 1");
+  check_restitution(cfg.restitution, cfg.contact_time);
   check_scene_numbers(sys, "stepper");
   check_engine_numbers<Real>(sys, cfg.dt, sizeof(Real) == sizeof(float) ? "stepper in single precision" : "stepper");
   const std::size_t n = sys.size();
@@ -492,6 +496,10 @@ Stepper<Real, Mono>::Stepper(const ParticleSystem& sys, const StepperConfig& cfg
   resolver_.reset(n, dt_);
   resolver_.set_uniform(sigma_, n ? m_[0] : Real(0));
   resolver_.set_event_limit(cfg.max_events_per_step);
+  if (cfg.restitution != 1.0) {
+    last_collision_.assign(n, -std::numeric_limits<double>::infinity());
+    resolver_.set_restitution(Real(cfg.restitution), cfg.contact_time, last_collision_.data());
+  }
   std::array<Real, 3> wall_lo{}, wall_hi{};
   for (std::size_t d = 0; d < 3; ++d) wall_lo[d] = Real(box_.lo[d]), wall_hi[d] = Real(box_.hi[d]);
   resolver_.set_walls(box_.periodic, wall_lo, wall_hi);
@@ -842,6 +850,7 @@ Real Stepper<Real, Mono>::substep() {
   }
   scan_pair_list<Sweep>();
   if constexpr (!AllPeriodic) resolver_.predict_all_walls();
+  resolver_.set_step_end(clock_ + double(h_));
   Real cut = ContactResolver<Real, Mono>::kWholeStep;
   if (resolver_.has_candidates()) {
     Hooks hooks{*this};
@@ -856,7 +865,9 @@ Real Stepper<Real, Mono>::substep() {
   resolver_.end_step();
   ++counters_.substeps;
   ++substeps_total_;
-  return cut == ContactResolver<Real, Mono>::kWholeStep ? h_ : h_ - cut;
+  const Real covered = cut == ContactResolver<Real, Mono>::kWholeStep ? h_ : h_ - cut;
+  clock_ += double(covered);
+  return covered;
 }
 
 template <class Real, bool Mono>

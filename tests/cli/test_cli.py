@@ -15,6 +15,7 @@ JSON_KEYS = [
     "particle_steps_per_second", "collisions", "kinetic_energy_initial", "kinetic_energy_final",
     "energy_rel_drift", "momentum_initial", "momentum_final", "temperature", "compressibility_factor",
     "max_overlap", "wall_collisions", "speed_histogram", "speed_ks_distance", "seed", "scene_kernel", "detect",
+    "restitution", "contact_time", "dissipated_energy",
 ]
 
 
@@ -225,3 +226,31 @@ def test_truncated_and_structurally_broken_data_files(hs, tmp_path):
     (tmp_path / "dup.data").write_text(dup)
     assert_rejected(hs, tmp_path, ["--read-data", "dup.data"], "dup.data:", "atom id 1 appears twice")
     assert_rejected(hs, tmp_path, ["--read-data", "missing.data"], "missing.data")
+
+
+@pytest.mark.parametrize("engine", [("--steps", 500, "--dt", 0.02), ("--engine", "event", "--time", 10)])
+def test_restitution_cools_the_gas_and_accounts_the_energy(hs, engine):
+    # Dilute gas, e = 0.8: Haff's law with the Enskog rate (Carnahan-Starling contact value)
+    # T(10) = 1 / (1 + (1 - e^2) G0 10 / 6)^2 = 0.506 at phi 0.05; the energy the collisions
+    # took is E0 - E1 and the total momentum stays zero.
+    j = run_json(hs, "--n", 2000, "--phi", 0.05, "--restitution", 0.8, *engine)
+    phi, e = 0.05, 0.8
+    g = (1 - phi / 2) / (1 - phi) ** 3
+    g0 = 4 * (6 * phi / math.pi) * g * math.sqrt(math.pi)
+    assert j["temperature"] == pytest.approx(1 / (1 + (1 - e * e) * g0 * 10 / 6) ** 2, rel=0.03)
+    assert j["restitution"] == 0.8 and j["contact_time"] == 1e-4
+    assert j["dissipated_energy"] == pytest.approx(j["kinetic_energy_initial"] - j["kinetic_energy_final"])
+    assert j["dissipated_energy"] > 0.4 * j["kinetic_energy_initial"]
+    assert max(abs(p) for p in j["momentum_final"]) < 1e-9
+
+
+@pytest.mark.parametrize("args, message", [
+    (("--restitution", 0), "--restitution 0 must be in (0, 1]"),
+    (("--restitution", 1.2), "--restitution 1.2 must be in (0, 1]"),
+    (("--restitution", "nan"), "--restitution"),
+    (("--restitution", 0.5, "--contact-time", -1), "--contact-time -1 must be finite and >= 0"),
+    (("--contact-time", 0.1), "--contact-time requires --restitution"),
+])
+def test_bad_restitution_is_refused(hs, args, message):
+    p = run(hs, "--n", 100, "--steps", 1, *args)
+    assert p.returncode == 2 and message in p.stderr and p.stderr.startswith("hardsphere: error:"), p.stderr

@@ -749,9 +749,46 @@ run 100 pre no every 50 "{}"
     return ok
 
 
+def restitution(args):
+    """`fix hardsphere restitution e` is the standalone's --restitution: in serial the same
+    collisions and kinetic energy to round-off; on 2 ranks statistically equal (the runs part by
+    rounding, and the TC model's collision history restarts when LAMMPS re-neighbours). A bad
+    value is refused with its text."""
+    ok = True
+    tag = f"np={args.np}: "
+    with tempfile.TemporaryDirectory() as d:
+        standalone(args, d, "--n", "2000", "--phi", "0.1", "--steps", "0", "--write-data", "init.data")
+        ref = standalone(args, d, "--read-data", "init.data", "--steps", "300", "--dt", "0.02", "--restitution", "0.8")
+        script = HEADER.format(data="init.data", skin=0.5, dt=0.02).replace(
+            "fix hs all hardsphere", "fix hs all hardsphere restitution 0.8") + """
+thermo_style custom step ke f_hs[1]
+thermo_modify format float %.17g
+thermo 300
+run 300
+"""
+        rc, out = run_lmp(args, script, d, np_=args.np)
+        rows = thermo(out)
+        n_atoms = 2000
+        ke0, ke1, coll = rows[0]["KinEng"] * n_atoms, rows[-1]["KinEng"] * n_atoms, rows[-1]["f_hs[1]"]
+        ok &= check(abs(ke0 - ref["kinetic_energy_initial"]) < 1e-9 * ke0, tag + "same start")
+        if args.np == 1:
+            ok &= check(coll == ref["collisions"] and abs(ke1 / ref["kinetic_energy_final"] - 1) < 1e-12,
+                        tag + f"collisions {coll:.0f} == standalone {ref['collisions']}, kinetic energy "
+                        f"{ke1:.12g} vs {ref['kinetic_energy_final']:.12g}")
+        else:
+            ok &= check(abs(coll / ref["collisions"] - 1) < 0.01 and abs(ke1 / ref["kinetic_energy_final"] - 1) < 0.01,
+                        tag + f"collisions {coll:.0f} vs standalone {ref['collisions']}, kinetic energy {ke1:.6g} vs "
+                        f"{ref['kinetic_energy_final']:.6g} (within 1%)")
+        ok &= check(ke1 < 0.6 * ke0, tag + f"the gas cooled: {ke0:.6g} -> {ke1:.6g}")
+        rc, out = run_lmp(args, script.replace("restitution 0.8", "restitution 1.5"), d, np_=args.np, expect_ok=False)
+        ok &= check(rc != 0 and "fix hardsphere: restitution 1.5 must be in (0, 1]" in out, tag + "restitution 1.5 refused")
+    return ok
+
+
 def main():
     ap = argparse.ArgumentParser()
-    ap.add_argument("check", choices=["identical", "conservation", "errors", "runs", "defaults", "outputs"])
+    ap.add_argument("check", choices=["identical", "conservation", "errors", "runs", "defaults", "outputs",
+                                      "restitution"])
     ap.add_argument("--lmp", required=True)
     ap.add_argument("--hs", required=True)
     ap.add_argument("--mpirun", default="mpirun")

@@ -104,6 +104,20 @@ inline T collide_equal_mass(Vec3<T> dr, Vec3<T>& v1, Vec3<T>& v2) {
   return -b;  // = |dr| * |dv.n|: with unit mass, J |dr| where J = mu*2|dv.n| = |dv.n|
 }
 
+//! The same with normal restitution e (1: elastic): the normal relative velocity is reversed
+//! and scaled by e. Returns dr.dp1 / m.
+template <class T>
+inline T collide_equal_mass(Vec3<T> dr, Vec3<T>& v1, Vec3<T>& v2, T restitution) {
+  const T r2 = dot(dr, dr);
+  const T b = dot(dr, v1 - v2);
+  if (!(b < T(0)) || !(r2 > T(0))) return T(0);
+  const T half = T(0.5) * (T(1) + restitution);
+  const Vec3<T> dv_n = (half * b / r2) * dr;
+  v1 -= dv_n;
+  v2 += dv_n;
+  return -half * b;
+}
+
 //! Reflects a coordinate from the walls [lo, hi] of one axis for a sphere of radius r:
 //! rewind to the wall contact, flip the velocity, re-advance, which is an exact mirror.
 //! Returns the momentum given to the wall per unit mass (2|v|) or 0 if no contact.

@@ -60,6 +60,10 @@ struct EventConfig {
   //! The most events the engine may process since construction before it refuses to go on
   //! (InputError); a guard against runs that would not end.
   double max_events = std::numeric_limits<double>::infinity();
+  //! Normal restitution of sphere-sphere collisions and the TC model's contact time, as in
+  //! StepperConfig.
+  double restitution = 1.0;
+  double contact_time = 0.0;
 };
 
 struct EventCounters {

@@ -27,6 +27,9 @@ void check_scene_numbers(const ParticleSystem& sys, const std::string& source,
 //! a coordinate. `what` names the engine and precision in messages.
 void check_engine_numbers(const ParticleSystem& sys, double eps, double largest, double dt, const std::string& what);
 
+//! Normal restitution in (0, 1] and a TC-model contact time >= 0, both finite (InputError).
+void check_restitution(double restitution, double contact_time);
+
 //! Wall bounces per unit time the spheres' straight flights between opposite walls imply,
 //! sum over spheres and wall axes of |v_d| / (L_d - 2 r): in a gap barely wider than a sphere
 //! they are endless, and both engines count them into the work a run will take.

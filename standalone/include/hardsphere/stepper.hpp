@@ -39,6 +39,10 @@ Detect parse_detect(const std::string& s);
 //! Whether mode d detects by sweeping for this system and step (Auto decided from its speeds).
 bool detects_by_sweep(Detect d, const ParticleSystem& sys, double dt);
 
+//! The command line's TC-model contact time when --restitution is below 1 and --contact-time
+//! is not given: short against a mean free time (~0.1-10 in reduced units for phi 0.45-0.01).
+constexpr double kDefaultContactTime = 1e-4;
+
 struct StepperConfig {
   double dt = 0.01;
   //! Cells per axis; 0 means "auto" (the ideal number of boxes for N, box, largest diameter and
@@ -60,6 +64,11 @@ struct StepperConfig {
   //! The most particle-steps (sub-steps included) the engine may take before it refuses to go
   //! on (InputError); a guard against runs that would not end.
   double max_particle_steps = std::numeric_limits<double>::infinity();
+  //! Normal restitution coefficient of sphere-sphere collisions, in (0, 1]; walls stay elastic.
+  double restitution = 1.0;
+  //! TC model of inelastic collapse (Luding and McNamara 1998): a collision within this time of
+  //! either sphere's previous collision is elastic, so no finite time holds infinitely many.
+  double contact_time = 0.0;
 };
 
 struct StepCounters {
