@@ -75,6 +75,10 @@ FixHardSphere::FixHardSphere(LAMMPS *lmp, int narg, char **arg) : Fix(lmp, narg,
                             "' (known: detect, max_events, restitution, contact_time, ghost, path)");
     }
   }
+  if (restitution < 1.0 && contact_time == 0.0)
+    error->all(FLERR,
+               "fix hardsphere: contact_time 0 with restitution below 1: an inelastic collapse would never "
+               "end; give contact_time > 0");
   time_integrate = 1;
   vector_flag = 1;
   size_vector = kVectorSize;
@@ -131,11 +135,12 @@ void FixHardSphere::pre_neighbor() {
 
 void FixHardSphere::setup(int vflag) {
   check_setup();
+  read_gravity();
   if (serial) {
     serial_setup();
   } else {
-    rank->configure(
-        {dt, sweep ? hardsphere::Detect::Sweep : hardsphere::Detect::Overlap, max_events, restitution, contact_time});
+    rank->configure({dt, sweep ? hardsphere::Detect::Sweep : hardsphere::Detect::Overlap, max_events, restitution,
+                     contact_time, gravity});
     rank->neighbours_changed();
   }
   t_now = temperature_now();
@@ -188,6 +193,10 @@ void FixHardSphere::check_setup() {
 }
 
 void FixHardSphere::initial_integrate(int) {
+  if (!gravity_fixes.empty() && gravity_changed())
+    error->all(FLERR,
+               "fix hardsphere: fix gravity changed its acceleration during the run (a variable magnitude "
+               "or direction); hard-sphere flights need a constant one");
   if (serial) {
     serial_step();
     return;

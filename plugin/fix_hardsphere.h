@@ -48,6 +48,9 @@ class FixHardSphere : public Fix {
   void check_input();
   void check_other_fixes();
   void apply_neighbor_settings();
+  //! The summed acceleration of the fix gravity commands (refused along periodic axes).
+  void read_gravity();
+  bool gravity_changed() const;
   //! 2 KE / (3 N) over all atoms (the standalone's temperature: 3N degrees of freedom).
   double temperature_now() const;
   //! Whether another fix may have changed velocities at the end of `step`.
@@ -73,6 +76,8 @@ class FixHardSphere : public Fix {
   bool sweep = false;
   bool ghost_auto = true;
   std::int64_t max_events = 100000000;
+  std::vector<Fix *> gravity_fixes;                       //!< fix gravity commands, acting through the stepper
+  std::array<double, 3> gravity{0, 0, 0};                 //!< their acceleration, read at setup
   double restitution = 1.0;                               //!< normal restitution of collisions
   double contact_time = hardsphere::kDefaultContactTime;  //!< TC model (used when restitution < 1)
 

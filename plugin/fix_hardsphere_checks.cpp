@@ -8,6 +8,7 @@
 #include "comm.h"
 #include "domain.h"
 #include "error.h"
+#include "fix_gravity.h"
 #include "fix_hardsphere.h"
 #include "fix_setforce.h"
 #include "force.h"
@@ -38,6 +39,13 @@ struct SetForceAxes : FixSetForce {
       if (f->*names[d] != nullptr || f->*styles[d] != 0) return false;
     return true;
   }
+};
+
+//! FixGravity keeps whether its magnitude and direction are constant protected: read it the same way.
+struct GravityStyle : FixGravity {
+  //! True for a fix gravity whose vector is set once (numbers, no variables): varflag is then
+  //! CONSTANT (0 in LAMMPS's fix_gravity.cpp) and the vector is set in its constructor.
+  static bool constant(Fix *fix) { return static_cast<FixGravity *>(fix)->*(&GravityStyle::varflag) == 0; }
 };
 
 bool is_style(const Fix *f, const char *name) { return std::string(f->style) == name; }
@@ -112,6 +120,7 @@ void FixHardSphere::check_input() {
 }
 
 void FixHardSphere::check_other_fixes() {
+  gravity_fixes.clear();
   // Refused by what each fix tells LAMMPS it does (its mask): acting on forces (pre_force,
   // pre_reverse, post_force, with their rRESPA variants), moving atoms inside the step
   // (initial/post/final_integrate), or changing the atoms between steps (pre_exchange). Fixes
@@ -140,12 +149,16 @@ void FixHardSphere::check_other_fixes() {
     if (f == this) continue;
     if (is_style(f, "store/force") || is_style(f, "balance")) continue;
     if (is_style(f, "setforce") && SetForceAxes::all_null(f)) continue;
-    if (is_style(f, "gravity"))
-      error->all(FLERR, "fix hardsphere: " + name(f) +
-                            " adds a force, but hard spheres have no forces (they fly straight between "
-                            "collisions), so it would have no effect. Gravity comes with the granular support; "
-                            "until then remove 'fix " +
-                            f->id + "'");
+    if (is_style(f, "gravity")) {  // acts through the stepper's parabolic flights (read_gravity)
+      if (f->igroup != 0)
+        error->all(FLERR, "fix hardsphere: " + name(f) + " acts on group '" + group->names[f->igroup] +
+                              "', but every atom is a hard sphere: use group all");
+      if (!GravityStyle::constant(f))
+        error->all(FLERR, "fix hardsphere: " + name(f) +
+                              " has a variable magnitude or direction; hard-sphere flights need a constant one");
+      gravity_fixes.push_back(f);
+      continue;
+    }
     if (utils::strmatch(f->style, "^wall/"))
       error->all(FLERR, "fix hardsphere: " + name(f) +
                             " is a wall fix, which hard spheres would not feel (they have no forces): walls "
@@ -206,4 +219,32 @@ void FixHardSphere::apply_neighbor_settings() {
                                      "'): on the owned + ghost path it re-neighbours when an atom could reach past "
                                      "the ghost shell\n");
   neigh_noted = true;
+}
+
+void FixHardSphere::read_gravity() {
+  // The acceleration of every fix gravity (LAMMPS has set it in the fixes' init); flights are
+  // parabolas along wall axes, and a periodic axis would accelerate the atoms without end.
+  gravity = {0.0, 0.0, 0.0};
+  for (Fix *f : gravity_fixes) {
+    int dim = 0;
+    const auto *g = static_cast<const double *>(f->extract("gvec", dim));
+    if (!g) error->all(FLERR, "fix hardsphere: cannot read the acceleration of fix " + std::string(f->id));
+    for (int d = 0; d < 3; d++) gravity[std::size_t(d)] += g[d];
+  }
+  static const char *axis = "xyz";
+  for (int d = 0; d < 3; d++)
+    if (gravity[std::size_t(d)] != 0.0 && domain->periodicity[d])
+      error->all(FLERR, std::string("fix hardsphere: fix gravity has a component along the periodic axis ") + axis[d] +
+                            ", which would accelerate the atoms without end: use 'boundary f' on that axis");
+}
+
+bool FixHardSphere::gravity_changed() const {
+  // fix gravity with a variable magnitude or direction changes its vector during a run.
+  std::array<double, 3> now{0.0, 0.0, 0.0};
+  for (Fix *f : gravity_fixes) {
+    int dim = 0;
+    const auto *g = static_cast<const double *>(f->extract("gvec", dim));
+    for (int d = 0; d < 3; d++) now[std::size_t(d)] += g[d];
+  }
+  return now != gravity;
 }

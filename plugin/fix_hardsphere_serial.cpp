@@ -18,6 +18,7 @@
 #include "modify.h"
 #include "output.h"
 #include "update.h"
+#include "utils.h"
 
 using namespace LAMMPS_NS;
 using namespace FixConst;
@@ -83,6 +84,9 @@ void FixHardSphere::serial_schedule() {
                        PRE_REVERSE | POST_FORCE | FINAL_INTEGRATE;
   for (int f = 0; f < modify->nfix; f++) {
     if (modify->fix[f] == this) continue;
+    // fix gravity only adds forces (its acceleration acts through the stepper) and reads x for
+    // its energy, which output steps write anyway.
+    if (utils::strmatch(modify->fix[f]->style, "^gravity")) continue;
     if (modify->fmask[f] & per_step)
       others_every_step = true;
     else if (modify->fmask[f] & END_OF_STEP)
@@ -118,6 +122,7 @@ std::unique_ptr<hardsphere::StepperBase> FixHardSphere::new_stepper(const hardsp
   cfg.max_events_per_step = max_events;
   cfg.restitution = restitution;
   cfg.contact_time = contact_time;
+  cfg.gravity = gravity;
   return hardsphere::make_stepper(sys, cfg);
 }
 

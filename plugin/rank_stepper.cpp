@@ -133,6 +133,7 @@ hardsphere::StepperConfig RankStepper::config() const {
   cfg.max_events_per_step = settings_.max_events;
   cfg.restitution = settings_.restitution;
   cfg.contact_time = settings_.contact_time;
+  cfg.gravity = settings_.gravity;
   return cfg;
 }
 

@@ -25,6 +25,7 @@ class RankStepper : protected Pointers {
     hardsphere::Detect detect = hardsphere::Detect::Overlap;
     std::int64_t max_events = 100000000;
     double restitution = 1.0, contact_time = 0.0;
+    std::array<double, 3> gravity{0, 0, 0};
   };
   //! What one step did on this rank (ownership-weighted, so sums over ranks are totals).
   struct StepTotals {

@@ -4,6 +4,7 @@
 #include "options.hpp"
 
 #include <CLI/CLI.hpp>
+#include <algorithm>
 #include <cctype>
 #include <cerrno>
 #include <climits>
@@ -140,7 +141,7 @@ CommandLine parse_command_line(int argc, const char* const* argv) {
   std::string n_s = "1000", phi_s = "0.2", box_s, radius_s, mass_s, t_s, speed_s, dt_s, steps_s, equil_s;
   std::string boundary_s = "p", cells_s = "auto", precision_s = "double", init_s = "auto", json_s, detect_s = "auto";
   std::string read_data_s, write_data_s, dump_s, seed_s = "1", engine_s = "stepper", time_s, etime_s, blocks_s;
-  std::string dump_every_s, bins_s, restitution_s, contact_time_s;
+  std::string dump_every_s, bins_s, restitution_s, contact_time_s, gravity_s;
 
   auto* o_n = run->add_option("--n", n_s, "number of spheres (default 1000)")->type_name("INT");
   auto* o_phi =
@@ -168,14 +169,17 @@ CommandLine parse_command_line(int argc, const char* const* argv) {
                                    "contact detection: auto (default: sweep for steps with v_rms dt > 0.1 diameters, "
                                    "else overlap), overlap (a posteriori) or sweep (whole step)");
   run->add_option("--engine", engine_s, "stepper (time-stepped, default) or event (exact event-driven)");
+  auto* o_gravity = run->add_option("--gravity", gravity_s,
+                                    "uniform acceleration gx,gy,gz along wall axes only, e.g. 0,0,-1 with "
+                                    "--boundary p,p,w (stepper; default none)");
   auto* o_restitution =
       run->add_option("--restitution", restitution_s,
                       "normal restitution e of sphere collisions, 0 < e <= 1 (default 1: elastic; walls stay elastic)")
           ->type_name("FLOAT");
   auto* o_contact_time =
       run->add_option("--contact-time", contact_time_s,
-                      "TC model: a collision within this time of a sphere's previous one is elastic (default 1e-4 "
-                      "with --restitution below 1; 0 turns it off)")
+                      "TC model: a collision within this time of a sphere's previous one is elastic (default 1e-4; "
+                      "> 0 when --restitution is below 1)")
           ->type_name("FLOAT")
           ->needs(o_restitution);
   auto* o_time = run->add_option("--time", time_s, "simulated time measured (event engine; stepper: steps = time/dt)")
@@ -225,14 +229,23 @@ CommandLine parse_command_line(int argc, const char* const* argv) {
     if (!(e > 0 && e <= 1)) throw InputError("--restitution " + restitution_s + " must be in (0, 1] (1: elastic)");
     if (!(tc >= 0 && std::isfinite(tc)))
       throw InputError("--contact-time " + contact_time_s + " must be finite and >= 0");
+    if (e < 1 && tc == 0)
+      throw InputError("--contact-time 0 with --restitution " + restitution_s +
+                       ": an inelastic collapse would never end; give a contact time > 0");
     spec.stepper.restitution = spec.event.restitution = e;
     spec.stepper.contact_time = spec.event.contact_time = tc;
+  }
+  if (o_gravity->count()) {
+    if (std::count(gravity_s.begin(), gravity_s.end(), ',') != 2)
+      throw InputError("--gravity '" + gravity_s + "' needs three values gx,gy,gz");
+    const auto g = parse_list(gravity_s, "--gravity");
+    spec.stepper.gravity = {g[0], g[1], g[2]};
   }
   const double time = o_time->count() ? real("--time", time_s) : 0.0;
   const double etime = o_etime->count() ? real("--equilibrate-time", etime_s) : 0.0;
 
   if (spec.engine == Engine::Event) {
-    for (auto* o : {o_dt, o_steps, o_equil, o_detect, o_dump_every})
+    for (auto* o : {o_dt, o_steps, o_equil, o_detect, o_dump_every, o_gravity})
       if (o->count())
         throw InputError(o->get_name() + " is a stepper option; the event engine runs for --time (simulated time)");
     if (spec.precision != Precision::Double)

@@ -176,10 +176,21 @@ class ContactResolver {
       return a_.radius[i];
   }
 
-  //! Queues a bounce of sphere s for each wall its straight path over its window ends beyond.
+  //! A uniform acceleration (gravity) along the wall axes: flights are parabolas, so wall
+  //! contacts are found on them. Pair contacts need nothing: relative motion stays straight.
+  void set_gravity(const std::array<Real, 3>& g) {
+    gravity_ = g;
+    has_gravity_ = g[0] != Real(0) || g[1] != Real(0) || g[2] != Real(0);
+  }
+
+  //! Queues a bounce of sphere s for each wall its path over its window ends beyond.
   void predict_walls(std::uint32_t s) {
     for (int k = 0; k < n_wall_axes_; ++k) {
       const int d = wall_axis_[k];
+      if (has_gravity_ && gravity_[std::size_t(d)] != Real(0)) {
+        predict_wall_in_flight(s, d);
+        continue;
+      }
       // The kernel's mirror on copies decides whether s went past a wall; it moves the
       // coordinate by twice the distance past the contact plane, which s covered since the bounce.
       Real x = a_.pos[s][d], v = a_.vel[s][d];
@@ -187,6 +198,20 @@ class ContactResolver {
       const Real back = std::min(std::abs(x - a_.pos[s][d]) / (Real(2) * std::abs(v)), change_[s].back);
       candidates_.push_back({s, kWall, std::uint8_t(d), back, change_[s].count, 0});
     }
+  }
+  void predict_wall_in_flight(std::uint32_t s, int d) {
+    const Real x = a_.pos[s][d], v = a_.vel[s][d], g = gravity_[std::size_t(d)], r = radius(s);
+    const Real window = change_[s].back;
+    const Real lo = lo_[std::size_t(d)] + r, hi = hi_[std::size_t(d)] - r;
+    // The earlier of the two walls it reached in its window (the larger back time).
+    Real back =
+        std::max(kernel::wall_back_time(x, v, g, lo, -1, window), kernel::wall_back_time(x, v, g, hi, +1, window));
+    // Rounding can leave a sphere a hair beyond a wall at the start of its window (resting on a
+    // floor, say), where no crossing is found: one that ends beyond it moving into it bounces
+    // at the start of its window, as the straight-line mirror would have it.
+    if (back < Real(0) && ((x < lo && v < Real(0)) || (x > hi && v > Real(0)))) back = window;
+    if (back < Real(0)) return;
+    candidates_.push_back({s, kWall, std::uint8_t(d), back, change_[s].count, 0});
   }
   //! predict_walls() for every sphere (after a scan).
   void predict_all_walls() {
@@ -472,11 +497,21 @@ class ContactResolver {
   void bounce(const Candidate& c, Hooks& hooks, ContactTally& tally) {
     const int d = c.image;
     Real& v = a_.vel[c.i][d];
-    const Real v_before = v;
-    kernel::reflect_from_walls(a_.pos[c.i][d], v, lo_[std::size_t(d)], hi_[std::size_t(d)], radius(c.i));
+    const Real g = gravity_[std::size_t(d)];
+    // The velocity at contact, whose reversal is the impulse the wall takes.
+    const Real v_before = v - g * c.back;
+    if (has_gravity_ && g != Real(0)) {
+      const Real s = c.back;
+      const Real x_contact = a_.pos[c.i][d] - v * s + Real(0.5) * g * s * s;
+      const Real lo = lo_[std::size_t(d)] + radius(c.i), hi = hi_[std::size_t(d)] - radius(c.i);
+      const Real w = std::abs(x_contact - lo) <= std::abs(x_contact - hi) ? lo : hi;
+      kernel::reflect_in_flight(a_.pos[c.i][d], v, g, w, s);
+    } else {
+      kernel::reflect_from_walls(a_.pos[c.i][d], v, lo_[std::size_t(d)], hi_[std::size_t(d)], radius(c.i));
+    }
     ++tally.wall_collisions;
     if (a_.owned) tally.owned_wall_collisions += owned(c.i);
-    tally.wall_impulse[std::size_t(d)] += std::abs(double(Mono ? mass_ : a_.mass[c.i]) * double(v - v_before));
+    tally.wall_impulse[std::size_t(d)] += 2.0 * std::abs(double(Mono ? mass_ : a_.mass[c.i]) * double(v_before));
     mark_changed(c.i, c.back);
     hooks.after_bounce(c.i);
   }
@@ -604,7 +639,9 @@ class ContactResolver {
   std::vector<std::uint32_t> bucket_start_, bucket_fill_;  // order_by_time() scratch
   std::vector<std::uint32_t> near_;                        // sweep scratch: list entries that pass the distance test
   std::array<Real, 3> lo_{}, hi_{};                        // wall positions
-  int wall_axis_[3] = {0, 0, 0}, n_wall_axes_ = 0;         // the axes with walls
+  std::array<Real, 3> gravity_{0, 0, 0};                   // uniform acceleration (wall axes only)
+  bool has_gravity_ = false;
+  int wall_axis_[3] = {0, 0, 0}, n_wall_axes_ = 0;  // the axes with walls
 };
 
 }  // namespace hardsphere

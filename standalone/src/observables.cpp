@@ -17,6 +17,13 @@ Vec3d total_momentum(const ParticleSystem& sys) {
   return p;
 }
 
+double potential_energy(const ParticleSystem& sys, const std::array<double, 3>& g) {
+  double u = 0;
+  for (std::size_t i = 0; i < sys.size(); ++i)
+    for (int d = 0; d < 3; ++d) u -= sys.mass[i] * g[std::size_t(d)] * (sys.pos[i][d] - sys.box.lo[std::size_t(d)]);
+  return u;
+}
+
 double temperature(const ParticleSystem& sys) {
   return sys.size() ? 2.0 * kinetic_energy(sys) / (3.0 * double(sys.size())) : 0.0;
 }

@@ -179,6 +179,10 @@ void check_restitution(double restitution, double contact_time) {
     m << "contact time " << contact_time << " must be finite and >= 0";
     throw InputError(m.str());
   }
+  if (restitution < 1 && contact_time == 0)
+    throw InputError(
+        "contact time 0 with restitution below 1: an inelastic collapse (infinitely many collisions in "
+        "finite time) would never end; give the TC model a contact time > 0");
 }
 
 }  // namespace hardsphere

@@ -92,6 +92,7 @@ nlohmann::json run_simulation(const RunSpec& spec) {
   }
   engine->reset_counters();
   const double e0 = kinetic_energy(sys);
+  const double u0 = potential_energy(sys, spec.stepper.gravity);
   const Vec3d p0 = total_momentum(sys);
 
   double cpu = 0;
@@ -121,8 +122,15 @@ nlohmann::json run_simulation(const RunSpec& spec) {
   j["engine"] = "stepper";
   j["restitution"] = spec.stepper.restitution;
   j["contact_time"] = spec.stepper.contact_time;
-  // Inelastic collisions turn kinetic energy into heat: what they took over the measured run.
-  j["dissipated_energy"] = j["kinetic_energy_initial"].get<double>() - j["kinetic_energy_final"].get<double>();
+  // Energy: kinetic plus potential in the gravity field (zero without one); inelastic
+  // collisions turn it into heat: what they took over the measured run.
+  const double u1 = potential_energy(fin, spec.stepper.gravity);
+  const double e1 = j["kinetic_energy_final"].get<double>();
+  j["gravity"] = spec.stepper.gravity;
+  j["potential_energy_initial"] = u0;
+  j["potential_energy_final"] = u1;
+  j["dissipated_energy"] = (e0 + u0) - (e1 + u1);
+  j["energy_rel_drift"] = e0 + u0 > 0 ? ((e1 + u1) - (e0 + u0)) / (e0 + u0) : 0.0;
   j["steps"] = c.steps;
   j["equilibrate_steps"] = spec.equilibrate;
   j["dt"] = spec.stepper.dt;

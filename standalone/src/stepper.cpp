@@ -260,7 +260,16 @@ class Stepper final : public StepperBase, public StateExchange {
   void refresh_speed_bound() {
     Real v2 = 0;
     for (const auto& v : vel_) v2 = std::max(v2, dot(v, v));
-    resolver_.set_speed_bound(std::sqrt(v2));
+    // Under gravity a path over a step bends by at most |g| h^2 / 2: |g| h more speed covers it.
+    const Real bend = has_gravity_ ? std::sqrt(dot(V3<Real>{gravity_[0], gravity_[1], gravity_[2]},
+                                                   V3<Real>{gravity_[0], gravity_[1], gravity_[2]})) *
+                                         h_
+                                   : Real(0);
+    resolver_.set_speed_bound(std::sqrt(v2) + bend);
+  }
+  void kick(Real t) {
+    const V3<Real> dv{gravity_[0] * t, gravity_[1] * t, gravity_[2] * t};
+    for (auto& v : vel_) v += dv;
   }
   //! Whether every sphere's path over its window (back to its last velocity change in the
   //! step) stays within half the skin of where it is now.
@@ -406,12 +415,13 @@ class Stepper final : public StepperBase, public StateExchange {
   ContactTally tally_;
   mutable StepCounters counters_;
   mutable OwnedCounters owned_counters_;
-  std::vector<std::uint8_t> owned_;      // id order; empty: no ownership accounting
-  std::vector<std::uint8_t> met_owned_;  // id order: not owned, collided with an owned sphere in this run()
-  std::vector<std::uint32_t> input_of_rank_;
-  std::vector<double> last_collision_;  // id order: time of each sphere's last collision (restitution < 1)
-  double clock_ =
-      0;  // time since construction, for the collision times  // id rank -> index in the constructor's input
+  std::vector<std::uint8_t> owned_;           // id order; empty: no ownership accounting
+  std::vector<std::uint8_t> met_owned_;       // id order: not owned, collided with an owned sphere in this run()
+  std::vector<std::uint32_t> input_of_rank_;  // id rank -> index in the constructor's input
+  std::vector<double> last_collision_;        // id order: each sphere's last collision time (restitution < 1)
+  double clock_ = 0;                          // time since construction, for the collision times
+  std::array<Real, 3> gravity_{0, 0, 0};      // uniform acceleration (wall axes only)
+  bool has_gravity_ = false;
 };
 
 template <class Real, bool Mono>
@@ -429,6 +439,7 @@ Stepper<Real, Mono>::Stepper(const ParticleSystem& sys, const StepperConfig& cfg
   }
   if (cfg.max_events_per_step < 1) throw InputError("max events per step must be >= 1");
   check_restitution(cfg.restitution, cfg.contact_time);
+  check_gravity(cfg.gravity, sys.box.periodic);
   check_scene_numbers(sys, "stepper");
   check_engine_numbers<Real>(sys, cfg.dt, sizeof(Real) == sizeof(float) ? "stepper in single precision" : "stepper");
   const std::size_t n = sys.size();
@@ -503,13 +514,18 @@ Stepper<Real, Mono>::Stepper(const ParticleSystem& sys, const StepperConfig& cfg
   std::array<Real, 3> wall_lo{}, wall_hi{};
   for (std::size_t d = 0; d < 3; ++d) wall_lo[d] = Real(box_.lo[d]), wall_hi[d] = Real(box_.hi[d]);
   resolver_.set_walls(box_.periodic, wall_lo, wall_hi);
+  gravity_ = {Real(cfg.gravity[0]), Real(cfg.gravity[1]), Real(cfg.gravity[2])};
+  has_gravity_ = cfg.gravity != std::array<double, 3>{0, 0, 0};
+  resolver_.set_gravity(gravity_);
   if (grid_.half_stencil_ok()) build_stencil();
   // Threats are enumerated from the cells within two of a sphere's: every periodic axis needs
   // 3 cells (so a cell is at least sigma + skin wide).
   guard_.configure(skin_, cfg.pairwise_list_check && grid_.half_stencil_ok(), std::max<std::size_t>(n / 32, 16));
   // Speeds pay where the sweeps' extra loads hit the cache: positions and speeds within ~1 MiB
   // (the L2 of this machine's cores); beyond it each speed is one more miss (see docs/performance.md).
-  speeds_ = sys.packing_fraction() >= 0.3 && double(n) * double(sizeof(V3<Real>) + sizeof(Real)) <= 1048576.0;
+  // Under gravity speeds change during the step, so the per-sphere bounds are not used.
+  speeds_ = !has_gravity_ && sys.packing_fraction() >= 0.3 &&
+            double(n) * double(sizeof(V3<Real>) + sizeof(Real)) <= 1048576.0;
   rebuild();
   counters_.rebuilds = 0;
   refresh_speed_bound();
@@ -843,7 +859,14 @@ void Stepper<Real, Mono>::split_step() {
 template <class Real, bool Mono>
 template <bool AllPeriodic, bool Sweep>
 Real Stepper<Real, Mono>::substep() {
+  // Under gravity the drift is a kick-drift-kick: x += (v + g h/2) h, v += g h, exact for a
+  // uniform acceleration; the displacement guard sees the true positions.
+  if (has_gravity_) kick(Real(0.5) * h_);
   drift();
+  if (has_gravity_) {
+    kick(Real(0.5) * h_);
+    refresh_speed_bound();
+  }
   if (list_expired()) {
     rebuild();
     cover_windows(false);
@@ -859,6 +882,13 @@ Real Stepper<Real, Mono>::substep() {
   if (cut != ContactResolver<Real, Mono>::kWholeStep) {
     // The step ends at the collision that stopped it: every sphere goes back along its path.
     for (std::size_t k = 0; k < pos_.size(); ++k) pos_[k] -= cut * vel_[k];
+    if (has_gravity_) {  // back along the parabolas: x(t - c) = x - v c + g c^2 / 2, v - g c
+      const V3<Real> g{gravity_[0], gravity_[1], gravity_[2]};
+      for (std::size_t k = 0; k < pos_.size(); ++k) {
+        pos_[k] += (Real(0.5) * cut * cut) * g;
+        vel_[k] -= cut * g;
+      }
+    }
     ++counters_.step_cuts;
   }
   if (rebuilt_in_step_) uncover_windows();
@@ -906,6 +936,24 @@ std::unique_ptr<StepperBase> make_stepper_for(const ParticleSystem& sys, const S
 std::unique_ptr<StepperBase> make_stepper(const ParticleSystem& sys, const StepperConfig& cfg, Precision precision) {
   if (precision == Precision::Float) return make_stepper_for<float>(sys, cfg);
   return make_stepper_for<double>(sys, cfg);
+}
+
+void check_gravity(const std::array<double, 3>& g, const std::array<bool, 3>& periodic) {
+  for (int d = 0; d < 3; ++d) {
+    if (!std::isfinite(g[std::size_t(d)])) {
+      std::ostringstream m;
+      m << "gravity component "
+        << "xyz"[d] << " = " << g[std::size_t(d)] << " must be finite";
+      throw InputError(m.str());
+    }
+    if (g[std::size_t(d)] != 0 && periodic[std::size_t(d)]) {
+      std::ostringstream m;
+      m << "gravity along periodic axis "
+        << "xyz"[d] << " (" << g[std::size_t(d)]
+        << ") would accelerate the spheres without end; put walls on that axis (--boundary ...,w)";
+      throw InputError(m.str());
+    }
+  }
 }
 
 StateExchange& state_exchange(StepperBase& stepper) {

@@ -254,3 +254,22 @@ def test_restitution_cools_the_gas_and_accounts_the_energy(hs, engine):
 def test_bad_restitution_is_refused(hs, args, message):
     p = run(hs, "--n", 100, "--steps", 1, *args)
     assert p.returncode == 2 and message in p.stderr and p.stderr.startswith("hardsphere: error:"), p.stderr
+
+
+def test_gravity_keeps_kinetic_plus_potential_energy(hs):
+    j = run_json(hs, "--n", 300, "--box", "10,10,30", "--boundary", "p,p,w", "--gravity", "0,0,-1", "--steps", 1000)
+    assert j["gravity"] == [0, 0, -1]
+    assert j["kinetic_energy_final"] > 2 * j["kinetic_energy_initial"]  # the spheres fell
+    assert j["potential_energy_final"] < j["potential_energy_initial"]
+    assert abs(j["energy_rel_drift"]) < 1e-12 and abs(j["dissipated_energy"]) < 1e-9 * j["potential_energy_initial"]
+
+
+@pytest.mark.parametrize("args, message", [
+    (("--gravity", "0,0,-1"), "gravity along periodic axis z"),
+    (("--gravity", "-1", "--boundary", "w"), "--gravity '-1' needs three values gx,gy,gz"),
+    (("--gravity", "0,0,x", "--boundary", "w"), "is not a number"),
+    (("--gravity", "0,0,-1", "--boundary", "p,p,w", "--engine", "event", "--time", 1), "--gravity is a stepper option"),
+])
+def test_bad_gravity_is_refused(hs, args, message):
+    p = run(hs, "--n", 100, *args)
+    assert p.returncode == 2 and message in p.stderr and p.stderr.startswith("hardsphere: error:"), p.stderr

@@ -345,10 +345,10 @@ def errors(args):
             "changing box": (base + "fix d all deform 1 x scale 1.1\nrun 1\n",
                              "fix hardsphere needs a fixed box: fix d (deform) changes it", False),
             # Fixes that add or act on forces would have no effect: refused, named, with the reason.
-            "fix gravity": (base + "fix g all gravity 1.0 vector 0 0 -1\nrun 1\n",
-                            "fix hardsphere: fix g (gravity) adds a force, but hard spheres have no forces (they fly "
-                            "straight between collisions), so it would have no effect. Gravity comes with the granular "
-                            "support; until then remove 'fix g'", True),
+            "fix gravity along a periodic axis": (base + "fix g all gravity 1.0 vector 0 0 -1\nrun 1\n",
+                                                  "fix hardsphere: fix gravity has a component along the periodic axis z, "
+                                                  "which would accelerate the atoms without end: use 'boundary f' on "
+                                                  "that axis", True),
             "fix viscous": (base + "fix v all viscous 0.1\nrun 1\n",
                             "fix hardsphere: fix v (viscous) " + force + thermostat, True),
             "fix langevin": (base + "fix l all langevin 1.0 1.0 1.0 48279\nrun 1\n",
@@ -785,10 +785,54 @@ run 300
     return ok
 
 
+def gravity(args):
+    """`fix gravity` acts on the hard spheres through the stepper's parabolic flights: in serial
+    the standalone's --gravity collision for collision, on 2 ranks statistically equal; kinetic +
+    potential energy kept; a varying gravity is refused."""
+    ok = True
+    tag = f"np={args.np}: "
+    with tempfile.TemporaryDirectory() as d:
+        standalone(args, d, "--n", "500", "--box", "10,10,40", "--boundary", "p,p,w", "--steps", "0",
+                   "--write-data", "bed.data")
+        ref = standalone(args, d, "--read-data", "bed.data", "--boundary", "p,p,w", "--gravity", "0,0,-1",
+                         "--steps", "1000", "--dt", "0.005")
+        script = HEADER.format(data="bed.data", skin=0.5, dt=0.005).replace("boundary p p p", "boundary p p f") + """
+fix g all gravity 1.0 vector 0 0 -1
+fix_modify g energy yes
+thermo_style custom step ke pe f_hs[1] f_hs[5]
+thermo_modify format float %.17g
+thermo 1000
+run 1000
+"""
+        rc, out = run_lmp(args, script, d, np_=args.np)
+        rows = thermo(out)
+        n = 500
+        coll, ke1 = rows[-1]["f_hs[1]"], rows[-1]["KinEng"] * n
+        e0, e1 = (rows[0]["KinEng"] + rows[0]["PotEng"]) * n, (rows[-1]["KinEng"] + rows[-1]["PotEng"]) * n
+        if args.np == 1:
+            ok &= check(coll == ref["collisions"] and rows[-1]["f_hs[5]"] == ref["wall_collisions"] and
+                        abs(ke1 / ref["kinetic_energy_final"] - 1) < 1e-12,
+                        tag + f"collisions {coll:.0f} == {ref['collisions']}, bounces {rows[-1]['f_hs[5]']:.0f} == "
+                        f"{ref['wall_collisions']}, kinetic energy {ke1:.12g} vs {ref['kinetic_energy_final']:.12g}")
+        else:
+            ok &= check(abs(coll / ref["collisions"] - 1) < 0.01 and abs(ke1 / ref["kinetic_energy_final"] - 1) < 0.01,
+                        tag + f"collisions {coll:.0f} vs {ref['collisions']}, kinetic energy {ke1:.6g} vs "
+                        f"{ref['kinetic_energy_final']:.6g} (within 1%)")
+        ok &= check(ke1 > 5 * rows[0]["KinEng"] * n, tag + f"the spheres fell: kinetic energy x{ke1 / (rows[0]['KinEng'] * n):.1f}")
+        # pe includes fix gravity's energy (fix_modify energy yes), measured from z = 0 like the standalone's.
+        ok &= check(abs(e1 / e0 - 1) < 1e-9, tag + f"kinetic + potential energy kept: {e0:.12g} -> {e1:.12g}")
+        varying = script.replace("fix g all gravity 1.0 vector 0 0 -1",
+                                 "variable m equal 1.0+0.001*step\nfix g all gravity v_m vector 0 0 -1")
+        rc, out = run_lmp(args, varying, d, np_=args.np, expect_ok=False)
+        ok &= check(rc != 0 and "fix g (gravity) has a variable magnitude or direction" in out,
+                    tag + "a varying gravity is refused")
+    return ok
+
+
 def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("check", choices=["identical", "conservation", "errors", "runs", "defaults", "outputs",
-                                      "restitution"])
+                                      "restitution", "gravity"])
     ap.add_argument("--lmp", required=True)
     ap.add_argument("--hs", required=True)
     ap.add_argument("--mpirun", default="mpirun")

@@ -136,4 +136,46 @@ inline T reflect_from_walls(T& x, T& v, T lo, T hi, T r) {
   return T(0);
 }
 
+//! Under a uniform acceleration g along a wall axis, a coordinate at the end of a window is x
+//! with velocity v; going back a time s it was at x - v s + g s^2 / 2. Returns the largest s in
+//! [0, window] at which it was on the contact plane w moving towards the wall (side -1: a lower
+//! wall, the coordinate decreasing; +1: an upper one), i.e. when it first reached the wall in
+//! the window, or -1 if it did not.
+template <class T>
+inline T wall_back_time(T x, T v, T g, T w, int side, T window) {
+  // f(s) = x - w - v s + g s^2 / 2 = 0; a side -1 wall was reached at s if f changed sign from
+  // positive (inside, earlier) to negative there, i.e. v(s) = v - g s < 0.
+  const T a = T(0.5) * g, b = -v, c = x - w;
+  T roots[2];
+  int n = 0;
+  if (a == T(0)) {
+    if (b != T(0)) roots[n++] = -c / b;
+  } else {
+    const T disc = b * b - T(4) * a * c;
+    if (disc >= T(0)) {
+      const T q = -T(0.5) * (b + std::copysign(std::sqrt(disc), b));  // cancellation-free pair
+      if (q != T(0))
+        roots[n++] = q / a, roots[n++] = c / q;
+      else
+        roots[n++] = T(0);
+    }
+  }
+  T best = T(-1);
+  for (int k = 0; k < n; ++k) {
+    const T s = roots[k];
+    if (!(s >= T(0) && s <= window)) continue;
+    const T vs = v - g * s;  // velocity at that moment
+    if ((side < 0 && vs < T(0)) || (side > 0 && vs > T(0))) best = std::max(best, s);
+  }
+  return best;
+}
+
+//! Reflects at the contact plane w a coordinate that reached it a time s before the end of the
+//! window under acceleration g: the velocity at contact is reversed and the flight continues.
+template <class T>
+inline void reflect_in_flight(T& x, T& v, T g, T w, T s) {
+  x = T(2) * w - x + g * s * s;
+  v = -v + T(2) * g * s;
+}
+
 }  // namespace hardsphere::kernel

@@ -1,5 +1,6 @@
 #pragma once
 //! Measurements on a particle state: energy, momentum, temperature, pressure, speed statistics.
+#include <array>
 #include <cstdint>
 #include <vector>
 
@@ -10,6 +11,8 @@ namespace hardsphere {
 double kinetic_energy(const ParticleSystem& sys);  //!< sum m v^2 / 2
 Vec3d total_momentum(const ParticleSystem& sys);   //!< sum m v
 double temperature(const ParticleSystem& sys);     //!< sum m v^2 / 3N (k_B = 1)
+//! Potential energy in a uniform acceleration g: -sum m g.(x - lo), zero at the lower box corner.
+double potential_energy(const ParticleSystem& sys, const std::array<double, 3>& g);
 
 //! Z = PV/(NkT) from the collision virial: 1 + sum(r_ij . dp_i) / (3 N T t).
 double compressibility_factor(double pair_virial, double sim_time, std::size_t n, double temperature);

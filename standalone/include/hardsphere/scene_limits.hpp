@@ -27,7 +27,8 @@ void check_scene_numbers(const ParticleSystem& sys, const std::string& source,
 //! a coordinate. `what` names the engine and precision in messages.
 void check_engine_numbers(const ParticleSystem& sys, double eps, double largest, double dt, const std::string& what);
 
-//! Normal restitution in (0, 1] and a TC-model contact time >= 0, both finite (InputError).
+//! Normal restitution in (0, 1] and a TC-model contact time >= 0, both finite, and > 0 when the
+//! restitution is below 1, so no collapse can stop a run (InputError).
 void check_restitution(double restitution, double contact_time);
 
 //! Wall bounces per unit time the spheres' straight flights between opposite walls imply,

@@ -69,7 +69,13 @@ struct StepperConfig {
   //! TC model of inelastic collapse (Luding and McNamara 1998): a collision within this time of
   //! either sphere's previous collision is elastic, so no finite time holds infinitely many.
   double contact_time = 0.0;
+  //! Uniform acceleration (gravity), allowed along wall axes only: flights are parabolas,
+  //! relative motion of pairs stays straight. Potential energy -m g.(x - lo).
+  std::array<double, 3> gravity{0, 0, 0};
 };
+
+//! Refuses (InputError) a gravity that is not finite or has a component along a periodic axis.
+void check_gravity(const std::array<double, 3>& g, const std::array<bool, 3>& periodic);
 
 struct StepCounters {
   std::int64_t steps = 0;
