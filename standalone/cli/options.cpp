@@ -171,7 +171,7 @@ CommandLine parse_command_line(int argc, const char* const* argv) {
   run->add_option("--engine", engine_s, "stepper (time-stepped, default) or event (exact event-driven)");
   auto* o_gravity = run->add_option("--gravity", gravity_s,
                                     "uniform acceleration gx,gy,gz along wall axes only, e.g. 0,0,-1 with "
-                                    "--boundary p,p,w (stepper; default none)");
+                                    "--boundary p,p,w (default none)");
   auto* o_restitution =
       run->add_option("--restitution", restitution_s,
                       "normal restitution e of sphere collisions, 0 < e <= 1 (default 1: elastic; walls stay elastic)")
@@ -239,13 +239,13 @@ CommandLine parse_command_line(int argc, const char* const* argv) {
     if (std::count(gravity_s.begin(), gravity_s.end(), ',') != 2)
       throw InputError("--gravity '" + gravity_s + "' needs three values gx,gy,gz");
     const auto g = parse_list(gravity_s, "--gravity");
-    spec.stepper.gravity = {g[0], g[1], g[2]};
+    spec.stepper.gravity = spec.event.gravity = {g[0], g[1], g[2]};
   }
   const double time = o_time->count() ? real("--time", time_s) : 0.0;
   const double etime = o_etime->count() ? real("--equilibrate-time", etime_s) : 0.0;
 
   if (spec.engine == Engine::Event) {
-    for (auto* o : {o_dt, o_steps, o_equil, o_detect, o_dump_every, o_gravity})
+    for (auto* o : {o_dt, o_steps, o_equil, o_detect, o_dump_every})
       if (o->count())
         throw InputError(o->get_name() + " is a stepper option; the event engine runs for --time (simulated time)");
     if (spec.precision != Precision::Double)

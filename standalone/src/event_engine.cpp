@@ -66,6 +66,9 @@ struct EventEngine::Impl {
   std::array<int, 3> nc{};
   std::array<bool, 3> periodic{};
   bool mono = true;
+  // Uniform acceleration along wall axes: flights are parabolas; relative motion stays straight.
+  std::array<double, 3> g{0, 0, 0};
+  bool has_g = false;
   double mass0 = 1;
   double shell = 0;      // neighbour-list shell (length units)
   double exit_r = 0;     // displacement from the list centre that triggers a rebuild (< shell / 2)
@@ -203,9 +206,15 @@ struct EventEngine::Impl {
 
   void sync(Body& s) const {
     const double dt = now - s.t;
-    s.x += s.vx * dt;
-    s.y += s.vy * dt;
-    s.z += s.vz * dt;
+    if (has_g) {
+      s.x += (s.vx + 0.5 * g[0] * dt) * dt, s.vx += g[0] * dt;
+      s.y += (s.vy + 0.5 * g[1] * dt) * dt, s.vy += g[1] * dt;
+      s.z += (s.vz + 0.5 * g[2] * dt) * dt, s.vz += g[2] * dt;
+    } else {
+      s.x += s.vx * dt;
+      s.y += s.vy * dt;
+      s.z += s.vz * dt;
+    }
     s.t = now;
   }
 
@@ -303,16 +312,30 @@ struct EventEngine::Impl {
     double* __restrict ux = rz + stride;
     double* __restrict uy = ux + stride;
     double* __restrict uz = uy + stride;
-    for (int u = 0; u < m; ++u) {
-      const Body& q = body[adj_partner(cand[u])];
-      const auto& sh = image_shift[adj_image(cand[u])];
-      const double dtj = now - q.t;
-      rx[u] = s.x - (q.x + q.vx * dtj + sh[0]);
-      ry[u] = s.y - (q.y + q.vy * dtj + sh[1]);
-      rz[u] = s.z - (q.z + q.vz * dtj + sh[2]);
-      ux[u] = s.vx - q.vx;
-      uy[u] = s.vy - q.vy;
-      uz[u] = s.vz - q.vz;
+    if (has_g) {  // partners advanced to now on their parabolas
+      for (int u = 0; u < m; ++u) {
+        const Body& q = body[adj_partner(cand[u])];
+        const auto& sh = image_shift[adj_image(cand[u])];
+        const double dtj = now - q.t;
+        rx[u] = s.x - (q.x + (q.vx + 0.5 * g[0] * dtj) * dtj + sh[0]);
+        ry[u] = s.y - (q.y + (q.vy + 0.5 * g[1] * dtj) * dtj + sh[1]);
+        rz[u] = s.z - (q.z + (q.vz + 0.5 * g[2] * dtj) * dtj + sh[2]);
+        ux[u] = s.vx - (q.vx + g[0] * dtj);
+        uy[u] = s.vy - (q.vy + g[1] * dtj);
+        uz[u] = s.vz - (q.vz + g[2] * dtj);
+      }
+    } else {
+      for (int u = 0; u < m; ++u) {
+        const Body& q = body[adj_partner(cand[u])];
+        const auto& sh = image_shift[adj_image(cand[u])];
+        const double dtj = now - q.t;
+        rx[u] = s.x - (q.x + q.vx * dtj + sh[0]);
+        ry[u] = s.y - (q.y + q.vy * dtj + sh[1]);
+        rz[u] = s.z - (q.z + q.vz * dtj + sh[2]);
+        ux[u] = s.vx - q.vx;
+        uy[u] = s.vy - q.vy;
+        uz[u] = s.vz - q.vz;
+      }
     }
     // Pass 3: a branch-free screen of the contact condition: approaching and the lines pass
     // within sigma. Survivors get their contact time from the kernel in pass 4.
@@ -382,13 +405,35 @@ struct EventEngine::Impl {
     const double cc0 = dx * dx + dy * dy + dz * dz - exit_r * exit_r;
     const double root = std::sqrt(std::max(0.0, b * b - a * cc0));
     double best = kInf;
-    if (a > 0) best = b <= 0 ? (root - b) / a : -cc0 / (b + root);
+    if (has_g) {
+      // A parabola leaves the ball no earlier than |d| + |v| t + |g| t^2 / 2 = exit_r: a safe
+      // (early) rebuild time.
+      const double gn = std::sqrt(g[0] * g[0] + g[1] * g[1] + g[2] * g[2]);
+      const double left = exit_r - std::sqrt(dx * dx + dy * dy + dz * dz), speed = std::sqrt(a);
+      best = left <= 0 ? 0.0 : 2 * left / (speed + std::sqrt(speed * speed + 2 * gn * left));
+    } else if (a > 0) {
+      best = b <= 0 ? (root - b) / a : -cc0 / (b + root);
+    }
     std::uint8_t code = kRebuild * 8;
     for (int d = 0; d < 3; ++d) {
       if (periodic[std::size_t(d)]) continue;
       const double v = vel[d];
       const double hi = lo[std::size_t(d)] + len[std::size_t(d)];
       double t;
+      if (has_g && g[std::size_t(d)] != 0) {  // the first wall its parabola reaches, moving into it
+        if (ctr[d] + shell + s.r < hi && ctr[d] - shell - s.r > lo[std::size_t(d)]) continue;
+        const double gd = g[std::size_t(d)];
+        const double t_lo = kernel::wall_back_time(pos[d], -v, gd, lo[std::size_t(d)] + s.r, +1, kInf);
+        const double t_hi = kernel::wall_back_time(pos[d], -v, gd, hi - s.r, -1, kInf);
+        // Forward in time is backward with the velocity reversed; the side flips with it.
+        const double tl = t_lo >= 0 ? t_lo : kInf, th = t_hi >= 0 ? t_hi : kInf;
+        t = std::min(tl, th);
+        if (t < best) {
+          best = t;
+          code = std::uint8_t(kWall * 8 + d * 2 + (th < tl ? 1 : 0));
+        }
+        continue;
+      }
       // A wall further than exit_r + radius from the centre cannot be reached before the
       // rebuild (tested with the whole shell as margin); the rebuild re-predicts.
       if (v > 0 && ctr[d] + shell + s.r >= hi)
@@ -553,6 +598,11 @@ struct EventEngine::Impl {
     double* vel = d == 0 ? &s.vx : (d == 1 ? &s.vy : &s.vz);
     c.wall_impulse[std::size_t(d)] += 2 * mass[std::size_t(i)] * std::abs(*vel);
     *vel = -*vel;
+    if (has_g) {  // on the contact plane exactly: rounding must not leave it beyond the wall
+      double* x = d == 0 ? &s.x : (d == 1 ? &s.y : &s.z);
+      const double hi = lo[std::size_t(d)] + len[std::size_t(d)];
+      *x = std::clamp(*x, lo[std::size_t(d)] + s.r, hi - s.r);
+    }
     ++c.wall_collisions;
     ++count[std::size_t(i)];
     full_predict(i);
@@ -750,6 +800,9 @@ EventEngine::EventEngine(const ParticleSystem& sys, const EventConfig& cfg) : im
   m.proto = sys;
   m.proto.image.resize(sys.size(), {0, 0, 0});
   check_restitution(cfg.restitution, cfg.contact_time);
+  check_gravity(cfg.gravity, sys.box.periodic);
+  m.g = cfg.gravity;
+  m.has_g = cfg.gravity != std::array<double, 3>{0, 0, 0};
   m.restitution = cfg.restitution;
   m.contact_time = cfg.contact_time;
   if (cfg.restitution != 1.0) m.last_collision.assign(sys.size(), -std::numeric_limits<double>::infinity());
@@ -893,8 +946,14 @@ ParticleSystem EventEngine::state() const {
     const Body& s = m.body[k];
     const double dt = m.now - s.t;
     const std::size_t i = m.orig[k];
-    out.pos[i] = {s.x + s.vx * dt, s.y + s.vy * dt, s.z + s.vz * dt};
-    out.vel[i] = {s.vx, s.vy, s.vz};
+    if (m.has_g) {
+      out.pos[i] = {s.x + (s.vx + 0.5 * m.g[0] * dt) * dt, s.y + (s.vy + 0.5 * m.g[1] * dt) * dt,
+                    s.z + (s.vz + 0.5 * m.g[2] * dt) * dt};
+      out.vel[i] = {s.vx + m.g[0] * dt, s.vy + m.g[1] * dt, s.vz + m.g[2] * dt};
+    } else {
+      out.pos[i] = {s.x + s.vx * dt, s.y + s.vy * dt, s.z + s.vz * dt};
+      out.vel[i] = {s.vx, s.vy, s.vz};
+    }
     for (std::size_t d = 0; d < 3; ++d)
       out.image[i][d] = std::int32_t(
           std::clamp(m.proto.image[i][d] + m.wraps[i][d], std::int64_t(INT32_MIN), std::int64_t(INT32_MAX)));

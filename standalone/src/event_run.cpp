@@ -79,6 +79,7 @@ nlohmann::json run_event_simulation(const RunSpec& spec) {
   }
   engine.reset_counters();
   const double e0 = kinetic_energy(sys);
+  const double u0 = potential_energy(sys, spec.event.gravity);
   const Vec3d p0 = total_momentum(sys);
   const std::size_t n = sys.size();
   const double t0_temp = n ? 2 * e0 / (3.0 * double(n)) : 0.0;
@@ -120,10 +121,14 @@ nlohmann::json run_event_simulation(const RunSpec& spec) {
   j["restitution"] = spec.event.restitution;
   j["contact_time"] = spec.event.contact_time;
   // Inelastic collisions turn kinetic energy into heat: what they took over the measured run.
-  j["dissipated_energy"] = j["kinetic_energy_initial"].get<double>() - j["kinetic_energy_final"].get<double>();
-  j["gravity"] = std::array<double, 3>{0, 0, 0};  // the event engine has none yet
-  j["potential_energy_initial"] = 0.0;
-  j["potential_energy_final"] = 0.0;
+  // Energy: kinetic plus potential in the gravity field; what inelastic collisions took.
+  const double u1 = potential_energy(fin, spec.event.gravity);
+  const double k1 = j["kinetic_energy_final"].get<double>();
+  j["gravity"] = spec.event.gravity;
+  j["potential_energy_initial"] = u0;
+  j["potential_energy_final"] = u1;
+  j["dissipated_energy"] = (e0 + u0) - (k1 + u1);
+  j["energy_rel_drift"] = e0 + u0 > 0 ? ((k1 + u1) - (e0 + u0)) / (e0 + u0) : 0.0;
   j["sim_time"] = c.sim_time;
   j["equilibrate_time"] = spec.equilibrate_time;
   j["blocks"] = spec.blocks;

@@ -185,4 +185,22 @@ void check_restitution(double restitution, double contact_time) {
         "finite time) would never end; give the TC model a contact time > 0");
 }
 
+void check_gravity(const std::array<double, 3>& g, const std::array<bool, 3>& periodic) {
+  for (int d = 0; d < 3; ++d) {
+    if (!std::isfinite(g[std::size_t(d)])) {
+      std::ostringstream m;
+      m << "gravity component "
+        << "xyz"[d] << " = " << g[std::size_t(d)] << " must be finite";
+      throw InputError(m.str());
+    }
+    if (g[std::size_t(d)] != 0 && periodic[std::size_t(d)]) {
+      std::ostringstream m;
+      m << "gravity along periodic axis "
+        << "xyz"[d] << " (" << g[std::size_t(d)]
+        << ") would accelerate the spheres without end; put walls on that axis (--boundary ...,w)";
+      throw InputError(m.str());
+    }
+  }
+}
+
 }  // namespace hardsphere

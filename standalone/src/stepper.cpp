@@ -938,24 +938,6 @@ std::unique_ptr<StepperBase> make_stepper(const ParticleSystem& sys, const Stepp
   return make_stepper_for<double>(sys, cfg);
 }
 
-void check_gravity(const std::array<double, 3>& g, const std::array<bool, 3>& periodic) {
-  for (int d = 0; d < 3; ++d) {
-    if (!std::isfinite(g[std::size_t(d)])) {
-      std::ostringstream m;
-      m << "gravity component "
-        << "xyz"[d] << " = " << g[std::size_t(d)] << " must be finite";
-      throw InputError(m.str());
-    }
-    if (g[std::size_t(d)] != 0 && periodic[std::size_t(d)]) {
-      std::ostringstream m;
-      m << "gravity along periodic axis "
-        << "xyz"[d] << " (" << g[std::size_t(d)]
-        << ") would accelerate the spheres without end; put walls on that axis (--boundary ...,w)";
-      throw InputError(m.str());
-    }
-  }
-}
-
 StateExchange& state_exchange(StepperBase& stepper) {
   // Every engine make_stepper builds implements both interfaces.
   return dynamic_cast<StateExchange&>(stepper);

@@ -64,6 +64,8 @@ struct EventConfig {
   //! StepperConfig.
   double restitution = 1.0;
   double contact_time = 0.0;
+  //! Uniform acceleration along wall axes (flights are parabolas), as in StepperConfig.
+  std::array<double, 3> gravity{0, 0, 0};
 };
 
 struct EventCounters {

@@ -2,6 +2,7 @@
 //! The numbers a scene makes the engines carry. Every one must stay finite, and coordinates must
 //! resolve the spheres; what cannot be simulated is refused with an InputError naming the value
 //! and where it came from, instead of overflowing into NaN or wrapping spheres onto each other.
+#include <array>
 #include <string>
 #include <vector>
 
@@ -30,6 +31,9 @@ void check_engine_numbers(const ParticleSystem& sys, double eps, double largest,
 //! Normal restitution in (0, 1] and a TC-model contact time >= 0, both finite, and > 0 when the
 //! restitution is below 1, so no collapse can stop a run (InputError).
 void check_restitution(double restitution, double contact_time);
+
+//! Refuses (InputError) a gravity that is not finite or has a component along a periodic axis.
+void check_gravity(const std::array<double, 3>& g, const std::array<bool, 3>& periodic);
 
 //! Wall bounces per unit time the spheres' straight flights between opposite walls imply,
 //! sum over spheres and wall axes of |v_d| / (L_d - 2 r): in a gap barely wider than a sphere

@@ -74,9 +74,6 @@ struct StepperConfig {
   std::array<double, 3> gravity{0, 0, 0};
 };
 
-//! Refuses (InputError) a gravity that is not finite or has a component along a periodic axis.
-void check_gravity(const std::array<double, 3>& g, const std::array<bool, 3>& periodic);
-
 struct StepCounters {
   std::int64_t steps = 0;
   double sim_time = 0;
