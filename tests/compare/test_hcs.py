@@ -1,0 +1,35 @@
+"""compare/hcs.py: the Sonine coefficient of the homogeneous cooling state (quick mode, e = 0.5),
+and its theory function."""
+import json
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+ROOT = Path(__file__).resolve().parents[2]
+sys.path.insert(0, str(ROOT / "compare"))
+import hcs  # noqa: E402
+
+
+def test_van_noije_ernst_limits():
+    assert hcs.a2_van_noije_ernst(1.0) == 0.0  # elastic: Maxwell-Boltzmann
+    assert hcs.a2_van_noije_ernst(1 / 2 ** 0.5) == pytest.approx(0.0, abs=1e-15)  # sign change at e^2 = 1/2
+    assert hcs.a2_van_noije_ernst(0.5) == pytest.approx(16 * 0.5 * 0.5 / (81 - 8.5 + 3.75))
+
+
+def test_a2_is_zero_for_maxwell_boltzmann_and_not_for_one_speed():
+    rng = __import__("numpy").random.default_rng(3)
+    assert hcs.a2_of(rng.normal(size=(200000, 3))) == pytest.approx(0.0, abs=0.01)
+    v = rng.normal(size=(200000, 3))
+    v /= __import__("numpy").linalg.norm(v, axis=1)[:, None]  # all speeds 1: <c^4> = <c^2>^2
+    assert hcs.a2_of(v) == pytest.approx(-0.4, abs=0.01)
+
+
+def test_cooling_state_matches_van_noije_ernst(hs, tmp_path):
+    p = subprocess.run([sys.executable, str(ROOT / "compare" / "hcs.py"), "--hardsphere", hs, "--out", str(tmp_path),
+                        "--quick"], capture_output=True, text=True, timeout=300)
+    assert p.returncode == 0, p.stdout + p.stderr
+    row = json.loads((tmp_path / "hcs.json").read_text())["rows"][0]
+    assert row["e"] == 0.5 and abs(row["a2"] - row["a2_theory"]) < 3 * row["a2_err"] + 0.01
+    assert (tmp_path / "hcs_a2.png").stat().st_size > 10000
