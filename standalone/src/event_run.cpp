@@ -118,17 +118,8 @@ nlohmann::json run_event_simulation(const RunSpec& spec) {
   nlohmann::json j = physics_summary(fin, totals, !spec.read_data.has_value(), spec.init.seed, spec.histogram_bins,
                                      overlap_tolerance(fin, std::numeric_limits<double>::epsilon()));
   j["engine"] = "event";
-  j["restitution"] = spec.event.restitution;
-  j["contact_time"] = spec.event.contact_time;
-  // Inelastic collisions turn kinetic energy into heat: what they took over the measured run.
-  // Energy: kinetic plus potential in the gravity field; what inelastic collisions took.
-  const double u1 = potential_energy(fin, spec.event.gravity);
-  const double k1 = j["kinetic_energy_final"].get<double>();
-  j["gravity"] = spec.event.gravity;
-  j["potential_energy_initial"] = u0;
-  j["potential_energy_final"] = u1;
-  j["dissipated_energy"] = (e0 + u0) - (k1 + u1);
-  j["energy_rel_drift"] = e0 + u0 > 0 ? ((k1 + u1) - (e0 + u0)) / (e0 + u0) : 0.0;
+  add_energy_summary(j, e0, u0, potential_energy(fin, spec.event.gravity), spec.event.restitution,
+                     spec.event.contact_time, spec.event.gravity);
   j["sim_time"] = c.sim_time;
   j["equilibrate_time"] = spec.equilibrate_time;
   j["blocks"] = spec.blocks;

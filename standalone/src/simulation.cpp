@@ -120,17 +120,8 @@ nlohmann::json run_simulation(const RunSpec& spec) {
   nlohmann::json j = physics_summary(fin, totals, !spec.read_data.has_value(), spec.init.seed, spec.histogram_bins,
                                      overlap_tolerance(fin, rounding_epsilon(spec.precision)));
   j["engine"] = "stepper";
-  j["restitution"] = spec.stepper.restitution;
-  j["contact_time"] = spec.stepper.contact_time;
-  // Energy: kinetic plus potential in the gravity field (zero without one); inelastic
-  // collisions turn it into heat: what they took over the measured run.
-  const double u1 = potential_energy(fin, spec.stepper.gravity);
-  const double e1 = j["kinetic_energy_final"].get<double>();
-  j["gravity"] = spec.stepper.gravity;
-  j["potential_energy_initial"] = u0;
-  j["potential_energy_final"] = u1;
-  j["dissipated_energy"] = (e0 + u0) - (e1 + u1);
-  j["energy_rel_drift"] = e0 + u0 > 0 ? ((e1 + u1) - (e0 + u0)) / (e0 + u0) : 0.0;
+  add_energy_summary(j, e0, u0, potential_energy(fin, spec.stepper.gravity), spec.stepper.restitution,
+                     spec.stepper.contact_time, spec.stepper.gravity);
   j["steps"] = c.steps;
   j["equilibrate_steps"] = spec.equilibrate;
   j["dt"] = spec.stepper.dt;

@@ -31,6 +31,12 @@ struct RunTotals {
 nlohmann::json physics_summary(const ParticleSystem& final_state, const RunTotals& totals, bool com_removed,
                                std::uint64_t seed, int histogram_bins, double overlap_tolerance);
 
+//! Adds the run's restitution, contact time and gravity, the potential energies before and after
+//! (-sum m g.(x - lo)), and replaces energy_rel_drift by that of kinetic + potential energy; the
+//! energy inelastic collisions took is dissipated_energy.
+void add_energy_summary(nlohmann::json& j, double kinetic0, double potential0, double potential1, double restitution,
+                        double contact_time, const std::array<double, 3>& gravity);
+
 //! Writes the JSON file and the final data file, and commits them with the dump: only after
 //! success, and all together (commit_together), so an error leaves none of them.
 void commit_outputs(const nlohmann::json& summary, const ParticleSystem& final_state,
