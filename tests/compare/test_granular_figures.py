@@ -1,0 +1,20 @@
+"""compare/granular_figures.py: barometric gas, resting bed and strong dissipation in both engines (quick mode)."""
+import json
+import subprocess
+import sys
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[2]
+
+
+def test_granular_figures_quick(hs, tmp_path):
+    p = subprocess.run([sys.executable, str(ROOT / "compare" / "granular_figures.py"), "--hardsphere", hs, "--out",
+                        str(tmp_path), "--quick"], capture_output=True, text=True, timeout=300)
+    assert p.returncode == 0, p.stdout + p.stderr
+    for name in ("barometric", "bed", "collapse"):
+        assert (tmp_path / f"granular_{name}.png").stat().st_size > 10000
+    res = json.loads((tmp_path / "granular.json").read_text())
+    assert res["pass"] and res["quick"]
+    assert [b["engine"] for b in res["barometric"]] == ["stepper", "event"]
+    for b in res["barometric"]:
+        assert abs(b["ratio"] - 1) < 0.05
