@@ -35,17 +35,27 @@ std::pair<double, double> mean_error(const std::vector<double>& x) {
 //! A sphere re-lists its neighbours each time it has moved half the shell: at least
 //! sum |v_i| t / (shell / 2) events, whatever collisions add. Refuse up front what the engine's
 //! event limit would stop later.
-void refuse_too_many_events(const ParticleSystem& sys, double shell, double time, double limit) {
+void refuse_too_many_events(const ParticleSystem& sys, double shell, double time, double limit,
+                            const std::array<double, 3>& gravity) {
   double speeds = 0;
   for (const Vec3d& v : sys.vel) speeds += norm(v);
-  const double bounces = wall_bounce_rate(sys) * time;
+  double bounces = wall_bounce_rate(sys) * time;
+  // Under gravity a sphere falls across its gap G (at most the box) and bounces at least every
+  // 2 sqrt(2 G / g), reaching speeds up to sqrt(2 g G): more bounces and list events.
+  for (int d = 0; d < 3; ++d) {
+    const double g = std::abs(gravity[std::size_t(d)]);
+    if (g == 0) continue;
+    const double gap = std::max(sys.box.length(d) - 2 * sys.max_radius(), 1e-300);
+    bounces += double(sys.size()) * time * std::sqrt(g / (8 * gap));
+    speeds += double(sys.size()) * std::sqrt(2 * g * gap);
+  }
   const double events = speeds * time / (0.5 * shell) + bounces;
   if (events > limit) {
     std::ostringstream m;
     m << "the run would take at least " << events << " events (" << sys.size() << " spheres moving " << speeds * time
       << " in all over time " << time << ", a neighbour-list event every " << 0.5 * shell;
     if (bounces > 0) m << ", and " << bounces << " wall bounces";
-    m << "), more than the limit of " << limit << "; shorten --time or lower the speeds";
+    m << "), more than the limit of " << limit << "; shorten --time, lower the speeds or the gravity";
     throw InputError(m.str());
   }
 }
@@ -67,7 +77,7 @@ nlohmann::json run_event_simulation(const RunSpec& spec) {
   EventConfig cfg = spec.event;
   cfg.max_events = spec.work_limit;
   EventEngine engine(sys, cfg);
-  refuse_too_many_events(sys, engine.shell(), spec.time + spec.equilibrate_time, spec.work_limit);
+  refuse_too_many_events(sys, engine.shell(), spec.time + spec.equilibrate_time, spec.work_limit, spec.event.gravity);
   std::optional<DumpWriter> dump;
   if (spec.dump) dump.emplace(*spec.dump);
   std::optional<AtomicFile> json_file;

@@ -269,6 +269,9 @@ def test_gravity_keeps_kinetic_plus_potential_energy(hs, engine):
     (("--gravity", "0,0,-1"), "gravity along periodic axis z"),
     (("--gravity", "-1", "--boundary", "w"), "--gravity '-1' needs three values gx,gy,gz"),
     (("--gravity", "0,0,x", "--boundary", "w"), "is not a number"),
+    # A gravity whose bounces no run could finish is refused up front, in both engines.
+    (("--gravity", "0,0,-1e300", "--boundary", "p,p,w", "--steps", 10), "the run would take"),
+    (("--gravity", "0,0,-1e300", "--boundary", "p,p,w", "--engine", "event", "--time", 1), "the run would take at least"),
 ])
 def test_bad_gravity_is_refused(hs, args, message):
     p = run(hs, "--n", 100, *args)
