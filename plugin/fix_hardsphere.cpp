@@ -139,8 +139,7 @@ void FixHardSphere::setup(int vflag) {
   if (serial) {
     serial_setup();
   } else {
-    rank->configure({dt, sweep ? hardsphere::Detect::Sweep : hardsphere::Detect::Overlap, max_events, restitution,
-                     contact_time, gravity});
+    rank->configure(stepper_config());
     rank->neighbours_changed();
   }
   t_now = temperature_now();
@@ -155,19 +154,14 @@ void FixHardSphere::setup(int vflag) {
 void FixHardSphere::check_setup() {
   const int nlocal = atom->nlocal;
   double *radius = atom->radius, *rmass = atom->rmass, **v = atom->v;
-  double lo[3] = {1e300, 1e300, 1e300}, hi[3] = {-1e300, -1e300, -1e300};
+  double v2max = 0.0;
   for (int i = 0; i < nlocal; i++) {
-    lo[0] = std::min(lo[0], radius[i]), hi[0] = std::max(hi[0], radius[i]);
-    lo[1] = std::min(lo[1], rmass[i]), hi[1] = std::max(hi[1], rmass[i]);
-    const double v2 = v[i][0] * v[i][0] + v[i][1] * v[i][1] + v[i][2] * v[i][2];
-    hi[2] = std::max(hi[2], v2);
+    v2max = std::max(v2max, v[i][0] * v[i][0] + v[i][1] * v[i][1] + v[i][2] * v[i][2]);
     if (!(radius[i] > 0.0) || !(rmass[i] > 0.0))
       error->one(FLERR, "fix hardsphere: atom " + std::to_string(atom->tag[i]) + " has radius " + num(radius[i]) +
                             " and mass " + num(rmass[i]) + "; both must be positive (set them in the data file)");
   }
-  double glo[2], ghi[3];
-  MPI_Allreduce(lo, glo, 2, MPI_DOUBLE, MPI_MIN, world);
-  MPI_Allreduce(hi, ghi, 3, MPI_DOUBLE, MPI_MAX, world);
+  MPI_Allreduce(MPI_IN_PLACE, &v2max, 1, MPI_DOUBLE, MPI_MAX, world);
 
   // The pair style's contact distance per type pair must cover the per-atom diameters.
   auto *pair = dynamic_cast<PairHardSphere *>(force->pair_match("hardsphere", 1));
@@ -183,7 +177,7 @@ void FixHardSphere::check_setup() {
                               num(pair->contact(a, b)) + "; raise that pair_coeff diameter or use 'pair_coeff * *'");
 
   // Time step against the skin: within one step an atom moves at most ~2 v_max dt.
-  const double vmax = std::sqrt(ghi[2]);
+  const double vmax = std::sqrt(v2max);
   if (4.0 * vmax * dt >= neighbor->skin)
     error->all(FLERR,
                "fix hardsphere: timestep too large for the neighbour skin: 4 * v_max * dt = " + num(4.0 * vmax * dt) +

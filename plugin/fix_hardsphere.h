@@ -69,7 +69,9 @@ class FixHardSphere : public Fix {
   bool serial_must_write() const;
   //! The LAMMPS box as a hardsphere::Box, no spheres yet.
   hardsphere::ParticleSystem empty_system() const;
-  //! A standalone stepper for `sys` with this fix's dt, detection mode and event limit.
+  //! The stepper settings of this fix's keywords, dt and gravity (both paths use them).
+  hardsphere::StepperConfig stepper_config() const;
+  //! A standalone stepper for `sys` with stepper_config().
   std::unique_ptr<hardsphere::StepperBase> new_stepper(const hardsphere::ParticleSystem &sys) const;
 
   double dt = 0.0;

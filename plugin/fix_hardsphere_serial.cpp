@@ -115,7 +115,7 @@ hardsphere::ParticleSystem FixHardSphere::empty_system() const {
   return sys;
 }
 
-std::unique_ptr<hardsphere::StepperBase> FixHardSphere::new_stepper(const hardsphere::ParticleSystem &sys) const {
+hardsphere::StepperConfig FixHardSphere::stepper_config() const {
   hardsphere::StepperConfig cfg;
   cfg.dt = dt;
   cfg.detect = sweep ? hardsphere::Detect::Sweep : hardsphere::Detect::Overlap;
@@ -123,7 +123,11 @@ std::unique_ptr<hardsphere::StepperBase> FixHardSphere::new_stepper(const hardsp
   cfg.restitution = restitution;
   cfg.contact_time = contact_time;
   cfg.gravity = gravity;
-  return hardsphere::make_stepper(sys, cfg);
+  return cfg;
+}
+
+std::unique_ptr<hardsphere::StepperBase> FixHardSphere::new_stepper(const hardsphere::ParticleSystem &sys) const {
+  return hardsphere::make_stepper(sys, stepper_config());
 }
 
 void FixHardSphere::map_tags() {

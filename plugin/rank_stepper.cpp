@@ -114,7 +114,7 @@ void RankStepper::build() {
     return;
   }
   try {
-    stepper_ = hardsphere::make_stepper(sys, config());
+    stepper_ = hardsphere::make_stepper(sys, config_);
   } catch (const std::exception &e) {
     error->one(FLERR, std::string("fix hardsphere: ") + e.what());
   }
@@ -124,17 +124,6 @@ void RankStepper::build() {
   last_unresolved_ = 0;
   map_slots();
   stale_ = false;
-}
-
-hardsphere::StepperConfig RankStepper::config() const {
-  hardsphere::StepperConfig cfg;
-  cfg.dt = settings_.dt;
-  cfg.detect = settings_.detect;
-  cfg.max_events_per_step = settings_.max_events;
-  cfg.restitution = settings_.restitution;
-  cfg.contact_time = settings_.contact_time;
-  cfg.gravity = settings_.gravity;
-  return cfg;
 }
 
 void RankStepper::start_epoch(double shell, double dmax) {
@@ -261,7 +250,7 @@ RankStepper::StepTotals RankStepper::step() {
   // Before the next step every atom that can meet an owned atom must be here: re-neighbour
   // when the moves since the build (both atoms of a pair) and one more step could use up the
   // shell's slack.
-  reneighbor_ = 2.0 * (glob[1] + 2.0 * glob[2] * settings_.dt) >= reach_;
+  reneighbor_ = 2.0 * (glob[1] + 2.0 * glob[2] * config_.dt) >= reach_;
   return t;
 }
 
@@ -322,7 +311,7 @@ RankStepper::StepTotals RankStepper::rerun_globally() {
   hardsphere::ParticleSystem out;
   hardsphere::StepCounters c;
   try {
-    auto global = hardsphere::make_stepper(sys, config());
+    auto global = hardsphere::make_stepper(sys, config_);
     global->run(1);
     out = global->state();
     c = global->counters();

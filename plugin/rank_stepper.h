@@ -20,13 +20,6 @@ namespace LAMMPS_NS {
 
 class RankStepper : protected Pointers {
  public:
-  struct Settings {
-    double dt = 0;
-    hardsphere::Detect detect = hardsphere::Detect::Overlap;
-    std::int64_t max_events = 100000000;
-    double restitution = 1.0, contact_time = 0.0;
-    std::array<double, 3> gravity{0, 0, 0};
-  };
   //! What one step did on this rank (ownership-weighted, so sums over ranks are totals).
   struct StepTotals {
     double collisions = 0, wall_collisions = 0, unresolved = 0;
@@ -35,7 +28,7 @@ class RankStepper : protected Pointers {
   };
 
   RankStepper(LAMMPS *lmp, class Fix *fix) : Pointers(lmp), fix_(fix) {}
-  void configure(const Settings &s) { settings_ = s; }
+  void configure(const hardsphere::StepperConfig &c) { config_ = c; }
   //! The ghost shell for contact distance `contact` and LAMMPS's skin: a ghost an owned atom
   //! meets must see all its own partners (two contact distances), and the skin twice over plus
   //! one more contact distance is what atoms may move before LAMMPS re-neighbours.
@@ -58,7 +51,6 @@ class RankStepper : protected Pointers {
   static constexpr int kForwardSize = 3;
 
  private:
-  hardsphere::StepperConfig config() const;
   void build();
   void start_epoch(double shell, double dmax);
   void map_slots();
@@ -67,7 +59,7 @@ class RankStepper : protected Pointers {
   StepTotals rerun_globally();
 
   class Fix *fix_;
-  Settings settings_;
+  hardsphere::StepperConfig config_;  //!< for every stepper this path makes
   bool stale_ = true, epoch_ = true, refresh_v_ = false, reneighbor_ = false;
   std::unique_ptr<hardsphere::StepperBase> stepper_;
   hardsphere::OwnedCounters last_;  //!< owned counters after the previous step
