@@ -488,8 +488,8 @@ class ContactResolver {
   //! TC model: a collision `back` before the step's end is elastic if either sphere collided
   //! within contact_time_ before it.
   bool collided_recently(std::uint32_t i, std::uint32_t j, Real back) const {
-    const double t = step_end_ - double(back);
-    return t - last_collision_[id_index(i)] < contact_time_ || t - last_collision_[id_index(j)] < contact_time_;
+    return kernel::tc_elastic(step_end_ - double(back), last_collision_[id_index(i)], last_collision_[id_index(j)],
+                              contact_time_);
   }
 
   //! Mirrors sphere c.i at the wall of axis c.image, `c.back` before the end of the step.

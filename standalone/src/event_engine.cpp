@@ -505,11 +505,10 @@ struct EventEngine::Impl {
     Vec3d va{a.vx, a.vy, a.vz}, vb{b.vx, b.vy, b.vz};
     double w;
     if (restitution != 1.0) {
-      // TC model: elastic if either sphere collided within contact_time before.
       const double t = base + now;
       double& ti = last_collision[orig[std::size_t(i)]];
       double& tj = last_collision[orig[std::size_t(j)]];
-      const double e = t - ti < contact_time || t - tj < contact_time ? 1.0 : restitution;
+      const double e = kernel::tc_elastic(t, ti, tj, contact_time) ? 1.0 : restitution;
       w = mono ? mass0 * kernel::collide_equal_mass(dr, va, vb, e)
                : kernel::collide(dr, va, vb, mass[std::size_t(i)], mass[std::size_t(j)], e);
       ti = tj = t;

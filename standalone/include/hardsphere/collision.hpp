@@ -118,6 +118,12 @@ inline T collide_equal_mass(Vec3<T> dr, Vec3<T>& v1, Vec3<T>& v2, T restitution)
   return -half * b;
 }
 
+//! The TC model of inelastic collapse (Luding and McNamara 1998): a collision at time t is
+//! elastic if either sphere collided within contact_time before it (last_i, last_j).
+inline bool tc_elastic(double t, double last_i, double last_j, double contact_time) {
+  return t - last_i < contact_time || t - last_j < contact_time;
+}
+
 //! Reflects a coordinate from the walls [lo, hi] of one axis for a sphere of radius r:
 //! rewind to the wall contact, flip the velocity, re-advance, which is an exact mirror.
 //! Returns the momentum given to the wall per unit mass (2|v|) or 0 if no contact.
