@@ -183,6 +183,7 @@ void FixHardSphere::check_setup() {
                "fix hardsphere: timestep too large for the neighbour skin: 4 * v_max * dt = " + num(4.0 * vmax * dt) +
                    " >= skin " + num(neighbor->skin) + "; reduce 'timestep' or raise the skin ('neighbor <skin> bin')");
 
+  if (!serial) check_big_spheres_mpi();
   // Overlapping pairs at the start are refused where the atoms are handed to a stepper.
 }
 

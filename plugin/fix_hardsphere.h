@@ -47,6 +47,7 @@ class FixHardSphere : public Fix {
   // fix_hardsphere_checks.cpp: what the fix refuses, and the neighbour settings it needs.
   void check_input();
   void check_other_fixes();
+  void check_big_spheres_mpi();
   void apply_neighbor_settings();
   //! The summed acceleration of the fix gravity commands (refused along periodic axes).
   void read_gravity();

@@ -2,6 +2,9 @@
 // refusal names the command or value at fault and what to use instead (docs/fix_hardsphere.md,
 // "Restrictions"). Hard spheres have no forces and no potential energy: a fix that adds or acts
 // on forces would change nothing, so it is refused rather than silently ignored.
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
 #include <string>
 
 #include "atom.h"
@@ -15,6 +18,7 @@
 #include "group.h"
 #include "modify.h"
 #include "neighbor.h"
+#include "size_classes.hpp"
 #include "update.h"
 #include "utils.h"
 
@@ -247,4 +251,38 @@ bool FixHardSphere::gravity_changed() const {
     for (int d = 0; d < 3; d++) now[std::size_t(d)] += g[d];
   }
   return now != gravity;
+}
+
+void FixHardSphere::check_big_spheres_mpi() {
+  // The stepper finds a few big spheres' partners in their own pass (size_classes.hpp), but the
+  // MPI path's ghost shell is a few contact distances of the largest sphere, so one big sphere
+  // would make most of the box ghosts on every rank. The same rule as the stepper's, from a
+  // median found by bisection over global counts (no rank holds every radius).
+  const int nlocal = atom->nlocal;
+  const double *radius = atom->radius;
+  double lo = INFINITY, hi = 0;
+  for (int i = 0; i < nlocal; i++) lo = std::min(lo, radius[i]), hi = std::max(hi, radius[i]);
+  MPI_Allreduce(MPI_IN_PLACE, &lo, 1, MPI_DOUBLE, MPI_MIN, world);
+  MPI_Allreduce(MPI_IN_PLACE, &hi, 1, MPI_DOUBLE, MPI_MAX, world);
+  if (!(hi > hardsphere::kBigOverMedian * lo)) return;
+  const auto count_above = [&](double r) {
+    std::int64_t c = 0;
+    for (int i = 0; i < nlocal; i++) c += radius[i] > r;
+    MPI_Allreduce(MPI_IN_PLACE, &c, 1, MPI_INT64_T, MPI_SUM, world);
+    return c;
+  };
+  // Smallest radius with at most half the atoms above it: the median of split_by_size.
+  const std::int64_t half = std::int64_t(atom->natoms / 2);
+  double a = lo, b = hi;
+  for (int k = 0; k < 80 && b > a * (1 + 1e-14); k++) {
+    const double m = std::sqrt(a * b);
+    (count_above(m) > half ? a : b) = m;
+  }
+  const std::int64_t big = count_above(hardsphere::kBigOverMedian * b);
+  if (big == 0 || big > std::int64_t(hardsphere::kMaxBigSpheres)) return;
+  error->all(FLERR, fmt::format("fix hardsphere: {} atom(s) have a diameter above {} x the median diameter {:.6g} "
+                                "(largest {:.6g}): such big spheres run on one MPI rank only, where the stepper finds "
+                                "their partners in a pass of their own (the MPI path's ghost shell would be sized by "
+                                "the largest sphere); run this input on 1 rank",
+                                big, hardsphere::kBigOverMedian, 2 * b, 2 * hi));
 }

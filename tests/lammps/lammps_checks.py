@@ -401,6 +401,11 @@ def errors(args):
                               "fix hardsphere: fix e (evaporate) " + inserts, False),
             "minimize": (base + "minimize 0.0 0.0 10 10\n",
                          "fix hardsphere: hard spheres have no potential energy to minimise; use 'run'", True),
+            # Big spheres need the serial path's own pass; the MPI path refuses them.
+            "big sphere on the MPI path": (base.replace("fix hs all hardsphere\n", "fix hs all hardsphere path ghosts\n")
+                                           + "set atom 1 diameter 3.0\nrun 1\n",
+                                           "fix hardsphere: 1 atom(s) have a diameter above 2 x the median diameter 1 "
+                                           "(largest 3): such big spheres run on one MPI rank only", True),
             "run_style respa": (base + "run_style respa 2 2\nrun 1\n",
                                 "fix hardsphere: run_style respa is not supported", False),
         }
