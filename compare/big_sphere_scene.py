@@ -126,7 +126,8 @@ def write_data(path, scene, title="hardsphere gas with big spheres"):
         x, y, z = (float(c) for c in scene["pos"][i])
         lines.append(f"{i + 1} {int(scene['type'][i])} {d!r} {rho!r} {x!r} {y!r} {z!r}")
     lines += ["", "Velocities", ""]
-    lines += [f"{i + 1} {float(v[0])!r} {float(v[1])!r} {float(v[2])!r}" for i, v in enumerate(scene["vel"])]
+    # LAMMPS reads sphere velocities with the angular velocity (zero: hard spheres are smooth).
+    lines += [f"{i + 1} {float(v[0])!r} {float(v[1])!r} {float(v[2])!r} 0 0 0" for i, v in enumerate(scene["vel"])]
     with open(path, "w") as f:
         f.write("\n".join(lines) + "\n")
 

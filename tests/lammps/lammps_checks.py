@@ -146,6 +146,9 @@ write_data lmp.data
                     tag + f"newton off: collisions {last_n['f_hs[1]']:.0f} == standalone {ref['collisions']}, "
                     f"max |dx| {np.abs(dxn).max():.2e}, max |dv| {np.abs(vn - vs).max():.2e} < 1e-6")
 
+        if args.np == 1:
+            ok &= identical_big_sphere(args, d, tag)
+
         # The owned + ghost path (MPI's; 'path ghosts' forces it in serial). On one rank its
         # stepper holds every atom and no ghost: the standalone's collisions.
         script_p = HEADER.format(data="init.data", skin=0.5, dt=0.01).replace(
@@ -259,6 +262,31 @@ run 0
                     tag + f"dense walls (ghost path): collisions {last['f_hs[1]']:.0f} == {ref['collisions']}, "
                     f"wall bounces {last['f_hs[5]']:.0f} == {ref['wall_collisions']}, no overlap after the run")
     return ok
+
+
+def identical_big_sphere(args, d, tag):
+    """A big heavy sphere (diameter 6, mass 1000) in 2000 unit spheres: the serial fix runs the
+    stepper, with its own pass for big spheres, and reproduces the standalone collision for collision."""
+    scene = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "compare", "big_sphere_scene.py")
+    subprocess.run([sys.executable, scene, "--n", "2000", "--phi", "0.2", "--big", "1", "--big-diameter", "6",
+                    "--big-mass", "1000", "--out", "big.data"], cwd=d, check=True, capture_output=True)
+    ref = standalone(args, d, "--read-data", "big.data", "--steps", "200", "--dt", "0.01", "--write-data", "sa_big.data")
+    box, xs, vs = read_data(os.path.join(d, "sa_big.data"))
+    script = HEADER.format(data="big.data", skin=0.5, dt=0.01) + """
+thermo_style custom step ke f_hs[1]
+thermo_modify format float %.17g
+thermo 200
+run 200
+write_data lmp_big.data
+"""
+    rc, out = run_lmp(args, script, d)
+    last = thermo(out)[-1]
+    _, xl, vl = read_data(os.path.join(d, "lmp_big.data"))
+    dx = xl - xs
+    dx -= box * np.round(dx / box)
+    return check(last["f_hs[1]"] == ref["collisions"] and np.abs(dx).max() < 1e-6 and np.abs(vl - vs).max() < 1e-6,
+                 tag + f"big sphere: collisions {last['f_hs[1]']:.0f} == standalone {ref['collisions']}, "
+                 f"max |dx| {np.abs(dx).max():.2e}, max |dv| {np.abs(vl - vs).max():.2e} < 1e-6")
 
 
 def conservation(args):
