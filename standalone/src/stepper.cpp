@@ -68,10 +68,13 @@ double auto_skin(const ParticleSystem& sys, double dt) {
   // skin below a few v_rms dt lets the fast spheres expire the list every step, and in the
   // middle of steps, at a multiple of the cost (see docs/performance.md). skin >= 6 v_rms dt
   // gives a sphere at 3 v_rms about two steps to cross it.
-  // Diameters are those the cell grid is sized for: big spheres find their pairs by a pass of
-  // their own, so their size must not thicken every small sphere's skin.
+  // The diameter is the median one: the skin is a distance a typical sphere travels between
+  // rebuilds, so neither big spheres nor the tail of a size distribution may thicken it.
   const double v_rms = rms_speed(sys);
-  const double diameter = split_by_size(sys).grid_diameter;
+  std::vector<double> radii(sys.radius);
+  const auto mid = radii.begin() + std::ptrdiff_t(radii.size() / 2);
+  if (!radii.empty()) std::nth_element(radii.begin(), mid, radii.end());
+  const double diameter = radii.empty() ? 0.0 : 2 * *mid;
   const double phi = std::max(sys.packing_fraction(), 1e-3);
   const double skin = std::max(20.0 * v_rms * dt, 1.75 * std::sqrt(v_rms * dt * diameter / phi));
   const double thickest = std::clamp(0.6 - 2.0 * (phi - 0.2), 0.4, 0.6);
@@ -499,7 +502,10 @@ Stepper<Real, Mono>::Stepper(const ParticleSystem& sys, const StepperConfig& cfg
   const double skin = skin_of(grid_, diameter);
   if (!(skin > 0) && !split.big.empty() && auto_cells) {
     // Neither a grid over the largest sphere nor the pass for big spheres fits the box.
-    const int axis = sys.box.periodic[0] ? 0 : (sys.box.periodic[1] ? 1 : 2);
+    int axis = -1;  // the shortest periodic axis
+    for (int d = 0; d < 3; ++d)
+      if (sys.box.periodic[d] && (axis < 0 || sys.box.length(d) < sys.box.length(axis))) axis = d;
+    axis = std::max(axis, 0);
     std::ostringstream m;
     m << "periodic box length " << sys.box.length(axis) << " (axis "
       << "xyz"[axis] << ") is too short for a sphere of diameter " << 2 * sys.max_radius()
