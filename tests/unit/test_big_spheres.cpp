@@ -201,3 +201,34 @@ TEST(StepperBigSpheres, ListGuardWatchesUnlistedBigSpheres) {
     }
   }
 }
+
+TEST(BigSphereOverlaps, FoundWithoutAGridAsWideAsTheBigSphere) {
+  // max_overlap and validate_and_wrap file only the small spheres in cells: overlaps of a big
+  // sphere with a small one and with another big one must still be found, across a face.
+  auto s = scene(cube(22, {true, true, true}), {{8, 500, {0.5, 11, 11}}, {6, 200, {11, 11, 11}}}, 1500, unit, 9);
+  ASSERT_EQ(max_overlap(s), 0.0);
+  s.pos[2] = {22 - 3.5 - 0.5 + 0.125, 11, 11};  // a small sphere 0.125 into the first big one, across x
+  EXPECT_NEAR(max_overlap(s), 0.125, 1e-12);
+  s.pos[1] = {0.5 + 7 - 0.25, 11, 11};  // the big ones 0.25 into each other (and into small ones)
+  double brute = 0;
+  for (std::size_t i = 0; i < s.size(); ++i)
+    for (std::size_t j = i + 1; j < s.size(); ++j) {
+      Vec3d dr = s.pos[i] - s.pos[j];
+      for (int d = 0; d < 3; ++d) dr[d] -= 22 * std::nearbyint(dr[d] / 22);
+      brute = std::max(brute, s.radius[i] + s.radius[j] - norm(dr));
+    }
+  EXPECT_NEAR(max_overlap(s), brute, 1e-12);
+  ParticleSystem pair;  // only two big spheres overlap, by 0.25
+  pair.box = cube(40, {true, true, true});
+  pair.push_back(1, 1, 4, 500, {5, 20, 20}, {0, 0, 0});
+  pair.push_back(2, 1, 4, 500, {5 + 8 - 0.25, 20, 20}, {0, 0, 0});
+  pair.push_back(3, 1, 3, 200, {30, 30, 30}, {0, 0, 0});
+  for (int k = 0; k < 10; ++k) pair.push_back(4 + k, 1, 0.5, 1, {20, 5 + 2.0 * k, 5}, {0, 0, 0});
+  EXPECT_NEAR(max_overlap(pair), 0.25, 1e-12);
+  try {
+    validate_and_wrap(s, "scene");
+    FAIL() << "overlap not refused";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("overlaps"), std::string::npos) << e.what();
+  }
+}
