@@ -29,8 +29,8 @@ struct CellSorted {
 //! Calls push(j, gap, image) for every sphere j filed in a cell (i itself excluded only by
 //! gap_lo > -2 r_i) with gap_lo <= gap < gap_hi, gap = |x_i - x_j - shift| - sigma_ij over the
 //! periodic images within one box length, shift = image_shift[image]. Mono: sigma_ij = sigma for all pairs; otherwise
-//! r_i + r_j, and max_radius bounds r_j. Needs sigma_ij + gap_hi below two cell widths on every periodic axis with 3 or
-//! more cells; `rows` is scratch.
+//! r_i + r_j, and max_radius bounds r_j. Needs the reach r_i + max_radius + gap_hi below half of every periodic axis,
+//! so that one image at most is within it; `rows` is scratch.
 template <class Real, bool Mono, class Push>
 void for_each_gap_between(const CellSorted<Real>& s, std::uint32_t i, Real sigma, Real max_radius, Real gap_lo,
                           Real gap_hi, std::vector<std::uint32_t>& rows, Push&& push) {

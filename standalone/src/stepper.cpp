@@ -794,9 +794,9 @@ void Stepper<Real, Mono>::bind_resolver() {
 template <class Real, bool Mono>
 template <class Push>
 void Stepper<Real, Mono>::for_each_threat(std::uint32_t i, Push& push) const {
-  // The guard's window, gap < 2 kMaxMove skin, keeps sigma + gap below sigma + 2 skin, two cell
-  // widths. Gaps are computed again here, so a margin covers their rounding against the pair
-  // build's: pairs at the list's edge count as threats, and gaps are rounded down.
+  // The guard's window, gap < 2 kMaxMove skin, keeps sigma + gap below sigma + 2 skin: two cell
+  // widths, or half a periodic axis for big spheres (big_pass_fits). Gaps are computed again here, so a margin covers
+  // their rounding against the pair build's: pairs at the list's edge count as threats, and gaps are rounded down.
   const Real eps = Real(1e-4) * (Real(2) * max_radius_ + skin_);
   const Real window = Real(2) * detail::ListGuard<Real>::kMaxMove * skin_;
   const detail::CellSorted<Real> cells{
