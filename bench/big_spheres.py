@@ -121,7 +121,8 @@ def main(argv=None):
     gas = scene_file(a.workdir, f"mono_{n}", n=n, phi=0.2)
     for name, sizes in (("uniform [0.5, 1.5]", "uniform:0.5,1.5"), ("log-normal s 0.25", "lognormal:0.25")):
         poly = scene_file(a.workdir, f"{sizes.replace(':', '_').replace(',', '_')}_{n}", n=n, phi=0.2, sizes=sizes)
-        compare(f"N {n}, phi 0.2, {name}", [("mono gas", hs, gas, a.steps), (name, hs, poly, a.steps)], a.rounds, a.workdir)
+        variants = [("mono gas", hs, gas, a.steps), (name, hs, poly, a.steps)]
+        compare(f"N {n}, phi 0.2, {name}", variants, a.rounds, a.workdir)
 
 
 if __name__ == "__main__":
