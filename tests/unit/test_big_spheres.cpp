@@ -232,3 +232,18 @@ TEST(BigSphereOverlaps, FoundWithoutAGridAsWideAsTheBigSphere) {
     EXPECT_NE(std::string(e.what()).find("overlaps"), std::string::npos) << e.what();
   }
 }
+
+TEST(StepperBigSpheres, SinglePrecisionRunsThePassToo) {
+  // The same pass in float: energy to float round-off, no overlap beyond it, and collision
+  // totals within their statistical spread of the double run's.
+  const auto s = scene(cube(22, {true, true, true}), {{10, 1e3, {11, 11, 11}}}, 2500, unit, 10);
+  StepperConfig cfg;
+  auto d = make_stepper(s, cfg, Precision::Double), f = make_stepper(s, cfg, Precision::Float);
+  d->run(500);
+  f->run(500);
+  EXPECT_EQ(f->cells_per_dim(), d->cells_per_dim());
+  const auto out = f->state();
+  EXPECT_LT(std::abs(kinetic_energy(out) / kinetic_energy(s) - 1), 1e-4);
+  EXPECT_LT(max_overlap(out), 1e-4);
+  EXPECT_NEAR(double(f->counters().collisions) / double(d->counters().collisions), 1.0, 0.05);
+}
