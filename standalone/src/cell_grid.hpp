@@ -60,18 +60,31 @@ class CellGrid {
   template <class Point>
   void sort(std::size_t n, Point&& point, std::vector<int>& cell, std::vector<std::uint32_t>& start,
             std::vector<std::uint32_t>& order) const {
+    sort(
+        n, point, [](std::size_t) { return false; }, cell, start, order);
+  }
+  //! The same, but the points with trailing(i) are filed in no cell: they follow the last cell
+  //! in order (from start[size()] on, in index order) and get cell size().
+  template <class Point, class Trailing>
+  void sort(std::size_t n, Point&& point, Trailing&& trailing, std::vector<int>& cell,
+            std::vector<std::uint32_t>& start, std::vector<std::uint32_t>& order) const {
     const std::size_t nc = std::size_t(size());
     cell.resize(n);
-    start.assign(nc + 1, 0);
+    start.assign(nc + 2, 0);
     for (std::size_t i = 0; i < n; ++i) {
-      const auto p = point(i);
-      cell[i] = cell_of(double(p.x), double(p.y), double(p.z));
+      if (trailing(i)) {
+        cell[i] = int(nc);
+      } else {
+        const auto p = point(i);
+        cell[i] = cell_of(double(p.x), double(p.y), double(p.z));
+      }
       ++start[std::size_t(cell[i]) + 1];
     }
-    for (std::size_t c = 0; c < nc; ++c) start[c + 1] += start[c];
+    for (std::size_t c = 0; c <= nc; ++c) start[c + 1] += start[c];
     order.resize(n);
     fill_.assign(start.begin(), start.end() - 1);
     for (std::size_t i = 0; i < n; ++i) order[fill_[std::size_t(cell[i])]++] = std::uint32_t(i);
+    start.pop_back();
   }
 
  private:

@@ -26,11 +26,11 @@ struct CellSorted {
   const Vec3<Real>* image_shift;
 };
 
-//! Calls push(j, gap) for every sphere j (i itself excluded only by gap_lo > -2 r_i) with
-//! gap_lo <= gap < gap_hi, gap = |x_i - x_j - shift| - sigma_ij over the periodic images within
-//! one box length. Mono: sigma_ij = sigma for all pairs; otherwise r_i + r_j, and max_radius
-//! bounds r_j. Needs sigma_ij + gap_hi below two cell widths on every periodic axis with 3 or
-//! more cells; `rows` is scratch.
+//! Calls push(j, gap, image) for every sphere j filed in a cell (i itself excluded only by
+//! gap_lo > -2 r_i) with gap_lo <= gap < gap_hi, gap = |x_i - x_j - shift| - sigma_ij over the
+//! periodic images within one box length, shift = image_shift[image]. Mono: sigma_ij = sigma for all pairs; otherwise
+//! r_i + r_j, and max_radius bounds r_j. Needs the reach r_i + max_radius + gap_hi below half of every periodic axis,
+//! so that one image at most is within it; `rows` is scratch.
 template <class Real, bool Mono, class Push>
 void for_each_gap_between(const CellSorted<Real>& s, std::uint32_t i, Real sigma, Real max_radius, Real gap_lo,
                           Real gap_hi, std::vector<std::uint32_t>& rows, Push&& push) {
@@ -74,7 +74,8 @@ void for_each_gap_between(const CellSorted<Real>& s, std::uint32_t i, Real sigma
         const std::uint32_t j1 = s.cell_start[grid.index(cx0 + (x1 - x0), cy, cz) + 1];
         x0 = x1 + 1;
         if (j0 == j1) continue;
-        const Vec3<Real> pi = p - s.image_shift[image_code(ix, iy, iz)];
+        const std::uint8_t image = image_code(ix, iy, iz);
+        const Vec3<Real> pi = p - s.image_shift[image];
         rows.resize(2 * (j1 - j0 + kRowSlack));
         const std::size_t n =
             append_close_row<Real, Mono>(s.soa, i, pi.x, pi.y, pi.z, ri, gap_hi, cut * cut, j0, j1, rows.data(), 0);
@@ -82,7 +83,7 @@ void for_each_gap_between(const CellSorted<Real>& s, std::uint32_t i, Real sigma
           const std::uint32_t j = rows[2 * h + 1];
           const Real dx = pi.x - s.soa.x[j], dy = pi.y - s.soa.y[j], dz = pi.z - s.soa.z[j];
           const Real gap = std::sqrt(dx * dx + dy * dy + dz * dz) - (Mono ? sigma : ri + s.soa.r[j]);
-          if (gap >= gap_lo && gap < gap_hi) push(j, gap);
+          if (gap >= gap_lo && gap < gap_hi) push(j, gap, image);
         }
       }
     }

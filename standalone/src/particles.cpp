@@ -9,6 +9,7 @@
 #include "cell_grid.hpp"
 #include "hardsphere/errors.hpp"
 #include "hardsphere/scene_limits.hpp"
+#include "size_classes.hpp"
 
 namespace hardsphere {
 
@@ -84,28 +85,49 @@ void wrap_periodic(ParticleSystem& sys) {
 
 namespace {
 
-// Calls f(i, j, dr) for every pair closer than `cutoff` (minimum image), via a cell grid.
+// Calls f(i, j, dr) for every pair closer than its contact distance r_i + r_j (and some
+// farther ones), minimum image. A cell grid finds the pairs of spheres that are not big (see
+// size_classes.hpp), so one big sphere does not make every cell as wide as itself; big
+// spheres are tested against every sphere, after the grid's pairs.
 template <class F>
-void for_each_close_pair(const ParticleSystem& sys, double cutoff, F&& f) {
+void for_each_close_pair(const ParticleSystem& sys, F&& f) {
   const std::size_t n = sys.size();
   if (n < 2) return;
+  const SizeSplit split = split_by_size(sys);
+  std::vector<char> big(n, 0);
+  for (const std::uint32_t b : split.big) big[b] = 1;
+  const double cutoff = split.grid_diameter;
   const CellGrid grid = CellGrid::with_min_width(sys.box, cutoff, std::int64_t(2 * n + 27));
   std::vector<int> cell;
   std::vector<std::uint32_t> start, order;
   grid.sort(
-      n, [&](std::size_t i) { return sys.pos[i]; }, cell, start, order);
+      n, [&](std::size_t i) { return sys.pos[i]; }, [&](std::size_t i) { return big[i] != 0; }, cell, start, order);
+  auto min_image = [&](std::size_t i, std::size_t j) {
+    Vec3d dr = sys.pos[i] - sys.pos[j];
+    for (int d = 0; d < 3; ++d)
+      if (sys.box.periodic[d]) dr[d] -= sys.box.length(d) * std::nearbyint(dr[d] / sys.box.length(d));
+    return dr;
+  };
   for (std::int64_t c = 0; c < grid.size(); ++c) {
     grid.for_each_neighbour(int(c), [&](int nb) {
       if (nb < c) return;
       for (std::uint32_t a = start[c]; a < start[c + 1]; ++a)
         for (std::uint32_t b = (nb == c ? a + 1 : start[nb]); b < start[nb + 1]; ++b) {
           const std::uint32_t i = order[a], j = order[b];
-          Vec3d dr = sys.pos[i] - sys.pos[j];
-          for (int d = 0; d < 3; ++d)
-            if (sys.box.periodic[d]) dr[d] -= sys.box.length(d) * std::nearbyint(dr[d] / sys.box.length(d));
+          const Vec3d dr = min_image(i, j);
           if (dot(dr, dr) < cutoff * cutoff) f(i, j, dr);
         }
     });
+  }
+  for (std::size_t k = 0; k < split.big.size(); ++k) {
+    const std::uint32_t i = split.big[k];
+    big[i] = 0;  // each pair of big spheres once
+    for (std::size_t j = 0; j < n; ++j) {
+      if (j == i || big[j]) continue;
+      const Vec3d dr = min_image(i, j);
+      const double contact = sys.radius[i] + sys.radius[j];
+      if (dot(dr, dr) < contact * contact) f(i, j, dr);
+    }
   }
 }
 
@@ -115,7 +137,7 @@ bool finite(Vec3d v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::i
 
 double max_overlap(const ParticleSystem& sys) {
   double worst = 0;
-  for_each_close_pair(sys, 2 * sys.max_radius(), [&](std::size_t i, std::size_t j, Vec3d dr) {
+  for_each_close_pair(sys, [&](std::size_t i, std::size_t j, Vec3d dr) {
     worst = std::max(worst, sys.radius[i] + sys.radius[j] - norm(dr));
   });
   return worst;
@@ -192,7 +214,7 @@ void validate_and_wrap(ParticleSystem& sys, const std::string& source, const std
     }
   wrap_periodic(sys);
   const double slack = rounding_eps > 0 ? overlap_tolerance(sys, rounding_eps) : 0.0;
-  for_each_close_pair(sys, diameter, [&](std::size_t i, std::size_t j, Vec3d dr) {
+  for_each_close_pair(sys, [&](std::size_t i, std::size_t j, Vec3d dr) {
     const double dist = norm(dr), contact = sys.radius[i] + sys.radius[j];
     if (dist < contact - slack) {
       std::ostringstream m;

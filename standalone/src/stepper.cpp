@@ -20,6 +20,7 @@
 #include "hardsphere/scene_limits.hpp"
 #include "hardsphere/state_exchange.hpp"
 #include "list_guard.hpp"
+#include "size_classes.hpp"
 
 namespace hardsphere {
 
@@ -67,8 +68,13 @@ double auto_skin(const ParticleSystem& sys, double dt) {
   // skin below a few v_rms dt lets the fast spheres expire the list every step, and in the
   // middle of steps, at a multiple of the cost (see docs/performance.md). skin >= 6 v_rms dt
   // gives a sphere at 3 v_rms about two steps to cross it.
+  // The diameter is the median one: the skin is a distance a typical sphere travels between
+  // rebuilds, so neither big spheres nor the tail of a size distribution may thicken it.
   const double v_rms = rms_speed(sys);
-  const double diameter = 2 * sys.max_radius();
+  std::vector<double> radii(sys.radius);
+  const auto mid = radii.begin() + std::ptrdiff_t(radii.size() / 2);
+  if (!radii.empty()) std::nth_element(radii.begin(), mid, radii.end());
+  const double diameter = radii.empty() ? 0.0 : 2 * *mid;
   const double phi = std::max(sys.packing_fraction(), 1e-3);
   const double skin = std::max(20.0 * v_rms * dt, 1.75 * std::sqrt(v_rms * dt * diameter / phi));
   const double thickest = std::clamp(0.6 - 2.0 * (phi - 0.2), 0.4, 0.6);
@@ -79,6 +85,16 @@ namespace {
 
 template <class Real>
 using V3 = Vec3<Real>;
+
+//! Whether big spheres can find their partners by minimum image: every periodic axis longer
+//! than twice the farthest a big sphere's pairs and list-guard threats reach (sigma + 2 skins).
+bool big_pass_fits(const ParticleSystem& sys, const SizeSplit& split, double skin) {
+  const double partner = split.big.size() > 1 ? sys.radius[split.big[1]] : split.grid_diameter / 2;
+  const double reach = sys.radius[split.big[0]] + partner + 2 * skin;
+  for (int d = 0; d < 3; ++d)
+    if (sys.box.periodic[d] && !(sys.box.length(d) > 2 * reach)) return false;
+  return true;
+}
 
 //! Mono: every sphere has the same radius and mass (chosen from the scene by make_stepper).
 template <class Real, bool Mono>
@@ -323,6 +339,10 @@ class Stepper final : public StepperBase, public StateExchange {
   void build_pairs_half_stencil();
   void build_pairs_any_grid();
   void build_adjacency();
+  void build_big_pairs();
+  //! Calls push(b, gap) for each big sphere b != i with gap_lo <= gap_ib < gap_hi (minimum image).
+  template <class Push>
+  void for_each_big_gap(std::uint32_t i, Real gap_lo, Real gap_hi, Push&& push) const;
   //! Adds a pair found outside the block kernel (which counts its own) and counts it.
   void push_pair(std::uint32_t i, std::uint32_t j, std::uint8_t image) {
     ++adj_start_[i + 1], ++adj_start_[j + 1];
@@ -367,6 +387,12 @@ class Stepper final : public StepperBase, public StateExchange {
   std::vector<std::uint32_t> flagged_;  // drift(): spheres past the guard's skin / 2
   Real sigma_ = 0;                      // monodisperse diameter
   Real max_radius_ = 0;
+  Real cell_radius_ = 0;  // largest radius of the spheres filed in cells (max_radius_ without big ones)
+  // Big spheres (split_by_size) are filed in no cell: they follow the last cell, from
+  // big_begin_ on, and a pass of their own finds their pairs. big_ flags them by id rank;
+  // empty when there are none, or when a periodic axis is too short for that pass.
+  std::vector<std::uint8_t> big_;
+  std::uint32_t big_begin_ = 0;
   std::array<Real, 3> length_{};
   V3<Real> image_shift_[27];  // by image code: (kx Lx, ky Ly, kz Lz)
 
@@ -446,22 +472,51 @@ Stepper<Real, Mono>::Stepper(const ParticleSystem& sys, const StepperConfig& cfg
   if (n > std::size_t(kMaxAdjIndex) + 1)
     throw InputError("too many particles for one stepper: " + std::to_string(n) + " (at most " +
                      std::to_string(std::size_t(kMaxAdjIndex) + 1) + ")");
-  const double diameter = 2 * sys.max_radius();
-
   const bool auto_cells = cfg.cells[0] == 0 && cfg.cells[1] == 0 && cfg.cells[2] == 0;
-  if (auto_cells) {
-    grid_ = CellGrid::with_min_width(box_, diameter + auto_skin(sys, cfg.dt), std::int64_t(2 * n + 27));
-  } else {
+  if (!auto_cells)
     for (int d = 0; d < 3; ++d)
       if (cfg.cells[d] < 1) throw InputError("cells per axis must be >= 1, got " + std::to_string(cfg.cells[d]));
-    grid_ = CellGrid(box_, cfg.cells);
+  auto grid_for = [&](double diameter) {
+    return auto_cells ? CellGrid::with_min_width(box_, diameter + auto_skin(sys, cfg.dt), std::int64_t(2 * n + 27))
+                      : CellGrid(box_, cfg.cells);
+  };
+  auto skin_of = [](const CellGrid& g, double diameter) {
+    const double reach = g.reach();
+    return std::isinf(reach) ? std::numeric_limits<double>::infinity() : reach - diameter;
+  };
+  // Big spheres get a pass of their own when the grid sized without them has a finite skin and
+  // the box is long enough for it; otherwise the grid is sized by the largest sphere, as before.
+  double diameter = 2 * sys.max_radius();
+  const SizeSplit split = split_by_size(sys);
+  bool big_pass = false;
+  if (!split.big.empty()) {
+    const CellGrid g = grid_for(split.grid_diameter);
+    const double skin = skin_of(g, split.grid_diameter);
+    if (g.half_stencil_ok() && std::isfinite(skin) && skin > 0 && big_pass_fits(sys, split, skin)) {
+      big_pass = true;
+      grid_ = g;
+      diameter = split.grid_diameter;
+    }
   }
-  const double reach = grid_.reach();
-  const double skin = std::isinf(reach) ? std::numeric_limits<double>::infinity() : reach - diameter;
+  if (!big_pass) grid_ = grid_for(diameter);
+  const double skin = skin_of(grid_, diameter);
+  if (!(skin > 0) && !split.big.empty() && auto_cells) {
+    // Neither a grid over the largest sphere nor the pass for big spheres fits the box.
+    int axis = -1;  // the shortest periodic axis
+    for (int d = 0; d < 3; ++d)
+      if (sys.box.periodic[d] && (axis < 0 || sys.box.length(d) < sys.box.length(axis))) axis = d;
+    axis = std::max(axis, 0);
+    std::ostringstream m;
+    m << "periodic box length " << sys.box.length(axis) << " (axis "
+      << "xyz"[axis] << ") is too short for a sphere of diameter " << 2 * sys.max_radius()
+      << ": a periodic axis must be longer than twice the largest diameter, or than twice the reach of a big"
+      << " sphere's pairs (its diameter plus its largest partner's and two list skins)";
+    throw InputError(m.str());
+  }
   if (!(skin > 0)) {
     std::ostringstream m;
     m << "cells " << grid_.counts()[0] << "," << grid_.counts()[1] << "," << grid_.counts()[2]
-      << " give a cell width of " << reach << ", not more than the largest diameter " << diameter
+      << " give a cell width of " << grid_.reach() << ", not more than the largest diameter " << diameter
       << "; use fewer cells or --cells auto";
     throw InputError(m.str());
   }
@@ -504,6 +559,14 @@ Stepper<Real, Mono>::Stepper(const ParticleSystem& sys, const StepperConfig& cfg
   }
   if (n) sigma_ = Real(2) * r_[0];
   max_radius_ = Real(sys.max_radius());
+  cell_radius_ = Real(diameter / 2);
+  if (big_pass) {
+    big_.assign(n, 0);
+    std::vector<std::uint32_t> rank_of_input(n);
+    for (std::size_t r = 0; r < n; ++r) rank_of_input[input_of_rank_[r]] = std::uint32_t(r);
+    for (const std::uint32_t b : split.big) big_[rank_of_input[b]] = 1;
+    big_begin_ = std::uint32_t(n - split.big.size());
+  }
   resolver_.reset(n, dt_);
   resolver_.set_uniform(sigma_, n ? m_[0] : Real(0));
   resolver_.set_event_limit(cfg.max_events_per_step);
@@ -673,8 +736,13 @@ void Stepper<Real, Mono>::rebuild() {
       image_[slot_[i]][std::size_t(d)] = std::int32_t(image);
     }
   }
-  grid_.sort(
-      n, [this](std::size_t i) { return pos_[i]; }, cell_, cell_start_, order_);
+  if (big_.empty())
+    grid_.sort(
+        n, [this](std::size_t i) { return pos_[i]; }, cell_, cell_start_, order_);
+  else
+    grid_.sort(
+        n, [this](std::size_t i) { return pos_[i]; }, [this](std::size_t i) { return big_[slot_[i]] != 0; }, cell_,
+        cell_start_, order_);
   auto permute = [&](auto& a, auto& scratch) {
     scratch.resize(n);
     for (std::size_t k = 0; k < n; ++k) scratch[k] = a[order_[k]];
@@ -706,6 +774,7 @@ void Stepper<Real, Mono>::rebuild() {
     build_pairs_half_stencil();
   else
     build_pairs_any_grid();
+  if (!big_.empty()) build_big_pairs();
   build_adjacency();
   if (speeds_) {  // in the new order (a rebuild inside a step needs the current speeds)
     speed_.resize(n);
@@ -725,15 +794,58 @@ void Stepper<Real, Mono>::bind_resolver() {
 template <class Real, bool Mono>
 template <class Push>
 void Stepper<Real, Mono>::for_each_threat(std::uint32_t i, Push& push) const {
-  // The guard's window, gap < 2 kMaxMove skin, keeps sigma + gap below sigma + 2 skin, two cell
-  // widths. Gaps are computed again here, so a margin covers their rounding against the pair
-  // build's: pairs at the list's edge count as threats, and gaps are rounded down.
+  // The guard's window, gap < 2 kMaxMove skin, keeps sigma + gap below sigma + 2 skin: two cell
+  // widths, or half a periodic axis for big spheres (big_pass_fits). Gaps are computed again here, so a margin covers
+  // their rounding against the pair build's: pairs at the list's edge count as threats, and gaps are rounded down.
   const Real eps = Real(1e-4) * (Real(2) * max_radius_ + skin_);
   const Real window = Real(2) * detail::ListGuard<Real>::kMaxMove * skin_;
   const detail::CellSorted<Real> cells{
       &grid_, &box_, cell_start_.data(), {soa_x_.data(), soa_y_.data(), soa_z_.data(), r_.data()}, image_shift_};
-  detail::for_each_gap_between<Real, Mono>(cells, i, sigma_, max_radius_, skin_ - eps, window + eps, threat_scratch_,
-                                           [&](std::uint32_t j, Real gap) { push(j, gap - eps); });
+  detail::for_each_gap_between<Real, Mono>(cells, i, sigma_, cell_radius_, skin_ - eps, window + eps, threat_scratch_,
+                                           [&](std::uint32_t j, Real gap, std::uint8_t) { push(j, gap - eps); });
+  for_each_big_gap(i, skin_ - eps, window + eps, [&](std::uint32_t b, Real gap) { push(b, gap - eps); });
+}
+
+template <class Real, bool Mono>
+template <class Push>
+void Stepper<Real, Mono>::for_each_big_gap(std::uint32_t i, Real gap_lo, Real gap_hi, Push&& push) const {
+  // The box is longer than twice any big sphere's reach (big_pass_fits), so the minimum image
+  // is the only one that can be this close.
+  const std::uint32_t n = std::uint32_t(pos_.size());
+  if (big_.empty()) return;
+  for (std::uint32_t b = big_begin_; b < n; ++b) {
+    if (b == i) continue;
+    V3<Real> d{soa_x_[i] - soa_x_[b], soa_y_[i] - soa_y_[b], soa_z_[i] - soa_z_[b]};
+    for (int a = 0; a < 3; ++a)
+      if (box_.periodic[a]) d[a] -= std::nearbyint(d[a] / length_[a]) * length_[a];
+    const Real gap = std::sqrt(dot(d, d)) - (r_[i] + r_[b]);
+    if (gap >= gap_lo && gap < gap_hi) push(b, gap);
+  }
+}
+
+template <class Real, bool Mono>
+void Stepper<Real, Mono>::build_big_pairs() {
+  // Each big sphere against the small ones in every cell its reach overlaps, then big against
+  // big by all pairs; minimum images, stored lower index first like every pair.
+  const std::uint32_t n = std::uint32_t(pos_.size());
+  const detail::CellSorted<Real> cells{
+      &grid_, &box_, cell_start_.data(), {soa_x_.data(), soa_y_.data(), soa_z_.data(), r_.data()}, image_shift_};
+  for (std::uint32_t b = big_begin_; b < n; ++b) {
+    detail::for_each_gap_between<Real, false>(
+        cells, b, sigma_, cell_radius_, -std::numeric_limits<Real>::infinity(), skin_, threat_scratch_,
+        [&](std::uint32_t j, Real, std::uint8_t image) { push_pair(j, b, std::uint8_t(26 - image)); });
+    for (std::uint32_t c = b + 1; c < n; ++c) {
+      V3<Real> d = pos_[b] - pos_[c];
+      int k[3] = {0, 0, 0};
+      for (int a = 0; a < 3; ++a)
+        if (box_.periodic[a]) {
+          k[a] = int(std::nearbyint(d[a] / length_[a]));
+          d[a] -= Real(k[a]) * length_[a];
+        }
+      const Real cut = list_cut(r_[b] + r_[c]);
+      if (dot(d, d) < cut * cut) push_pair(b, c, image_code(k[0], k[1], k[2]));
+    }
+  }
 }
 
 template <class Real, bool Mono>

@@ -148,3 +148,22 @@ def test_walls_that_leave_no_room_are_refused(hs, tmp_path):
     # One rounding wider: 4.5e15 bounces per unit time, more than the event engine's work limit.
     gap = write_data(tmp_path / "h.data", [(5, 5, 0.5, 0, 0, 1)], box=((0, 10), (0, 10), (0, math.nextafter(1, 2))))
     refused(run(hs, "--read-data", gap, "--boundary", "p,p,w", "--engine", "event", "--time", 1), "wall bounces")
+
+
+# --- big spheres ------------------------------------------------------------------------------
+
+def test_periodic_box_too_short_for_a_big_sphere_is_refused(hs, tmp_path):
+    # Diameter 15 in a periodic box of 20: one cell is narrower than the sphere, and the pass
+    # for big spheres would reach past half the box.
+    small = [(1, 1, z, 0.1, 0, 0, 1.0) for z in (1, 3, 5, 15, 17)]
+    f = write_data(tmp_path / "big.data", [(10, 10, 10, 0, 0, 0, 15.0)] + small)
+    refused(run(hs, "--read-data", f, "--steps", 1), "box length 20", "diameter 15")
+
+
+def test_big_sphere_in_a_fine_user_grid_runs(hs, tmp_path):
+    # Cells 2 wide around a sphere 6 across: the big sphere's own pass lists its pairs.
+    small = [(x, 2, 2, 0.3, 0.1, 0, 1.0) for x in range(1, 20, 2)]
+    f = write_data(tmp_path / "fine.data", [(10, 10, 10, -0.2, 0, 0, 6.0)] + small)
+    j = run_json(hs, "--read-data", f, "--steps", 100, "--cells", 10)
+    assert j["cells_per_dim"] == [10, 10, 10]
+    assert j["max_overlap"] == 0

@@ -48,11 +48,15 @@ void check_against_all_pairs(double tolerance) {
   std::size_t found_total = 0;
   for (std::uint32_t i = 0; i < n; ++i) {
     std::map<std::uint32_t, double> found;
-    detail::for_each_gap_between<Real, Mono>(cells, i, Real(2 * r_max), Real(r_max), Real(gap_lo), Real(gap_hi),
-                                             scratch, [&](std::uint32_t j, Real gap) {
-                                               EXPECT_EQ(found.count(j), 0u) << "sphere " << j << " found twice";
-                                               found[j] = double(gap);
-                                             });
+    detail::for_each_gap_between<Real, Mono>(
+        cells, i, Real(2 * r_max), Real(r_max), Real(gap_lo), Real(gap_hi), scratch,
+        [&](std::uint32_t j, Real gap, std::uint8_t image) {
+          EXPECT_EQ(found.count(j), 0u) << "sphere " << j << " found twice";
+          // The image is the one the gap was measured through.
+          const Vec3<Real> d = Vec3<Real>{x[i], y[i], z[i]} - shift[image] - Vec3<Real>{x[j], y[j], z[j]};
+          EXPECT_NEAR(double(norm(d)) - double(r[i] + r[j]), double(gap), 1e-4 * (1 + double(gap_hi)));
+          found[j] = double(gap);
+        });
     found_total += found.size();
     for (std::uint32_t j = 0; j < n; ++j) {
       if (j == i) continue;

@@ -45,8 +45,10 @@ constexpr double kDefaultContactTime = 1e-4;
 
 struct StepperConfig {
   double dt = 0.01;
-  //! Cells per axis; 0 means "auto" (the ideal number of boxes for N, box, largest diameter and
-  //! the per-step displacement). {1,1,1} is the seed's one-box O(N^2) baseline.
+  //! Cells per axis; 0 means "auto" (the ideal number of boxes for N, box, diameter and the
+  //! per-step displacement). The diameter is the largest but for big spheres (over two median
+  //! diameters, at most 256), which find their pairs by a pass of their own when the periodic
+  //! axes are long enough for it. {1,1,1} is the seed's one-box O(N^2) baseline.
   std::array<int, 3> cells{0, 0, 0};
   //! Contact events per step before giving up (counted in StepCounters::unresolved_steps);
   //! only an inelastic collapse could need more.
@@ -113,7 +115,8 @@ class StepperBase {
 std::unique_ptr<StepperBase> make_stepper(const ParticleSystem& sys, const StepperConfig& cfg,
                                           Precision precision = Precision::Double);
 
-//! The skin (extra list radius beyond the largest diameter) chosen by cells = auto.
+//! The skin (extra list radius beyond the contact distance) chosen by cells = auto, scaled by
+//! the largest diameter of the spheres that are not big.
 double auto_skin(const ParticleSystem& sys, double dt);
 
 }  // namespace hardsphere
