@@ -28,8 +28,12 @@ DIR/brownian_sweep.png. Exit status 1 when an engine's D differs from D_exp by m
 max(3 sigma, 10%) or its T_big_ratio differs from 1 by more than 3 sigma (--quick: 4 sigma). The 10%
 allow for the heavy-tracer corrections Enskog's first Sonine value leaves out: of order sqrt(m/M) (0.09 at
 M/m = 125) and from correlated (ring) collisions.
---quick: D_big 5, M 125, phi 0.05 in a box of 22, 4 runs per engine, each run one block, no sweep (~30 s).
-Full (docs/validation/brownian.md): box 30, 16 event runs of 5000 and 2 stepper runs of 1500, and the sweep.
+The validation point is phi 0.01 (mean free path 11.8, four times sigma12): at phi 0.05 (mean free path
+2.4, below sigma12 = 3) the measured D exceeds Enskog's by a third (the sweep shows it), as correlated
+collisions and the gas's backflow come in once the big sphere is not small against the mean free path.
+--quick: D_big 5, M 125, phi 0.01, 1000 small spheres, 4 runs per engine, each run one block, no sweep.
+Full (docs/validation/brownian.md): 2000 small spheres, 16 event runs of 7000 and 4 stepper runs of 5000,
+and the sweep.
 """
 import argparse
 import json
@@ -165,7 +169,8 @@ def analyse(runs, m_big, kT, th, whole_runs=False):
                 D_enskog_closure_free_err=d_cf * G_err / G, D_expected=d_exp, momentum_factor=th["momentum_factor"],
                 D_over_expected=D / d_exp, Gamma12=G, Gamma12_err=G_err, Gamma12_enskog=th["Gamma12_enskog"],
                 g12=th["g12"], g12_measured=th["g12"] * G / th["Gamma12_enskog"], T_big=ratio * t_expected,
-                T_big_err=ratio_err * t_expected, T_big_expected=t_expected, T_big_ratio=ratio, T_big_ratio_err=ratio_err,
+                T_big_err=ratio_err * t_expected, T_big_expected=t_expected, T_big_ratio=ratio,
+                T_big_ratio_err=ratio_err,
                 kT=kT, tau=tau, blocks=len(d_b), block_time=block * SAMPLE_EVERY, runs=len(runs),
                 run_time=float(runs[0]["rows"][-1, 0]), lags=[l1 * SAMPLE_EVERY, l2 * SAMPLE_EVERY],
                 cpu_seconds=sum(r["summary"]["loop_cpu_seconds"] for r in runs))
@@ -285,8 +290,8 @@ def measure(exe, engines, n_small, phi, d_big, m_big, seeds, workdir, jobs, whol
         th = theory(phi, n_small, d_big, m_big, length, kT)
         th["n_small"] = n_small
         res = analyse(runs, m_big, kT, th, whole_runs)
-        res.update(phi=phi, D_big=d_big, M=m_big, n_small=n_small, box=length, D_stokes_einstein=th["D_stokes_einstein"],
-                   eta=th["eta"], command=runs[0]["command"])
+        res.update(phi=phi, D_big=d_big, M=m_big, n_small=n_small, box=length,
+                   D_stokes_einstein=th["D_stokes_einstein"], eta=th["eta"], command=runs[0]["command"])
         cv = curves(runs, th["tau"])
         # Green-Kubo cross-check: D = (1/3) integral of <V(0).V(t)> up to 6 tau (no error bar).
         res["D_green_kubo"] = float(np.trapz(cv[4], cv[2]) / 3)
@@ -321,8 +326,10 @@ def report(out, a, val, sweep, params, elapsed, sigmas, failures):
              f"({elapsed:.0f} s wall on 2 shared cores); `--quick` is the ctest `brownian_quick`.", "",
              "Each run: `" + head["command"] + "` (stepper: `--dt 0.05 --detect sweep` instead of the event options). "
              f"D from the MSD slope between lags {head['lags'][0]:g} and {head['lags'][1]:g} (3 and 8 Enskog "
-             f"relaxation times tau = {head['tau']:.3g}; divided by the ~1% an exponential memory still takes off the slope) within blocks of {head['block_time']:g} time units; errors "
-             "are standard errors over all blocks of all independent runs.", "",
+             f"relaxation times tau = {head['tau']:.3g}; divided by the ~1% an exponential memory still takes off "
+             f"the slope) within blocks of {head['block_time']:g} time units; errors are standard errors over all "
+             "blocks of all independent runs. The Green-Kubo integral of the velocity autocorrelation up to 6 tau "
+             f"gives D = {head['D_green_kubo']:.4g} (event engine, no error bar).", "",
              "| engine | runs x time | blocks | D | D_E (BMCSL g12) | D_E closure-free | D_exp = (1-M/M_tot)^2 D_E,cf "
              "| D / D_exp | Gamma12 (Enskog) | T_big ratio | pass |",
              "|---|---|---|---|---|---|---|---|---|---|---|"]
@@ -364,10 +371,10 @@ def main(argv=None):
     ap.add_argument("--out", required=True)
     ap.add_argument("--exe", default=str(ROOT / "build" / "standalone" / "hardsphere"),
                     help="the hardsphere program (default build/standalone/hardsphere)")
-    ap.add_argument("--event-time", type=float, help="event-engine time per run (full 5000, quick 1200)")
+    ap.add_argument("--event-time", type=float, help="event-engine time per run (full 7000, quick 4000)")
     ap.add_argument("--event-runs", type=int, help="independent event-engine runs (full 16, quick 4)")
-    ap.add_argument("--stepper-time", type=float, help="stepper time per run (full 1500, quick 600)")
-    ap.add_argument("--stepper-runs", type=int, help="independent stepper runs (full 2, quick 4)")
+    ap.add_argument("--stepper-time", type=float, help="stepper time per run (full 5000, quick 3000)")
+    ap.add_argument("--stepper-runs", type=int, help="independent stepper runs (full 4, quick 4)")
     ap.add_argument("--no-sweep", action="store_true", help="skip the density and size sweep")
     ap.add_argument("--jobs", type=int, default=2, help="runs at once (2)")
     a = ap.parse_args(argv)
@@ -377,11 +384,11 @@ def main(argv=None):
     out = Path(a.out)
     out.mkdir(parents=True, exist_ok=True)
     if a.quick:
-        params = dict(n_small=892, phi=0.05, D_big=5.0, M=125.0)
-        ev, er, st, sr, sigmas = 1200.0, 4, 600.0, 4, 4.0
+        params = dict(n_small=1000, phi=0.01, D_big=5.0, M=125.0)
+        ev, er, st, sr, sigmas = 4000.0, 4, 3000.0, 4, 4.0
     else:
-        params = dict(n_small=2453, phi=0.05, D_big=5.0, M=125.0)
-        ev, er, st, sr, sigmas = 5000.0, 16, 1500.0, 2, 3.0
+        params = dict(n_small=2000, phi=0.01, D_big=5.0, M=125.0)
+        ev, er, st, sr, sigmas = 7000.0, 16, 5000.0, 4, 3.0
     ev, er = a.event_time or ev, a.event_runs or er
     st, sr = a.stepper_time or st, a.stepper_runs or sr
     params.update(event_time=ev, event_runs=er, stepper_time=st, stepper_runs=sr, sample_every=SAMPLE_EVERY,
@@ -395,8 +402,8 @@ def main(argv=None):
         if not a.quick and not a.no_sweep:
             # About 2000 spheres at every point; the time per run scales with the relaxation time.
             for d_big, m_big in ((5.0, 125.0), (3.0, 27.0)):
-                for phi in (0.05, 0.1, 0.2, 0.3):
-                    if d_big == params["D_big"] and phi == params["phi"]:
+                for phi in (0.01, 0.05, 0.1, 0.2, 0.3):
+                    if (d_big, m_big, phi) == (params["D_big"], params["M"], params["phi"]):
                         sweep.append(val["event"]["result"])
                         continue
                     tau = theory(phi, 2000, d_big, m_big, (2000 * math.pi / 6 / phi) ** (1 / 3), 1.0)["tau"]
