@@ -141,7 +141,7 @@ CommandLine parse_command_line(int argc, const char* const* argv) {
   std::string n_s = "1000", phi_s = "0.2", box_s, radius_s, mass_s, t_s, speed_s, dt_s, steps_s, equil_s;
   std::string boundary_s = "p", cells_s = "auto", precision_s = "double", init_s = "auto", json_s, detect_s = "auto";
   std::string read_data_s, write_data_s, dump_s, seed_s = "1", engine_s = "stepper", time_s, etime_s, blocks_s;
-  std::string dump_every_s, bins_s, restitution_s, contact_time_s, gravity_s;
+  std::string dump_every_s, bins_s, restitution_s, contact_time_s, gravity_s, track_s, track_every_s, track_file_s;
 
   auto* o_n = run->add_option("--n", n_s, "number of spheres (default 1000)")->type_name("INT");
   auto* o_phi =
@@ -194,6 +194,14 @@ CommandLine parse_command_line(int argc, const char* const* argv) {
   auto* o_dump_every = run->add_option("--dump-every", dump_every_s, "steps between dump frames (default 100)")
                            ->type_name("INT")
                            ->needs(o_dump);
+  auto* o_track =
+      run->add_option("--track", track_s, "follow the sphere with this id (with --track-every, --track-file)")
+          ->type_name("ID");
+  auto* o_track_every = run->add_option("--track-every", track_every_s,
+                                        "simulated time between tracker rows (stepper: a whole number of steps)")
+                            ->type_name("FLOAT");
+  auto* o_track_file = run->add_option("--track-file", track_file_s,
+                                       "tracker table: time, unwrapped x y z, vx vy vz, pair collisions so far");
   auto* o_json = run->add_option("--json", json_s, "write the JSON summary to FILE (- for stdout)");
   auto* o_bins = run->add_option("--histogram-bins", bins_s, "bins of the speed histogram in the JSON (default 40)")
                      ->type_name("INT");
@@ -280,6 +288,16 @@ CommandLine parse_command_line(int argc, const char* const* argv) {
   if (o_write->count()) outputs.emplace_back("--write-data", write_data_s);
   if (o_dump->count()) outputs.emplace_back("--dump", dump_s);
   if (o_json->count() && json_s != "-") outputs.emplace_back("--json", json_s);
+  if (o_track_file->count()) outputs.emplace_back("--track-file", track_file_s);
+  if (o_track->count() || o_track_every->count() || o_track_file->count()) {
+    if (!(o_track->count() && o_track_every->count() && o_track_file->count()))
+      throw InputError("--track, --track-every and --track-file go together: give all three");
+    if (track_file_s.empty()) throw InputError("--track-file: empty file name");
+    spec.track_id = whole("--track", track_s, LLONG_MIN, LLONG_MAX);
+    spec.track_every = real("--track-every", track_every_s);
+    if (!(spec.track_every > 0)) throw InputError("--track-every " + track_every_s + " must be positive");
+    spec.track_file = track_file_s;
+  }
   if (o_json->count() && json_s.empty()) throw InputError("--json: empty file name (use - for standard output)");
   check_output_paths(outputs);
   if (o_write->count()) spec.write_data = write_data_s;

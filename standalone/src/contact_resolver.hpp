@@ -64,6 +64,8 @@ struct ContactArrays {
   //! With owned: set to 1 for each sphere not owned that collided with an owned one (indexed
   //! like id), so an adapter can check those copies against their owners.
   std::uint8_t* met_owned = nullptr;
+  //! Optional: each sphere's pair collisions (indexed like pos), incremented for both spheres.
+  std::int64_t* pair_collisions = nullptr;
 };
 
 //! Totals of resolved contacts.
@@ -610,6 +612,7 @@ class ContactResolver {
     if (a_.speed) a_.speed[i] = speed_i, a_.speed[j] = speed_j;
     ++tally.collisions;
     tally.virial += virial;
+    if (a_.pair_collisions) ++a_.pair_collisions[i], ++a_.pair_collisions[j];
     if (a_.owned) {
       const double w = 0.5 * (owned(i) + owned(j));
       if (w == 0.5) a_.met_owned[id_index(owned(i) != 0.0 ? j : i)] = 1;

@@ -101,6 +101,8 @@ struct EventEngine::Impl {
   std::vector<int> hits;                           // candidates passing the contact screen
   std::vector<std::uint32_t> orig;                 // internal index -> input index
   std::vector<std::array<std::int64_t, 3>> wraps;  // input index: box lengths removed by wrapping
+  std::vector<std::int64_t> pair_collisions;       // input index: pair collisions since reset_counters()
+  mutable std::size_t sampled_at = 0;              // sphere()'s last internal index: valid until a renumber
   double restitution = 1.0, contact_time = 0.0;
   std::vector<double> last_collision;  // input index: time of the last collision (restitution < 1)
 
@@ -526,6 +528,8 @@ struct EventEngine::Impl {
     ++c.collisions;
     ++count[std::size_t(i)];
     ++count[std::size_t(j)];
+    ++pair_collisions[orig[std::size_t(i)]];
+    ++pair_collisions[orig[std::size_t(j)]];
     full_predict(i);
     full_predict(j);
     schedule(i);
@@ -893,6 +897,7 @@ EventEngine::EventEngine(const ParticleSystem& sys, const EventConfig& cfg) : im
   }
   m.orig.resize(n);
   m.wraps.assign(n, {0, 0, 0});
+  m.pair_collisions.assign(n, 0);
   for (std::size_t i = 0; i < n; ++i) m.orig[i] = std::uint32_t(i);
   std::stable_sort(m.orig.begin(), m.orig.end(), [&](std::uint32_t a, std::uint32_t b) { return key[a] < key[b]; });
 
@@ -961,6 +966,33 @@ ParticleSystem EventEngine::state() const {
   return out;
 }
 
+SphereSample EventEngine::sphere(std::size_t index) const {
+  const Impl& m = *impl_;
+  const std::size_t n = m.body.size();
+  if (index >= n)
+    throw InputError("sphere index " + std::to_string(index) + " is out of range (" + std::to_string(n) + " spheres)");
+  // Renumbering moves spheres in the internal order; only then is the index searched for again.
+  if (m.orig[m.sampled_at] != index)
+    m.sampled_at = std::size_t(std::find(m.orig.begin(), m.orig.end(), std::uint32_t(index)) - m.orig.begin());
+  const Body& s = m.body[m.sampled_at];
+  const double dt = m.now - s.t;
+  SphereSample out;
+  if (m.has_g) {
+    out.unwrapped = {s.x + (s.vx + 0.5 * m.g[0] * dt) * dt, s.y + (s.vy + 0.5 * m.g[1] * dt) * dt,
+                     s.z + (s.vz + 0.5 * m.g[2] * dt) * dt};
+    out.velocity = {s.vx + m.g[0] * dt, s.vy + m.g[1] * dt, s.vz + m.g[2] * dt};
+  } else {
+    out.unwrapped = {s.x + s.vx * dt, s.y + s.vy * dt, s.z + s.vz * dt};
+    out.velocity = {s.vx, s.vy, s.vz};
+  }
+  for (std::size_t d = 0; d < 3; ++d)
+    if (m.periodic[d]) out.unwrapped[int(d)] += double(m.proto.image[index][d] + m.wraps[index][d]) * m.len[d];
+  out.pair_collisions = m.pair_collisions[index];
+  return out;
+}
+
+std::vector<std::int64_t> EventEngine::pair_collisions_per_sphere() const { return impl_->pair_collisions; }
+
 const EventCounters& EventEngine::counters() const {
   impl_->c.sim_time = time() - impl_->reset_time;
   return impl_->c;
@@ -968,6 +1000,7 @@ const EventCounters& EventEngine::counters() const {
 
 void EventEngine::reset_counters() {
   impl_->c = EventCounters{};
+  std::fill(impl_->pair_collisions.begin(), impl_->pair_collisions.end(), std::int64_t(0));
   impl_->reset_time = time();
 }
 

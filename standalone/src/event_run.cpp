@@ -2,6 +2,7 @@
 // engine = event): initial state, equilibration in simulated time, a measured run split into
 // blocks (for the error bar of Z and the collision rate), summary with the stepper's JSON keys
 // where they mean the same thing.
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <optional>
@@ -14,6 +15,7 @@
 #include "hardsphere/run_summary.hpp"
 #include "hardsphere/scene_limits.hpp"
 #include "hardsphere/simulation.hpp"
+#include "tracker.hpp"
 
 namespace hardsphere {
 
@@ -78,6 +80,8 @@ nlohmann::json run_event_simulation(const RunSpec& spec) {
   cfg.max_events = spec.work_limit;
   EventEngine engine(sys, cfg);
   refuse_too_many_events(sys, engine.shell(), spec.time + spec.equilibrate_time, spec.work_limit, spec.event.gravity);
+  std::optional<Tracker> tracker;  // the engine's state() is in input order, like sys
+  if (spec.track_id) tracker.emplace(*spec.track_file, sys, *spec.track_id, spec.track_every, spec.time, "event");
   std::optional<DumpWriter> dump;
   if (spec.dump) dump.emplace(*spec.dump);
   std::optional<AtomicFile> json_file;
@@ -98,6 +102,20 @@ nlohmann::json run_event_simulation(const RunSpec& spec) {
   double cpu = 0;
   std::vector<double> z_block, rate_block;
   if (dump) dump->write_frame(0, sys);
+  // Runs `duration` further, stopping at each tracker sample time on the way (the engine's
+  // state is exact at any time, so samples change nothing). A sample due within rounding of
+  // the end is taken there.
+  const double t_measure = engine.time();
+  const auto advance = [&](double duration) {
+    const double end = engine.time() + duration;
+    if (tracker) {
+      for (double t = tracker->next_time(); t_measure + t <= end + 1e-9 * tracker->every(); t = tracker->next_time()) {
+        engine.advance(std::max(0.0, std::min(t_measure + t, end) - engine.time()));
+        tracker->write(t, engine.sphere(tracker->index()));
+      }
+    }
+    engine.advance(std::max(0.0, end - engine.time()));
+  };
   const double block = spec.time / spec.blocks;
   double w_prev = 0;
   std::int64_t coll_prev = 0;
@@ -105,7 +123,7 @@ nlohmann::json run_event_simulation(const RunSpec& spec) {
     const double t_start = engine.time();
     const double target = b + 1 == spec.blocks ? spec.time - engine.counters().sim_time : block;
     const double c0 = process_cpu_seconds();
-    engine.advance(target);
+    advance(target);
     cpu += process_cpu_seconds() - c0;
     const EventCounters& c = engine.counters();
     const double dt = engine.time() - t_start;
@@ -148,8 +166,13 @@ nlohmann::json run_event_simulation(const RunSpec& spec) {
   j["cpu_seconds_per_unit_time"] = c.sim_time > 0 ? cpu / c.sim_time : 0.0;
   j["collision_rate_error"] = rate_err;
   j["compressibility_factor_error"] = z_err;
+  if (tracker)
+    j["track"] = {{"id", *spec.track_id},
+                  {"every", spec.track_every},
+                  {"samples", tracker->samples()},
+                  {"file", *spec.track_file}};
   commit_outputs(j, fin, spec.write_data, "hardsphere state after event-driven time " + std::to_string(c.sim_time),
-                 dump, json_file);
+                 dump, json_file, tracker ? &tracker->file() : nullptr);
   return j;
 }
 

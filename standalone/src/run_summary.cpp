@@ -71,7 +71,7 @@ nlohmann::json physics_summary(const ParticleSystem& fin, const RunTotals& t, bo
 
 void commit_outputs(const nlohmann::json& summary, const ParticleSystem& fin,
                     const std::optional<std::string>& write_data_path, const std::string& title,
-                    std::optional<DumpWriter>& dump, std::optional<AtomicFile>& json_file) {
+                    std::optional<DumpWriter>& dump, std::optional<AtomicFile>& json_file, AtomicFile* track) {
   // Everything is written to temporaries first and renamed together at the end, so an error
   // in any of them (or a signal) leaves none of the outputs behind.
   std::optional<AtomicFile> data_file;
@@ -81,7 +81,7 @@ void commit_outputs(const nlohmann::json& summary, const ParticleSystem& fin,
   }
   if (json_file) json_file->stream() << summary.dump(2) << '\n';
   commit_together(
-      {data_file ? &*data_file : nullptr, dump ? &dump->file() : nullptr, json_file ? &*json_file : nullptr});
+      {data_file ? &*data_file : nullptr, dump ? &dump->file() : nullptr, json_file ? &*json_file : nullptr, track});
 }
 
 void add_energy_summary(nlohmann::json& j, double kinetic0, double potential0, double potential1, double restitution,

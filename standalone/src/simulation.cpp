@@ -1,5 +1,6 @@
 #include "hardsphere/simulation.hpp"
 
+#include <cmath>
 #include <ctime>
 #include <fstream>
 #include <limits>
@@ -11,6 +12,7 @@
 #include "hardsphere/observables.hpp"
 #include "hardsphere/run_summary.hpp"
 #include "hardsphere/scene_limits.hpp"
+#include "tracker.hpp"
 
 namespace hardsphere {
 
@@ -39,7 +41,10 @@ void check_outputs(const RunSpec& spec) {
   if (spec.json) out.emplace_back("--json", *spec.json);
   if (spec.write_data) out.emplace_back("--write-data", *spec.write_data);
   if (spec.dump) out.emplace_back("--dump", *spec.dump);
+  if (spec.track_file) out.emplace_back("--track-file", *spec.track_file);
   check_output_paths(out);
+  if (spec.track_id.has_value() != spec.track_file.has_value())
+    throw InputError("--track and --track-file go together: give both (and --track-every)");
 }
 
 nlohmann::json run_simulation(const RunSpec& spec) {
@@ -55,6 +60,7 @@ nlohmann::json run_simulation(const RunSpec& spec) {
   ParticleSystem sys = initial_state(spec);
   StepperConfig cfg = spec.stepper;
   cfg.max_particle_steps = spec.work_limit;
+  cfg.count_per_sphere = cfg.count_per_sphere || spec.track_id.has_value();
   auto engine = make_stepper(sys, cfg, spec.precision);
   // Refuse up front what the work limit would stop later (the engine also checks as it runs).
   const double steps = double(spec.steps) + double(spec.equilibrate);
@@ -80,6 +86,20 @@ nlohmann::json run_simulation(const RunSpec& spec) {
       << (engine->substeps_per_step() > 1 ? " or a smaller dt" : "");
     throw InputError(m.str());
   }
+  // The tracker samples a whole number of steps apart, so every row is at a step's end.
+  std::optional<Tracker> tracker;
+  std::int64_t track_steps = 0;
+  if (spec.track_id) {
+    const double ratio = spec.track_every / spec.stepper.dt;
+    track_steps = std::llround(ratio);
+    if (!(std::isfinite(ratio) && ratio >= 0.5 && std::abs(ratio - double(track_steps)) <= 1e-9 * ratio)) {
+      std::ostringstream m;
+      m << "--track-every " << spec.track_every << " is not a whole number of steps of --dt " << spec.stepper.dt;
+      throw InputError(m.str());
+    }
+    tracker.emplace(*spec.track_file, engine->state(), *spec.track_id, spec.track_every,
+                    double(spec.steps) * spec.stepper.dt, "stepper");
+  }
   // Output files are opened (as temporaries) before the long part, so an unwritable path fails fast.
   std::optional<DumpWriter> dump;
   if (spec.dump) dump.emplace(*spec.dump);
@@ -98,11 +118,13 @@ nlohmann::json run_simulation(const RunSpec& spec) {
   double cpu = 0;
   std::int64_t done = 0;
   if (dump) dump->write_frame(0, sys);
+  if (tracker) tracker->write(0.0, engine->sphere(tracker->index()));
   // Splitting the run into chunks changes nothing: the engine carries its whole state across.
   const std::int64_t report_every = spec.progress ? std::max<std::int64_t>(1, spec.steps / 100) : spec.steps;
   std::int64_t next_frame = dump ? std::min(spec.dump_every, spec.steps) : spec.steps;
+  std::int64_t next_sample = tracker ? std::min(track_steps, spec.steps) : spec.steps;
   while (done < spec.steps) {
-    const std::int64_t chunk = std::min({next_frame - done, report_every, spec.steps - done});
+    const std::int64_t chunk = std::min({next_frame - done, next_sample - done, report_every, spec.steps - done});
     const double t0 = process_cpu_seconds();
     engine->run(chunk);
     cpu += process_cpu_seconds() - t0;
@@ -110,6 +132,10 @@ nlohmann::json run_simulation(const RunSpec& spec) {
     if (dump && done == next_frame) {
       dump->write_frame(done, engine->state());
       next_frame = std::min(next_frame + spec.dump_every, spec.steps);
+    }
+    if (tracker && done == next_sample) {
+      if (done % track_steps == 0) tracker->write(double(done) * spec.stepper.dt, engine->sphere(tracker->index()));
+      next_sample = std::min(next_sample + track_steps, spec.steps);
     }
     if (spec.progress) spec.progress(double(done) / double(spec.steps), engine->counters().sim_time);
   }
@@ -157,8 +183,13 @@ nlohmann::json run_simulation(const RunSpec& spec) {
       j["warnings"].push_back(m.str());
     }
   }
+  if (tracker)
+    j["track"] = {{"id", *spec.track_id},
+                  {"every", spec.track_every},
+                  {"samples", tracker->samples()},
+                  {"file", *spec.track_file}};
   commit_outputs(j, fin, spec.write_data, "hardsphere state after " + std::to_string(c.steps) + " steps", dump,
-                 json_file);
+                 json_file, tracker ? &tracker->file() : nullptr);
   return j;
 }
 

@@ -134,6 +134,13 @@ class Stepper final : public StepperBase, public StateExchange {
   void reset_counters() override {
     counters_ = StepCounters{};
     tally_ = ContactTally{};
+    std::fill(pair_collisions_.begin(), pair_collisions_.end(), std::int64_t(0));
+  }
+  SphereSample sphere(std::size_t index) const override;
+  std::vector<std::int64_t> pair_collisions_per_sphere() const override {
+    std::vector<std::int64_t> out(pair_collisions_.size());
+    for (std::size_t k = 0; k < out.size(); ++k) out[slot_[k]] = pair_collisions_[k];
+    return out;
   }
   std::array<int, 3> cells_per_dim() const override { return grid_.counts(); }
   double skin() const override { return double(skin_); }
@@ -445,8 +452,11 @@ class Stepper final : public StepperBase, public StateExchange {
   std::vector<std::uint8_t> met_owned_;       // id order: not owned, collided with an owned sphere in this run()
   std::vector<std::uint32_t> input_of_rank_;  // id rank -> index in the constructor's input
   std::vector<double> last_collision_;        // id order: each sphere's last collision time (restitution < 1)
-  double clock_ = 0;                          // time since construction, for the collision times
-  std::array<Real, 3> gravity_{0, 0, 0};      // uniform acceleration (wall axes only)
+  // Cell order, like pos_, so a collision's two increments hit lines its spheres' neighbours use too.
+  std::vector<std::int64_t> pair_collisions_, scratch_i64_;  // since reset_counters() (if counted)
+  mutable std::size_t sampled_at_ = 0;    // sphere()'s last cell-order position: valid until a rebuild
+  double clock_ = 0;                      // time since construction, for the collision times
+  std::array<Real, 3> gravity_{0, 0, 0};  // uniform acceleration (wall axes only)
   bool has_gravity_ = false;
 };
 
@@ -539,6 +549,7 @@ Stepper<Real, Mono>::Stepper(const ParticleSystem& sys, const StepperConfig& cfg
   type_.resize(n);
   image_.assign(n, {0, 0, 0});
   image0_.assign(n, {0, 0, 0});
+  if (cfg.count_per_sphere) pair_collisions_.assign(n, 0);
   // Internal order starts from the ids, not the input order: the cell sorts are stable, so the
   // same spheres give the same run bit for bit in whatever order an adapter hands them over.
   std::vector<std::size_t> by_id(n);
@@ -762,6 +773,7 @@ void Stepper<Real, Mono>::rebuild() {
     permute(m_, scratch_real_);
   }
   permute(slot_, scratch_u32_);
+  if (!pair_collisions_.empty()) permute(pair_collisions_, scratch_i64_);
   resolver_.permute(order_);
   guard_.reset(n);
 
@@ -788,7 +800,8 @@ template <class Real, bool Mono>
 void Stepper<Real, Mono>::bind_resolver() {
   resolver_.bind({pos_.data(), vel_.data(), r_.data(), m_.data(), id_.data(), slot_.data(), adj_start_.data(),
                   adj_.data(), image_shift_, speeds_ ? speed_.data() : nullptr, adj_plain_end_.data(),
-                  owned_.empty() ? nullptr : owned_.data(), owned_.empty() ? nullptr : met_owned_.data()});
+                  owned_.empty() ? nullptr : owned_.data(), owned_.empty() ? nullptr : met_owned_.data(),
+                  pair_collisions_.empty() ? nullptr : pair_collisions_.data()});
 }
 
 template <class Real, bool Mono>
@@ -1034,6 +1047,25 @@ ParticleSystem Stepper<Real, Mono>::state() const {
                   {double(vel_[k].x), double(vel_[k].y), double(vel_[k].z)}, image);
   }
   wrap_periodic(out);
+  return out;
+}
+
+template <class Real, bool Mono>
+SphereSample Stepper<Real, Mono>::sphere(std::size_t index) const {
+  const std::size_t n = pos_.size();
+  if (index >= n)
+    throw InputError("sphere index " + std::to_string(index) + " is out of range (" + std::to_string(n) + " spheres)");
+  // Rebuilds move spheres in the cell order; only then is the position searched for again.
+  if (slot_[sampled_at_] != index)
+    sampled_at_ = std::size_t(std::find(slot_.begin(), slot_.end(), std::uint32_t(index)) - slot_.begin());
+  const std::size_t k = sampled_at_;
+  SphereSample out;
+  out.unwrapped = user_position(k);
+  for (std::size_t d = 0; d < 3; ++d)
+    if (user_box_.periodic[d])
+      out.unwrapped[int(d)] += double(std::int64_t(image0_[index][d]) + image_[index][d]) * user_box_.length(int(d));
+  out.velocity = {double(vel_[k].x), double(vel_[k].y), double(vel_[k].z)};
+  out.pair_collisions = pair_collisions_.empty() ? -1 : pair_collisions_[k];
   return out;
 }
 

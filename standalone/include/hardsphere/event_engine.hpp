@@ -97,6 +97,12 @@ class EventEngine {
   //! The state at the current time, in input order, periodic coordinates wrapped.
   ParticleSystem state() const;
   const EventCounters& counters() const;
+  //! The sphere at position `index` of state() (input order) at the current time, without
+  //! advancing the others. Throws InputError for an index out of range.
+  SphereSample sphere(std::size_t index) const;
+  //! Each sphere's pair collisions since the last reset_counters(), in input order; they add
+  //! up to twice counters().collisions.
+  std::vector<std::int64_t> pair_collisions_per_sphere() const;
   void reset_counters();
   double time() const;  //!< simulated time since construction
   std::array<int, 3> cells_per_dim() const;

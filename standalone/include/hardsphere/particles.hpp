@@ -34,6 +34,15 @@ struct ParticleSystem {
   double packing_fraction() const;  //!< sum of sphere volumes / box volume
 };
 
+//! One sphere observed at an engine's current time without building the whole state.
+struct SphereSample {
+  Vec3d unwrapped;  //!< pos + image * box length: continuous in time across periodic faces
+  Vec3d velocity;
+  //! The sphere's pair collisions since the last reset_counters(); -1 if the engine does not count
+  //! them (StepperConfig::count_per_sphere off).
+  std::int64_t pair_collisions = 0;
+};
+
 //! Full consistency check; throws InputError naming the particle id, the value and `source`:
 //! non-positive or non-finite radius/mass, NaN/inf positions or velocities, particles outside
 //! a wall axis, duplicate ids, periodic box too short for the largest pair, overlapping pairs.

@@ -37,10 +37,11 @@ nlohmann::json physics_summary(const ParticleSystem& final_state, const RunTotal
 void add_energy_summary(nlohmann::json& j, double kinetic0, double potential0, double potential1, double restitution,
                         double contact_time, const std::array<double, 3>& gravity);
 
-//! Writes the JSON file and the final data file, and commits them with the dump: only after
-//! success, and all together (commit_together), so an error leaves none of them.
+//! Writes the JSON file and the final data file, and commits them with the dump and `track`
+//! (a tracker's file, may be null): only after success, and all together (commit_together), so
+//! an error leaves none of them.
 void commit_outputs(const nlohmann::json& summary, const ParticleSystem& final_state,
                     const std::optional<std::string>& write_data_path, const std::string& title,
-                    std::optional<DumpWriter>& dump, std::optional<AtomicFile>& json_file);
+                    std::optional<DumpWriter>& dump, std::optional<AtomicFile>& json_file, AtomicFile* track = nullptr);
 
 }  // namespace hardsphere

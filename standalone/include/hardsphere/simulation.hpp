@@ -37,6 +37,11 @@ struct RunSpec {
 
   std::optional<std::string> write_data, dump, json;
   std::int64_t dump_every = 100;
+  //! Tracker: the sphere with this id is written to track_file every track_every (simulated
+  //! time; for the stepper a whole number of steps) during the measured run.
+  std::optional<std::int64_t> track_id;
+  double track_every = 0;
+  std::optional<std::string> track_file;
   int histogram_bins = 40;
 
   //! Called during the measured run (about every 1% for the stepper, after each block for the

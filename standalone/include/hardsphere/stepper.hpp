@@ -18,6 +18,7 @@
 #include <limits>
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "hardsphere/particles.hpp"
 
@@ -74,6 +75,9 @@ struct StepperConfig {
   //! Uniform acceleration (gravity), allowed along wall axes only: flights are parabolas,
   //! relative motion of pairs stays straight. Potential energy -m g.(x - lo).
   std::array<double, 3> gravity{0, 0, 0};
+  //! Count each sphere's pair collisions (StepperBase::sphere(), pair_collisions_per_sphere()).
+  //! Off by default: two scattered increments per collision cost dense gases a few per cent.
+  bool count_per_sphere = false;
 };
 
 struct StepCounters {
@@ -109,6 +113,12 @@ class StepperBase {
   virtual bool sweep_detection() const = 0;      //!< the detection mode in use (Auto resolved) is sweep
   //! Sub-steps the next step needs at the current speeds (1 unless dt is long for the skin).
   virtual double substeps_per_step() const = 0;
+  //! The sphere at position `index` of state() (id order), in O(1) between list rebuilds, so a
+  //! tracker can follow it every few steps. Throws InputError for an index out of range.
+  virtual SphereSample sphere(std::size_t index) const = 0;
+  //! Each sphere's pair collisions since the last reset_counters(), ordered like state(); they
+  //! add up to twice counters().collisions. Empty unless StepperConfig::count_per_sphere.
+  virtual std::vector<std::int64_t> pair_collisions_per_sphere() const = 0;
 };
 
 //! Validates the configuration against the system (throws InputError) and builds the engine.

@@ -1,0 +1,447 @@
+#!/usr/bin/python3
+"""Brownian motion of one big, heavy sphere in a hard-sphere gas against kinetic theory.
+
+  compare/brownian.py [--quick] --out DIR [--exe PATH] [--event-time T] [--stepper-time T] [--jobs J]
+
+One big sphere (id 1, diameter D_big, mass M) among small unit spheres (diameter 1, mass 1) at packing
+fraction phi in a periodic cube (compare/big_sphere_scene.py), kT from the state's energy. Both engines
+(`hardsphere run --engine stepper|event`) follow it with the tracker (`--track 1 --track-every dt_s
+--track-file`): unwrapped position, velocity and its pair-collision count. From the tracks:
+
+- D: from the mean-squared displacement, D = [MSD(t2) - MSD(t1)] / (6 (t2 - t1)) with t1 = 3 tau,
+  t2 = 8 tau (tau = M D_E / kT, Enskog's velocity relaxation time; divided by the 1% an exponential
+  velocity memory still takes off the slope there), per block of 30 tau of each independent run; D and
+  its error are the mean and standard error over all blocks of all runs.
+- Enskog's heavy-tracer value D_E = 3 kT / (8 n sigma12^2 g12 sqrt(2 pi mu kT)), n the small-sphere number
+  density, mu = M m / (M + m), sigma12 = (D_big + 1) / 2, g12 the BMCSL contact value (compare/hs_theory.py),
+  and its closure-free form D_E,cf = 3 kT / (4 mu Gamma12) with Gamma12 the big sphere's measured collision
+  rate. The total momentum is zero, so the big sphere moves in the centre-of-mass frame of M_tot = M + N m:
+  its displacement is (1 - M/M_tot) times its displacement relative to the gas, and the expected value is
+  D_exp = (1 - M/M_tot)^2 D_E,cf.
+- Equipartition: <M V^2>/3 against kT (1 - M / M_tot) (T_big_ratio, error over blocks).
+- A sweep over density and size (event engine; figure only): D against Enskog and against slip
+  Stokes-Einstein with the finite-box correction, D_SE = kT / (4 pi eta R) - kT xi / (6 pi eta L),
+  R = sigma12, xi = 2.837297, eta Enskog's shear viscosity of the small-sphere fluid.
+
+Writes DIR/brownian.json, DIR/brownian.md, DIR/brownian_path.png, DIR/brownian_msd_vacf.png and (full mode)
+DIR/brownian_sweep.png. Exit status 1 when an engine's D differs from D_exp by more than
+max(3 sigma, 10%) or its T_big_ratio differs from 1 by more than 3 sigma (--quick: 4 sigma). The 10%
+allow for the heavy-tracer corrections Enskog's first Sonine value leaves out: of order sqrt(m/M) (0.09 at
+M/m = 125) and from correlated (ring) collisions.
+The validation point is phi 0.01 (mean free path 11.8, four times sigma12): from phi 0.1 on (mean free
+path below sigma12 = 3) the measured D exceeds Enskog's clearly (the sweep shows it), as correlated
+collisions and the gas's backflow come in once the big sphere is not small against the mean free path.
+--quick: D_big 5, M 125, phi 0.01, 1000 small spheres, 4 runs per engine, each run one block, no sweep.
+Full (docs/validation/brownian.md): 2000 small spheres, 16 event runs of 7000 and 4 stepper runs of 5000,
+and the sweep.
+"""
+import argparse
+import json
+import math
+import subprocess
+import sys
+import tempfile
+import time
+from concurrent.futures import ThreadPoolExecutor
+from pathlib import Path
+
+import numpy as np
+
+HERE = Path(__file__).resolve().parent
+sys.path.insert(0, str(HERE))
+
+import matplotlib  # noqa: E402
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+
+import big_sphere_scene  # noqa: E402
+import hs_theory  # noqa: E402
+
+ROOT = HERE.parent
+XI_CUBIC = 2.837297  # Hasimoto's constant of a periodic cube
+SAMPLE_EVERY = 0.5  # tracker interval (a whole number of stepper steps)
+STEPPER_DT = 0.05
+EQUILIBRATE = 20.0
+BLOCK_TAUS = 30.0  # block length in Enskog relaxation times
+LAG_TAUS = (3.0, 8.0)  # MSD slope between these lags
+TOLERANCE = 0.10  # allowed relative departure of D from D_exp beyond the statistical error
+
+
+def theory(phi, n_small, d_big, m_big, length, kT):
+    """Enskog's heavy-tracer values and Stokes-Einstein's for one big sphere among n_small unit spheres."""
+    n_tot = n_small + 1
+    species = [(n_small / n_tot, 1.0, 1.0), (1 / n_tot, d_big, m_big)]
+    g12 = hs_theory.contact_value(phi, species, 0, 1)
+    density = n_small / length**3
+    sigma12 = (d_big + 1) / 2
+    mu = m_big / (m_big + 1)
+    d_enskog = 3 * kT / (8 * density * sigma12**2 * g12 * math.sqrt(2 * math.pi * mu * kT))
+    gamma_enskog = density * sigma12**2 * g12 * math.sqrt(8 * math.pi * kT / mu)
+    # Enskog's shear viscosity of the small-sphere fluid (density n, its own contact value).
+    phi_s = math.pi / 6 * density
+    g11 = (1 - phi_s / 2) / (1 - phi_s) ** 3
+    eta0 = 1.016 * 5 / 16 * math.sqrt(kT / math.pi)
+    b = 4 * phi_s
+    eta = eta0 * (1 / g11 + 0.8 * b + 0.7614 * b * b * g11)
+    d_se = kT / (4 * math.pi * eta * sigma12) - kT * XI_CUBIC / (6 * math.pi * eta * length)
+    return dict(g12=g12, n=density, sigma12=sigma12, mu=mu, D_enskog=d_enskog, Gamma12_enskog=gamma_enskog,
+                eta=eta, D_stokes_einstein=d_se, tau=m_big * d_enskog / kT,
+                momentum_factor=(1 - m_big / (m_big + n_small)) ** 2)
+
+
+def make_state(path, n_small, phi, d_big, m_big, seed):
+    scene = big_sphere_scene.make_scene(n_small, phi, big=1, big_diameter=d_big, big_mass=m_big, seed=seed)
+    big_sphere_scene.write_data(path, scene, "brownian: one big sphere in a hard-sphere gas")
+    v2 = (scene["mass"][:, None] * scene["vel"] ** 2).sum()
+    kT = v2 / (3 * (len(scene["mass"]) - 1))  # zero total momentum: 3(N - 1) degrees of freedom
+    return scene["box"], kT
+
+
+def event_cells(length, d_big):
+    """The event engine's cells are sized by the big sphere; a grid of cells ~1.5 D_big wide keeps the
+    neighbour shell near D_big / 2 (the automatic shell, about D_big, makes every small sphere's list huge)."""
+    return max(3, int(length / (1.5 * d_big) + 0.5))
+
+
+def run_track(exe, data, engine, duration, length, d_big, workdir, tag):
+    track = Path(workdir) / f"{tag}.track"
+    summary = Path(workdir) / f"{tag}.json"
+    cmd = [exe, "run", "--read-data", str(data), "--time", repr(duration), "--equilibrate-time", repr(EQUILIBRATE),
+           "--track", "1", "--track-every", repr(SAMPLE_EVERY), "--track-file", str(track), "--json", str(summary),
+           "--quiet"]
+    if engine == "event":
+        cmd += ["--engine", "event", "--blocks", "1", "--cells", str(event_cells(length, d_big))]
+    else:
+        # Sweep detection: overlap detection (auto's choice at this dt) misses grazes, ~0.4% of the collisions.
+        cmd += ["--dt", repr(STEPPER_DT), "--detect", "sweep"]
+    p = subprocess.run(cmd, capture_output=True, text=True)
+    if p.returncode != 0:
+        raise RuntimeError(f"{' '.join(cmd)} failed ({p.returncode}): {p.stderr.strip()}")
+    shown = ["hardsphere" if c == exe else Path(c).name if c.startswith(str(workdir)) else c for c in cmd]
+    return dict(rows=np.loadtxt(track, comments="#", ndmin=2), summary=json.loads(summary.read_text()),
+                command=" ".join(shown))
+
+
+def msd_at(r, lag):
+    d = r[lag:] - r[:-lag]
+    return float(np.mean((d * d).sum(axis=1)))
+
+
+def analyse(runs, m_big, kT, th, whole_runs=False):
+    """D, Gamma12 and the kinetic temperature per block of every run (whole_runs: one block per run),
+    then means and standard errors."""
+    tau = th["tau"]
+    block = max(int(round(BLOCK_TAUS * tau / SAMPLE_EVERY)), 8)
+    if whole_runs:
+        block = min(len(r["rows"]) for r in runs) - 1
+    l1, l2 = (max(1, int(round(x * tau / SAMPLE_EVERY))) for x in LAG_TAUS)
+    l2 = min(l2, block // 2)
+    l1 = min(l1, l2 - 1)
+    # The slope between the lags falls short of D by what is left of the velocity memory, about
+    # tau (e^(-t1/tau) - e^(-t2/tau)) / (t2 - t1) for an exponential memory (1% at 3 and 8 tau).
+    t1, t2 = l1 * SAMPLE_EVERY, l2 * SAMPLE_EVERY
+    remainder = 1 - tau * (math.exp(-t1 / tau) - math.exp(-t2 / tau)) / (t2 - t1)
+    d_b, g_b, t_b = [], [], []
+    t_factor = 1 - m_big / (m_big + th["n_small"])
+    for run in runs:
+        rows = run["rows"]
+        for s in range(0, len(rows) - block, block):  # whole blocks only
+            b = rows[s:s + block + 1]
+            r, v, c = b[:, 1:4], b[:, 4:7], b[:, 7]
+            d_b.append((msd_at(r, l2) - msd_at(r, l1)) / (6 * (l2 - l1) * SAMPLE_EVERY) / remainder)
+            g_b.append((c[-1] - c[0]) / (b[-1, 0] - b[0, 0]))
+            # Each state has its own kT (energy is conserved exactly): the ratio is taken per run.
+            t_b.append(m_big * float(np.mean((v * v).sum(axis=1))) / 3 / (run["kT"] * t_factor))
+
+    def mean_err(x):
+        x = np.asarray(x)
+        return float(x.mean()), float(x.std(ddof=1) / math.sqrt(len(x))) if len(x) > 1 else float("nan")
+
+    D, D_err = mean_err(d_b)
+    G, G_err = mean_err(g_b)
+    ratio, ratio_err = mean_err(t_b)
+    mu = th["mu"]
+    t_expected = kT * t_factor
+    d_cf = 3 * kT / (4 * mu * G)
+    d_exp = th["momentum_factor"] * d_cf
+    return dict(D=D, D_err=D_err, D_enskog=th["D_enskog"], D_enskog_closure_free=d_cf,
+                D_enskog_closure_free_err=d_cf * G_err / G, D_expected=d_exp, momentum_factor=th["momentum_factor"],
+                D_over_expected=D / d_exp, Gamma12=G, Gamma12_err=G_err, Gamma12_enskog=th["Gamma12_enskog"],
+                g12=th["g12"], g12_measured=th["g12"] * G / th["Gamma12_enskog"], T_big=ratio * t_expected,
+                T_big_err=ratio_err * t_expected, T_big_expected=t_expected, T_big_ratio=ratio,
+                T_big_ratio_err=ratio_err,
+                kT=kT, tau=tau, blocks=len(d_b), block_time=block * SAMPLE_EVERY, runs=len(runs),
+                run_time=float(runs[0]["rows"][-1, 0]), lags=[l1 * SAMPLE_EVERY, l2 * SAMPLE_EVERY],
+                cpu_seconds=sum(r["summary"]["loop_cpu_seconds"] for r in runs))
+
+
+def curves(runs, tau):
+    """MSD at log-spaced lags and the normalised velocity autocorrelation, averaged over runs."""
+    n = min(len(r["rows"]) for r in runs)
+    lags = np.unique(np.round(np.logspace(0, math.log10(max(2, min(n // 4, 40 * tau / SAMPLE_EVERY))), 40)))
+    lags = lags.astype(int)
+    msd = np.mean([[msd_at(r["rows"][:, 1:4], k) for k in lags] for r in runs], axis=0)
+    kmax = min(n // 2, int(6 * tau / SAMPLE_EVERY) + 1)
+    acf = np.zeros(kmax)
+    for r in runs:
+        v = r["rows"][:, 4:7]
+        f = np.fft.rfft(v, n=2 * len(v), axis=0)
+        c = np.fft.irfft((f * f.conj()).real, axis=0)[:kmax].sum(axis=1)
+        acf += c / (len(v) - np.arange(kmax))
+    acf /= len(runs)
+    return lags * SAMPLE_EVERY, msd, np.arange(kmax) * SAMPLE_EVERY, acf / acf[0], acf
+
+
+def plot_path(rows, path, title):
+    fig = plt.figure(figsize=(14, 4.8), constrained_layout=True)
+    t = rows[:, 0]
+    ax3 = fig.add_subplot(1, 3, 1, projection="3d")
+    ax3.scatter(rows[:, 1], rows[:, 2], rows[:, 3], c=t, s=0.8, cmap="viridis")
+    ax3.set_xlabel("x")
+    ax3.set_ylabel("y")
+    ax3.set_zlabel("z")
+    axes = [fig.add_subplot(1, 3, 2), fig.add_subplot(1, 3, 3)]
+    for ax, (a, b) in zip(axes, [(1, 2), (1, 3)]):
+        sc = ax.scatter(rows[:, a], rows[:, b], c=t, s=1.5, cmap="viridis")
+        ax.set_xlabel("x (unwrapped)")
+        ax.set_ylabel("yz"[b - 2] + " (unwrapped)")
+        ax.set_aspect("equal", adjustable="datalim")
+    fig.colorbar(sc, ax=axes, label="time")
+    fig.suptitle(title, fontsize=10)
+    fig.savefig(path, dpi=120)
+    plt.close(fig)
+
+
+def plot_msd_vacf(results, path, m_big):
+    fig, (a1, a2) = plt.subplots(1, 2, figsize=(11, 4.4))
+    colors = {"event": "tab:red", "stepper": "tab:blue"}
+    for eng, res in results.items():
+        t, msd, tv, acf, _ = res["curves"]
+        a1.loglog(t, msd, "o", ms=3, color=colors[eng], label=f"{eng}")
+        a2.plot(tv, acf, "-", color=colors[eng], label=f"{eng}")
+    res = next(iter(results.values()))["result"]
+    t = np.asarray(next(iter(results.values()))["curves"][0])
+    a1.loglog(t, 3 * res["T_big_expected"] / m_big * t**2, "k--", lw=1,
+              label="ballistic 3 kT (1 - M/M_tot) t^2 / M")
+    a1.loglog(t, 6 * res["D"] * t, "k:", lw=1, label="diffusive 6 D t (measured D)")
+    a1.loglog(t, 6 * res["D_expected"] * t, color="0.6", lw=1, label="6 D_exp t (Enskog, closure-free)")
+    a1.axvline(res["tau"], color="0.8", lw=0.8)
+    a1.set_xlabel("time")
+    a1.set_ylabel("mean-squared displacement of the big sphere")
+    a1.legend(fontsize=7)
+    tv = np.linspace(0, 6 * res["tau"], 200)
+    a2.plot(tv, np.exp(-tv * res["kT"] / (m_big * res["D"])), "k--", lw=1, label="exp(-t/tau), tau = M D / kT")
+    a2.axhline(0, color="0.8", lw=0.8)
+    a2.set_xlabel("time")
+    a2.set_ylabel("<V(0).V(t)> / <V^2>")
+    a2.legend(fontsize=7)
+    fig.tight_layout()
+    fig.savefig(path, dpi=120)
+    plt.close(fig)
+
+
+def plot_sweep(points, path):
+    fig, (a1, a2) = plt.subplots(1, 2, figsize=(11, 4.4))
+    sizes = sorted({p["D_big"] for p in points})
+    for k, d in enumerate(sizes):
+        ps = sorted((p for p in points if p["D_big"] == d), key=lambda p: p["phi"])
+        phi = [p["phi"] for p in ps]
+        col = f"C{k}"
+        a1.errorbar(phi, [p["D"] for p in ps], yerr=[p["D_err"] for p in ps], fmt="o", color=col,
+                    label=f"measured, D_big {d:g}, M {ps[0]['M']:g}")
+        a1.plot(phi, [p["D_expected"] for p in ps], "--", color=col, label="Enskog (closure-free, x momentum factor)")
+        a1.plot(phi, [p["D_stokes_einstein"] for p in ps], ":", color=col, label="slip Stokes-Einstein, finite box")
+        a2.errorbar(phi, [p["D"] / p["D_expected"] for p in ps], yerr=[p["D_err"] / p["D_expected"] for p in ps],
+                    fmt="o-", color=col, label=f"D / D_exp, D_big {d:g}")
+        a2.plot(phi, [p["D_stokes_einstein"] / p["D_expected"] for p in ps], ":", color=col,
+                label=f"D_SE / D_exp, D_big {d:g}")
+    a1.set_yscale("log")
+    a1.set_xlabel("packing fraction")
+    a1.set_ylabel("diffusion coefficient of the big sphere")
+    a1.legend(fontsize=6)
+    a2.axhline(1, color="0.7", lw=0.8)
+    a2.set_xlabel("packing fraction")
+    a2.set_ylabel("D / Enskog (closure-free)")
+    a2.legend(fontsize=6)
+    fig.tight_layout()
+    fig.savefig(path, dpi=120)
+    plt.close(fig)
+
+
+def measure(exe, engines, n_small, phi, d_big, m_big, seeds, workdir, jobs, whole_runs=False):
+    """engines: {name: run time per seed}. Returns per engine the analysis, curves and runs."""
+    states = {}
+    for s in seeds:
+        data = Path(workdir) / f"state_{phi}_{d_big}_{s}.data"
+        states[s] = (data, *make_state(data, n_small, phi, d_big, m_big, s))
+    length = states[seeds[0]][1]
+    tasks = [(eng, s) for eng, (t, k) in engines.items() for s in seeds[:k]]
+    with ThreadPoolExecutor(max_workers=jobs) as pool:
+        futs = {task: pool.submit(run_track, exe, states[task[1]][0], task[0], engines[task[0]][0], length, d_big,
+                                  workdir, f"{task[0]}_{phi}_{d_big}_{task[1]}") for task in tasks}
+        done = {task: f.result() for task, f in futs.items()}
+    out = {}
+    for eng in engines:
+        runs = [done[t] for t in tasks if t[0] == eng]
+        for t, r in zip((t for t in tasks if t[0] == eng), runs):
+            r["kT"] = states[t[1]][2]
+        kT = float(np.mean([r["kT"] for r in runs]))
+        th = theory(phi, n_small, d_big, m_big, length, kT)
+        th["n_small"] = n_small
+        res = analyse(runs, m_big, kT, th, whole_runs)
+        res.update(phi=phi, D_big=d_big, M=m_big, n_small=n_small, box=length,
+                   D_stokes_einstein=th["D_stokes_einstein"], eta=th["eta"], command=runs[0]["command"])
+        cv = curves(runs, th["tau"])
+        # Green-Kubo cross-check: D = (1/3) integral of <V(0).V(t)> up to 6 tau (no error bar).
+        res["D_green_kubo"] = float(np.trapz(cv[4], cv[2]) / 3)
+        out[eng] = dict(result=res, curves=cv, runs=runs)
+    return out
+
+
+def verdict(res, sigmas):
+    d_ok = abs(res["D"] - res["D_expected"]) <= max(sigmas * res["D_err"], TOLERANCE * res["D_expected"])
+    t_ok = abs(res["T_big_ratio"] - 1) <= sigmas * res["T_big_ratio_err"]
+    return d_ok, t_ok
+
+
+def fmt(x, e=None, digits=4):
+    if e is None:
+        return f"{x:.{digits}g}"
+    return f"{x:.{digits}g} ± {e:.2g}"
+
+
+def report(out, a, val, sweep, params, elapsed, sigmas, failures):
+    head = val["event"]["result"]
+    keys = ("D", "D_err", "D_enskog", "D_enskog_closure_free", "D_expected", "T_big_ratio", "T_big_ratio_err")
+    js = {"headline_engine": "event", **{k: head[k] for k in keys}, "parameters": params,
+          "engines": {e: v["result"] for e, v in val.items()}, "sweep": sweep, "seconds": round(elapsed),
+          "tolerance": TOLERANCE, "sigmas": sigmas, "pass": not failures}
+    (out / "brownian.json").write_text(json.dumps(js, indent=1))
+    p = params
+    lines = ["# Brownian motion of a heavy sphere against kinetic theory", "",
+             f"One big sphere (diameter {p['D_big']:g}, mass {p['M']:g}, M/m = {p['M']:g}) among {p['n_small']} unit "
+             f"spheres at packing fraction {p['phi']:g} in a periodic box of {head['box']:.4g}; kT = {head['kT']:.4f} "
+             "from the states' energies. Reproduce: `/usr/bin/python3 compare/brownian.py --out DIR` "
+             f"({elapsed:.0f} s wall on 2 shared cores); `--quick` is the ctest `brownian_quick`.", "",
+             "Each run: `" + head["command"] + "` (stepper: `--dt 0.05 --detect sweep` instead of the event options). "
+             f"D from the MSD slope between lags {head['lags'][0]:g} and {head['lags'][1]:g} (3 and 8 Enskog "
+             f"relaxation times tau = {head['tau']:.3g}; divided by the ~1% an exponential memory still takes off "
+             f"the slope) within blocks of {head['block_time']:g} time units; errors are standard errors over all "
+             "blocks of all independent runs. The Green-Kubo integral of the velocity autocorrelation up to 6 tau "
+             f"gives D = {head['D_green_kubo']:.4g} (event engine, no error bar).", "",
+             "| engine | runs x time | blocks | D | D_E (BMCSL g12) | D_E closure-free | D_exp = (1-M/M_tot)^2 D_E,cf "
+             "| D / D_exp | Gamma12 (Enskog) | T_big ratio | pass |",
+             "|---|---|---|---|---|---|---|---|---|---|---|"]
+    for eng, v in val.items():
+        r = v["result"]
+        ok = all(verdict(r, sigmas))
+        lines.append(f"| {eng} | {r['runs']} x {r['run_time']:g} | {r['blocks']} | {fmt(r['D'], r['D_err'])} | "
+                     f"{fmt(r['D_enskog'])} | {fmt(r['D_enskog_closure_free'], r['D_enskog_closure_free_err'])} | "
+                     f"{fmt(r['D_expected'])} | {fmt(r['D_over_expected'], r['D_err'] / r['D_expected'], 3)} | "
+                     f"{fmt(r['Gamma12'], r['Gamma12_err'])} ({fmt(r['Gamma12_enskog'])}) | "
+                     f"{fmt(r['T_big_ratio'], r['T_big_ratio_err'])} | {'yes' if ok else 'NO'} |")
+    lines += ["", f"Pass: |D - D_exp| <= max({sigmas:g} sigma, {TOLERANCE:.0%} D_exp) and |T_big ratio - 1| <= "
+              f"{sigmas:g} sigma. Expected: the heavy-tracer Enskog value holds up to corrections of order "
+              f"sqrt(m/M) = {1 / math.sqrt(p['M']):.3f} and from correlated (ring) collisions; the factor "
+              f"(1 - M/M_tot)^2 = {head['momentum_factor']:.4f} is the zero-total-momentum frame (the big sphere's "
+              "displacement is 1 - M/M_tot of its displacement relative to the gas). g12 from the measured "
+              f"collision rate: {head['g12_measured']:.4f} (BMCSL {head['g12']:.4f}).", "",
+             "![path of the big sphere](brownian_path.png)", "",
+             "![MSD and velocity autocorrelation](brownian_msd_vacf.png)", ""]
+    if sweep:
+        lines += ["## Sweep over density and size (event engine, figure only)", "",
+                  "| phi | D_big | M | D | D_exp (Enskog) | D_SE (slip, finite box) | D / D_exp |",
+                  "|---|---|---|---|---|---|---|"]
+        for s in sweep:
+            lines.append(f"| {s['phi']:g} | {s['D_big']:g} | {s['M']:g} | {fmt(s['D'], s['D_err'])} | "
+                         f"{fmt(s['D_expected'])} | {fmt(s['D_stokes_einstein'])} | "
+                         f"{fmt(s['D'] / s['D_expected'], s['D_err'] / s['D_expected'], 3)} |")
+        lines += ["", "Slip Stokes-Einstein: D_SE = kT / (4 pi eta sigma12) - kT xi / (6 pi eta L), xi = 2.837297 "
+                  "(Yeh-Hummer / Hasimoto), eta Enskog's shear viscosity of the small-sphere fluid. From phi 0.1 on, "
+                  "where the mean free path of the gas, 1 / (sqrt(2) pi n), is below sigma12, D exceeds Enskog's "
+                  "value by half or more: correlated collisions and the gas's backflow, which the uncorrelated-"
+                  "collision (Enskog) value leaves out, carry the big sphere further; at the highest densities D "
+                  "lies between Enskog's value and slip Stokes-Einstein's.", "",
+                  "![D against density and size](brownian_sweep.png)", ""]
+    if failures:
+        lines += ["**Failed:** " + "; ".join(failures), ""]
+    (out / "brownian.md").write_text("\n".join(lines))
+
+
+def main(argv=None):
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--quick", action="store_true")
+    ap.add_argument("--out", required=True)
+    ap.add_argument("--exe", default=str(ROOT / "build" / "standalone" / "hardsphere"),
+                    help="the hardsphere program (default build/standalone/hardsphere)")
+    ap.add_argument("--event-time", type=float, help="event-engine time per run (full 7000, quick 4000)")
+    ap.add_argument("--event-runs", type=int, help="independent event-engine runs (full 16, quick 4)")
+    ap.add_argument("--stepper-time", type=float, help="stepper time per run (full 5000, quick 3000)")
+    ap.add_argument("--stepper-runs", type=int, help="independent stepper runs (full 4, quick 4)")
+    ap.add_argument("--no-sweep", action="store_true", help="skip the density and size sweep")
+    ap.add_argument("--jobs", type=int, default=2, help="runs at once (2)")
+    a = ap.parse_args(argv)
+    exe = str(Path(a.exe).resolve())
+    if not Path(exe).is_file():
+        sys.exit(f"brownian.py: error: no hardsphere program at {exe} (build it or pass --exe)")
+    out = Path(a.out)
+    out.mkdir(parents=True, exist_ok=True)
+    if a.quick:
+        params = dict(n_small=1000, phi=0.01, D_big=5.0, M=125.0)
+        ev, er, st, sr, sigmas = 4000.0, 4, 3000.0, 4, 4.0
+    else:
+        params = dict(n_small=2000, phi=0.01, D_big=5.0, M=125.0)
+        ev, er, st, sr, sigmas = 7000.0, 16, 5000.0, 4, 3.0
+    ev, er = a.event_time or ev, a.event_runs or er
+    st, sr = a.stepper_time or st, a.stepper_runs or sr
+    params.update(event_time=ev, event_runs=er, stepper_time=st, stepper_runs=sr, sample_every=SAMPLE_EVERY,
+                  stepper_dt=STEPPER_DT, equilibrate_time=EQUILIBRATE)
+    start = time.time()
+    seeds = list(range(1, max(er, sr) + 1))
+    sweep = []
+    with tempfile.TemporaryDirectory() as work:
+        val = measure(exe, {"event": (ev, er), "stepper": (st, sr)}, params["n_small"], params["phi"],
+                      params["D_big"], params["M"], seeds, work, a.jobs, whole_runs=a.quick)
+        if not a.quick and not a.no_sweep:
+            # About 2000 spheres at every point; the time per run scales with the relaxation time.
+            for d_big, m_big in ((5.0, 125.0), (3.0, 27.0)):
+                for phi in (0.01, 0.05, 0.1, 0.2, 0.3):
+                    if (d_big, m_big, phi) == (params["D_big"], params["M"], params["phi"]):
+                        sweep.append(val["event"]["result"])
+                        continue
+                    tau = theory(phi, 2000, d_big, m_big, (2000 * math.pi / 6 / phi) ** (1 / 3), 1.0)["tau"]
+                    n_small = 2000
+                    r = measure(exe, {"event": (max(200.0, 160 * tau), 4)}, n_small, phi, d_big, m_big, [1, 2, 3, 4],
+                                work, a.jobs)
+                    sweep.append(r["event"]["result"])
+    elapsed = time.time() - start
+    failures = []
+    for eng, v in val.items():
+        d_ok, t_ok = verdict(v["result"], sigmas)
+        r = v["result"]
+        if not d_ok:
+            failures.append(f"{eng}: D {r['D']:.4g} +- {r['D_err']:.2g} against D_exp {r['D_expected']:.4g}")
+        if not t_ok:
+            failures.append(f"{eng}: T_big ratio {r['T_big_ratio']:.4f} +- {r['T_big_ratio_err']:.2g}")
+    first = val["event"]["runs"][0]["rows"]
+    plot_path(first, out / "brownian_path.png",
+              f"Big sphere (D {params['D_big']:g}, M {params['M']:g}) in a gas at phi {params['phi']:g}: "
+              f"unwrapped path over time {first[-1, 0]:g} (event engine, one run), projections")
+    plot_msd_vacf(val, out / "brownian_msd_vacf.png", params["M"])
+    if sweep:
+        plot_sweep(sweep, out / "brownian_sweep.png")
+    report(out, a, val, sweep, params, elapsed, sigmas, failures)
+    for eng, v in val.items():
+        r = v["result"]
+        print(f"{eng}: D {r['D']:.4g} +- {r['D_err']:.2g} (D_exp {r['D_expected']:.4g}, D_E {r['D_enskog']:.4g}, "
+              f"closure-free {r['D_enskog_closure_free']:.4g}), T_big ratio {r['T_big_ratio']:.4f} +- "
+              f"{r['T_big_ratio_err']:.2g}, {r['blocks']} blocks")
+    if failures:
+        print("brownian: " + "; ".join(failures), file=sys.stderr)
+        return 1
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
