@@ -100,7 +100,8 @@ struct EventEngine::Impl {
   // rebuild, and a big sphere's own rebuild scans every cell its range overlaps.
   int nsmall = 0;
   double grid_r = 0;                                // largest radius of the spheres in cells
-  std::vector<Centre> big_ctr;                      // list centres of the big spheres (i - nsmall)
+  std::vector<double> big_x, big_y, big_z, big_r;   // list centres of the big spheres (i - nsmall)
+  std::vector<double> big_gap;                      // scratch: squared distance - squared range
   std::vector<std::vector<std::uint32_t>> big_nbr;  // their lists, long and sized one by one
   // Neighbour lists: sphere i holds nbr[i * ncap .. i * ncap + nfill[i]) (grown on overflow).
   // Symmetric: j is in i's list iff i is in j's.
@@ -176,6 +177,11 @@ struct EventEngine::Impl {
 
   // --- Neighbour lists -------------------------------------------------------------------------
   bool is_big(int i) const { return i >= nsmall; }
+  void set_big_centre(int i) {
+    const std::size_t b = std::size_t(i - nsmall);
+    big_x[b] = pred[std::size_t(i)].cx, big_y[b] = pred[std::size_t(i)].cy, big_z[b] = pred[std::size_t(i)].cz;
+    big_r[b] = body[std::size_t(i)].r;
+  }
   std::uint32_t* list(int i) {
     return is_big(i) ? big_nbr[std::size_t(i - nsmall)].data() : &nbr[nbase + std::size_t(i) * std::size_t(ncap)];
   }
@@ -265,7 +271,7 @@ struct EventEngine::Impl {
   //! Calls f(j, image) for every sphere j != i whose list centre is closer than sigma_ij + shell
   //! to i's: the members of i's neighbour list.
   template <class F>
-  void for_each_in_range(int i, F&& f) const {
+  void for_each_in_range(int i, F&& f) {
     if (is_big(i))
       for_each_small_near_big(i, f);
     else
@@ -277,24 +283,28 @@ struct EventEngine::Impl {
   //! their nearest periodic image: the box is longer than twice every such range, so no other
   //! image can be in range.
   template <class F>
-  void for_each_big_in_range(int i, F& f) const {
+  void for_each_big_in_range(int i, F& f) {
     const Centre p = ctr_of(i);
-    for (std::size_t b = 0; b < big_ctr.size(); ++b) {
+    const std::size_t nb = big_x.size();
+    // Every rebuild runs this: a branch-free pass over all big spheres first, then the few in range.
+    double half[3], l[3];
+    for (std::size_t a = 0; a < 3; ++a) half[a] = periodic[a] ? 0.5 * len[a] : kInf, l[a] = len[a];
+    double* __restrict gap = big_gap.data();
+    for (std::size_t b = 0; b < nb; ++b) {
+      double dx = p.x - big_x[b], dy = p.y - big_y[b], dz = p.z - big_z[b];
+      dx = dx > half[0] ? dx - l[0] : (dx < -half[0] ? dx + l[0] : dx);
+      dy = dy > half[1] ? dy - l[1] : (dy < -half[1] ? dy + l[1] : dy);
+      dz = dz > half[2] ? dz - l[2] : (dz < -half[2] ? dz + l[2] : dz);
+      const double range = p.r + big_r[b] + shell;
+      gap[b] = dx * dx + dy * dy + dz * dz - range * range;
+    }
+    for (std::size_t b = 0; b < nb; ++b) {
       const int j = nsmall + int(b);
-      if (j == i) continue;
-      const Centre& o = big_ctr[b];
-      double d[3] = {p.x - o.x, p.y - o.y, p.z - o.z};
-      int sgn[3] = {0, 0, 0};
-      for (std::size_t a = 0; a < 3; ++a) {
-        if (!periodic[a]) continue;
-        if (d[a] > 0.5 * len[a])
-          d[a] -= len[a], sgn[a] = 1;
-        else if (d[a] < -0.5 * len[a])
-          d[a] += len[a], sgn[a] = -1;
-      }
-      const double range = p.r + o.r + shell;
-      if (d[0] * d[0] + d[1] * d[1] + d[2] * d[2] < range * range)
-        f(j, std::uint32_t((sgn[0] + 1) + 3 * (sgn[1] + 1) + 9 * (sgn[2] + 1)));
+      if (!(gap[b] < 0) || j == i) continue;
+      const double d[3] = {p.x - big_x[b], p.y - big_y[b], p.z - big_z[b]};
+      int sgn[3];
+      for (std::size_t a = 0; a < 3; ++a) sgn[a] = d[a] > half[a] ? 1 : (d[a] < -half[a] ? -1 : 0);
+      f(j, std::uint32_t((sgn[0] + 1) + 3 * (sgn[1] + 1) + 9 * (sgn[2] + 1)));
     }
   }
 
@@ -653,7 +663,7 @@ struct EventEngine::Impl {
     pi.cy = s.y;
     pi.cz = s.z;
     if (is_big(i)) {
-      big_ctr[std::size_t(i - nsmall)] = ctr_of(i);
+      set_big_centre(i);
     } else if (const auto k = cell_of(s.x, s.y, s.z); k != cc[std::size_t(i)]) {
       unlink(i);
       cc[std::size_t(i)] = k;
@@ -1019,7 +1029,7 @@ EventEngine::EventEngine(const ParticleSystem& sys, const EventConfig& cfg) : im
   const std::int64_t ncells = std::int64_t(m.fill.size());
   for (std::size_t b = 0; b < split.big.size(); ++b) key[split.big[b]] = ncells + std::int64_t(b);
   m.nsmall = int(n - split.big.size());
-  m.big_ctr.resize(split.big.size());
+  for (auto* v : {&m.big_x, &m.big_y, &m.big_z, &m.big_r, &m.big_gap}) v->resize(split.big.size());
   m.big_nbr.assign(split.big.size(), std::vector<std::uint32_t>(kPerLine));
   m.orig.resize(n);
   m.wraps.assign(n, {0, 0, 0});
@@ -1042,7 +1052,7 @@ EventEngine::EventEngine(const ParticleSystem& sys, const EventConfig& cfg) : im
     m.mass[k] = sys.mass[i];
     m.cc[k] = k0[i];
     if (m.is_big(int(k)))
-      m.big_ctr[k - std::size_t(m.nsmall)] = m.ctr_of(int(k));
+      m.set_big_centre(int(k));
     else
       m.link(int(k));
   }
