@@ -95,13 +95,16 @@ double box_for(const std::vector<Sphere>& spheres, double phi) {
 
 TEST(EventBigSpheres, OneBigSphereRatio10AgreesWithAllPairsReference) {
   // Diameter 10, mass 1000, among 1500 unit spheres at phi 0.2: a box of 18.7, shorter than
-  // three big diameters (refused before big spheres were kept out of the cells).
+  // three big diameters (refused before big spheres were kept out of the cells); both stencils.
   const auto sp = with({{10, 1000}}, units(1500));
   const double l = box_for(sp, 0.2);
   const auto s = scene({l, l, l}, {true, true, true}, sp, 1, {{l / 2, l / 2, l / 2}});
   ASSERT_EQ(split_by_size(s).big.size(), 1u);
   ASSERT_LT(l, 30.0);
   test::expect_same_as_reference(s, EventConfig{}, 1.2, 12, 2000);
+  EventConfig wide;  // the 5x5x5 stencil for the small spheres
+  wide.reach = 2;
+  test::expect_same_as_reference(s, wide, 1.2, 12, 2000);
 }
 
 TEST(EventBigSpheres, OneBigSphereRatio20AgreesWithAllPairsReference) {
