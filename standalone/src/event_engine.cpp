@@ -96,8 +96,8 @@ struct EventEngine::Impl {
   int cap = 8;
   int reach = 1;  // stencil half-width in cells
   // Big spheres (split_by_size) are not filed in cells, which are sized for the others: they
-  // take the indices [nsmall, n) in every order, their centres are tested one by one by every
-  // rebuild, and a big sphere's own rebuild scans every cell its range overlaps.
+  // take the indices [nsmall, n) in every order, every rebuild tests their centres in one pass,
+  // and a big sphere's own rebuild scans every cell its range overlaps.
   int nsmall = 0;
   double grid_r = 0;                                // largest radius of the spheres in cells
   std::vector<double> big_x, big_y, big_z, big_r;   // list centres of the big spheres (i - nsmall)
