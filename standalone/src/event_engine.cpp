@@ -10,6 +10,7 @@
 #include "hardsphere/errors.hpp"
 #include "hardsphere/scene_limits.hpp"
 #include "neighbour_entry.hpp"
+#include "size_classes.hpp"
 
 namespace hardsphere {
 
@@ -22,6 +23,12 @@ Engine parse_engine(const std::string& s) {
 namespace {
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
+
+std::string number(double x) {
+  std::ostringstream o;
+  o << x;
+  return o.str();
+}
 
 //! Everything a pair prediction reads about a sphere, in one cache line.
 struct alignas(64) Body {
@@ -88,6 +95,14 @@ struct EventEngine::Impl {
   std::vector<int> fill, slot_of;
   int cap = 8;
   int reach = 1;  // stencil half-width in cells
+  // Big spheres (split_by_size) are not filed in cells, which are sized for the others: they
+  // take the indices [nsmall, n) in every order, every rebuild tests their centres in one pass,
+  // and a big sphere's own rebuild scans every cell its range overlaps.
+  int nsmall = 0;
+  double grid_r = 0;                                // largest radius of the spheres in cells
+  std::vector<double> big_x, big_y, big_z, big_r;   // list centres of the big spheres (i - nsmall)
+  std::vector<double> big_gap;                      // scratch: squared distance - squared range
+  std::vector<std::vector<std::uint32_t>> big_nbr;  // their lists, long and sized one by one
   // Neighbour lists: sphere i holds nbr[i * ncap .. i * ncap + nfill[i]) (grown on overflow).
   // Symmetric: j is in i's list iff i is in j's.
   std::vector<std::uint32_t> nbr;  // list i starts at nbr[nbase + i * ncap], nbase aligns it
@@ -163,7 +178,15 @@ struct EventEngine::Impl {
   }
 
   // --- Neighbour lists -------------------------------------------------------------------------
-  std::uint32_t* list(int i) { return &nbr[nbase + std::size_t(i) * std::size_t(ncap)]; }
+  bool is_big(int i) const { return i >= nsmall; }
+  void set_big_centre(int i) {
+    const std::size_t b = std::size_t(i - nsmall);
+    big_x[b] = pred[std::size_t(i)].cx, big_y[b] = pred[std::size_t(i)].cy, big_z[b] = pred[std::size_t(i)].cz;
+    big_r[b] = body[std::size_t(i)].r;
+  }
+  std::uint32_t* list(int i) {
+    return is_big(i) ? big_nbr[std::size_t(i - nsmall)].data() : &nbr[nbase + std::size_t(i) * std::size_t(ncap)];
+  }
   //! Storage for n lists of capacity ncap (a multiple of kPerLine), each on a line boundary.
   void alloc_lists(std::vector<std::uint32_t>& v, std::size_t& base, std::size_t n) const {
     v.assign(n * std::size_t(ncap) + kPerLine, 0);
@@ -172,7 +195,12 @@ struct EventEngine::Impl {
   }
 
   void add_neighbour(int i, std::uint32_t entry) {
-    if (nfill[std::size_t(i)] == ncap) grow_lists();
+    if (is_big(i)) {
+      auto& v = big_nbr[std::size_t(i - nsmall)];
+      if (std::size_t(nfill[std::size_t(i)]) == v.size()) v.resize(std::max<std::size_t>(kPerLine, 2 * v.size()));
+    } else if (nfill[std::size_t(i)] == ncap) {
+      grow_lists();
+    }
     list(i)[nfill[std::size_t(i)]++] = entry;
   }
   //! Removes j from i's list (swap with the last entry; order does not matter).
@@ -199,8 +227,8 @@ struct EventEngine::Impl {
     ncap *= 2;
     std::vector<std::uint32_t> s;
     std::size_t base = 0;
-    alloc_lists(s, base, nfill.size());
-    for (std::size_t i = 0; i < nfill.size(); ++i)
+    alloc_lists(s, base, std::size_t(nsmall));
+    for (std::size_t i = 0; i < std::size_t(nsmall); ++i)
       std::copy_n(&nbr[nbase + i * std::size_t(old)], nfill[i], &s[base + i * std::size_t(ncap)]);
     nbr.swap(s);
     nbase = base;
@@ -245,7 +273,90 @@ struct EventEngine::Impl {
   //! Calls f(j, image) for every sphere j != i whose list centre is closer than sigma_ij + shell
   //! to i's: the members of i's neighbour list.
   template <class F>
-  void for_each_in_range(int i, F&& f) const {
+  void for_each_in_range(int i, F&& f) {
+    if (is_big(i))
+      for_each_small_near_big(i, f);
+    else
+      for_each_small_in_stencil(i, f);
+    for_each_big_in_range(i, f);
+  }
+
+  //! The big spheres (other than i) whose centres are closer than sigma_ij + shell to i's, at
+  //! their nearest periodic image: the box is longer than twice every such range, so no other
+  //! image can be in range.
+  template <class F>
+  void for_each_big_in_range(int i, F& f) {
+    const Centre p = ctr_of(i);
+    const std::size_t nb = big_x.size();
+    // Every rebuild runs this: a branch-free pass over all big spheres first, then the few in range.
+    double half[3], l[3];
+    for (std::size_t a = 0; a < 3; ++a) half[a] = periodic[a] ? 0.5 * len[a] : kInf, l[a] = len[a];
+    double* __restrict gap = big_gap.data();
+    for (std::size_t b = 0; b < nb; ++b) {
+      double dx = p.x - big_x[b], dy = p.y - big_y[b], dz = p.z - big_z[b];
+      dx = dx > half[0] ? dx - l[0] : (dx < -half[0] ? dx + l[0] : dx);
+      dy = dy > half[1] ? dy - l[1] : (dy < -half[1] ? dy + l[1] : dy);
+      dz = dz > half[2] ? dz - l[2] : (dz < -half[2] ? dz + l[2] : dz);
+      const double range = p.r + big_r[b] + shell;
+      gap[b] = dx * dx + dy * dy + dz * dz - range * range;
+    }
+    for (std::size_t b = 0; b < nb; ++b) {
+      const int j = nsmall + int(b);
+      if (!(gap[b] < 0) || j == i) continue;
+      const double d[3] = {p.x - big_x[b], p.y - big_y[b], p.z - big_z[b]};
+      int sgn[3];
+      for (std::size_t a = 0; a < 3; ++a) sgn[a] = d[a] > half[a] ? 1 : (d[a] < -half[a] ? -1 : 0);
+      f(j, std::uint32_t((sgn[0] + 1) + 3 * (sgn[1] + 1) + 9 * (sgn[2] + 1)));
+    }
+  }
+
+  //! The spheres in cells whose centres are closer than sigma_ij + shell to big sphere i's: every
+  //! cell within its largest such range, with the periodic image of each cell's offset.
+  template <class F>
+  void for_each_small_near_big(int i, F& f) const {
+    const Centre p = ctr_of(i);
+    const double pc[3] = {p.x, p.y, p.z};
+    const double far = p.r + grid_r + shell;
+    int from[3], to[3];
+    for (std::size_t d = 0; d < 3; ++d) {
+      // A margin of a millionth of a cell for the rounding of cell_of.
+      from[d] = int(std::floor((pc[d] - far - lo[d]) / width[d] - 1e-6));
+      to[d] = int(std::floor((pc[d] + far - lo[d]) / width[d] + 1e-6));
+      if (!periodic[d]) from[d] = std::max(from[d], 0), to[d] = std::min(to[d], nc[d] - 1);
+    }
+    // An offset o is cell o mod nc of the image floor(o / nc); range < L / 2 keeps it in -1..1.
+    auto wrap = [&](int o, std::size_t d, int& sg) {
+      sg = o < 0 ? -1 : (o >= nc[d] ? 1 : 0);
+      return o - sg * nc[d];
+    };
+    for (int oz = from[2]; oz <= to[2]; ++oz) {
+      int sz;
+      const int z = wrap(oz, 2, sz);
+      for (int oy = from[1]; oy <= to[1]; ++oy) {
+        int sy;
+        const int y = wrap(oy, 1, sy);
+        for (int ox = from[0]; ox <= to[0]; ++ox) {
+          int sx;
+          const int x = wrap(ox, 0, sx);
+          const std::uint32_t img = std::uint32_t((sx + 1) + 3 * (sy + 1) + 9 * (sz + 1));
+          const auto& sh = image_shift[img];
+          const double px = p.x - sh[0], py = p.y - sh[1], pz = p.z - sh[2];
+          const std::size_t h = std::size_t((z * nc[1] + y) * nc[0] + x);
+          const std::size_t h0 = h * std::size_t(cap);
+          for (int u = 0; u < fill[h]; ++u) {
+            const Centre& o = cell_ctr[h0 + std::size_t(u)];
+            const double dx = px - o.x, dy = py - o.y, dz = pz - o.z;
+            const double range = p.r + o.r + shell;
+            if (dx * dx + dy * dy + dz * dz < range * range) f(slots[h0 + std::size_t(u)], img);
+          }
+        }
+      }
+    }
+  }
+
+  //! The spheres in the cells around small sphere i's whose centres are in range.
+  template <class F>
+  void for_each_small_in_stencil(int i, F& f) const {
     const Centre p = ctr_of(i);
     const auto& k = cc[std::size_t(i)];
     int cx[5], cy[5], cz[5], sx[5], sy[5], sz[5];
@@ -502,7 +613,7 @@ struct EventEngine::Impl {
     sync(a);
     sync(b);
     Vec3d dr{a.x - b.x, a.y - b.y, a.z - b.z};
-    for (int d = 0; d < 3; ++d)  // at contact |dr| <= largest diameter < L/2: minimum image
+    for (int d = 0; d < 3; ++d)  // at contact |dr| <= r_i + r_j < L/2: minimum image
       if (periodic[std::size_t(d)]) dr[d] -= len[std::size_t(d)] * std::nearbyint(dr[d] / len[std::size_t(d)]);
     Vec3d va{a.vx, a.vy, a.vz}, vb{b.vx, b.vy, b.vz};
     double w;
@@ -555,8 +666,9 @@ struct EventEngine::Impl {
     pi.cx = s.x;
     pi.cy = s.y;
     pi.cz = s.z;
-    const auto k = cell_of(s.x, s.y, s.z);
-    if (k != cc[std::size_t(i)]) {
+    if (is_big(i)) {
+      set_big_centre(i);
+    } else if (const auto k = cell_of(s.x, s.y, s.z); k != cc[std::size_t(i)]) {
       unlink(i);
       cc[std::size_t(i)] = k;
       link(i);
@@ -701,6 +813,7 @@ struct EventEngine::Impl {
     for (int h : cell_order)
       for (int k = 0; k < fill[std::size_t(h)]; ++k)
         old_of.push_back(slots[std::size_t(h) * std::size_t(cap) + std::size_t(k)]);
+    for (std::size_t k = std::size_t(nsmall); k < n; ++k) old_of.push_back(int(k));  // big ones stay last
     std::vector<int> new_of(n);
     for (std::size_t k = 0; k < n; ++k) new_of[std::size_t(old_of[k])] = int(k);
     auto permute = [&](auto& v) {
@@ -728,13 +841,14 @@ struct EventEngine::Impl {
       }
     std::vector<std::uint32_t> lists;
     std::size_t base = 0;
-    alloc_lists(lists, base, n);
+    alloc_lists(lists, base, std::size_t(nsmall));
     std::vector<int> fills(n);
     for (std::size_t k = 0; k < n; ++k) {
       const std::size_t o = std::size_t(old_of[k]);
       fills[k] = nfill[o];
-      const std::uint32_t* from = &nbr[nbase + o * std::size_t(ncap)];
-      std::uint32_t* to = &lists[base + k * std::size_t(ncap)];
+      const bool big = is_big(int(k));
+      const std::uint32_t* from = big ? big_nbr[k - std::size_t(nsmall)].data() : &nbr[nbase + o * std::size_t(ncap)];
+      std::uint32_t* to = big ? big_nbr[k - std::size_t(nsmall)].data() : &lists[base + k * std::size_t(ncap)];
       for (int u = 0; u < nfill[o]; ++u)
         to[u] = adj_entry(std::uint32_t(new_of[adj_partner(from[u])]), adj_image(from[u]));
     }
@@ -815,30 +929,50 @@ EventEngine::EventEngine(const ParticleSystem& sys, const EventConfig& cfg) : im
     throw InputError("event engine: reach " + std::to_string(cfg.reach) + " must be 1 or 2");
   m.reach = cfg.reach;
   const int min_cells = 2 * m.reach + 1;
-  const double dmax = 2 * sys.max_radius();
+  // The cells and the shell are sized by the spheres filed in cells; big ones are searched apart.
+  const SizeSplit split = split_by_size(sys);
+  const double dmax = split.grid_diameter;
+  m.grid_r = dmax / 2;
+  // With big spheres, a periodic axis must be longer than twice every pair's range (the two
+  // largest radii plus the shell), so that only one image of a pair is ever in range.
+  double r1 = 0, r2 = 0;
+  for (double r : sys.radius)
+    if (r > r1)
+      r2 = r1, r1 = r;
+    else if (r > r2)
+      r2 = r;
+  const double pair_max = split.big.empty() ? 0.0 : r1 + r2;
   // The shell may not make the cells wider than a periodic axis (or a user grid) allows; the
-  // cells themselves must be at least (largest diameter) / reach wide, as before lists.
+  // cells themselves must be at least (largest diameter in cells) / reach wide, as before lists.
   double shell = (cfg.shell > 0 ? cfg.shell : auto_shell(sys.packing_fraction())) * dmax;
   for (std::size_t d = 0; d < 3; ++d) {
     const double l = sys.box.length(int(d));
+    const std::string axis(1, char('x' + d));
     const double w = cfg.cells[d] > 0 ? l / cfg.cells[d] : (sys.box.periodic[d] ? l / min_cells : kInf);
     if (cfg.cells[d] > 0 && w < dmax / m.reach * (1 - 1e-12))
-      throw InputError("event engine: " + std::to_string(cfg.cells[d]) + " cells on axis " +
-                       std::string(1, char('x' + d)) + " are narrower than the largest diameter / reach " +
+      throw InputError("event engine: " + std::to_string(cfg.cells[d]) + " cells on axis " + axis +
+                       " are narrower than the largest diameter of the spheres filed in cells / reach " +
                        std::to_string(dmax / m.reach));
     if (sys.box.periodic[d] && (l < min_cells * dmax / m.reach || (cfg.cells[d] > 0 && cfg.cells[d] < min_cells)))
-      throw InputError("event engine: periodic axis " + std::string(1, char('x' + d)) + " of length " +
-                       std::to_string(l) + " needs at least " + std::to_string(min_cells) +
-                       " cells of width >= the largest diameter / reach " + std::to_string(dmax / m.reach) +
-                       " (a sphere's partners are searched in the cells around its own, which must be " +
-                       "distinct periodic images); use --engine stepper, which takes any periodic box " +
-                       "longer than 2 largest diameters, or a box of at least " +
-                       std::to_string(min_cells * dmax / m.reach));
+      throw InputError(
+          "event engine: periodic axis " + axis + " of length " + std::to_string(l) + " needs at least " +
+          std::to_string(min_cells) + " cells of width >= the largest diameter / reach " +
+          std::to_string(dmax / m.reach) + " (spheres over " + number(kBigOverMedian) +
+          " median diameters are searched apart and do not count; a sphere's partners are searched in the cells " +
+          "around its own, which must be distinct periodic images); use --engine stepper, " +
+          "which takes any periodic box longer than 2 largest diameters, or a box of at least " +
+          std::to_string(min_cells * dmax / m.reach));
+    if (sys.box.periodic[d] && !(l > 2 * pair_max))
+      throw InputError("event engine: periodic axis " + axis + " of length " + std::to_string(l) +
+                       " must be longer than twice the contact distance of the two largest spheres, " +
+                       std::to_string(2 * pair_max) + " (a pair may have only one periodic image in range)");
     shell = std::min(shell, w * m.reach - dmax);
+    if (sys.box.periodic[d] && pair_max > 0) shell = std::min(shell, 0.5 * l * (1 - 1e-9) - pair_max);
   }
   if (n > 0 && !(shell > 1e-6 * dmax))
     throw InputError("event engine: no room for a neighbour-list shell: periodic axes need at least " +
-                     std::to_string(min_cells) + " cells wider than the largest diameter / reach");
+                     std::to_string(min_cells) + " cells wider than the largest diameter / reach" +
+                     (pair_max > 0 ? " and more than twice the two largest radii " + std::to_string(pair_max) : ""));
   m.shell = shell;
   // Strictly inside shell / 2: a margin for the round-off of positions (a few ulps of the largest
   // coordinate) and of the exit time, so two spheres can never both overshoot.
@@ -895,6 +1029,12 @@ EventEngine::EventEngine(const ParticleSystem& sys, const EventConfig& cfg) : im
     k0[i] = m.cell_of(p0[i].x, p0[i].y, p0[i].z);
     key[i] = m.cell_index(k0[i]);
   }
+  // Big spheres after every cell, largest first.
+  const std::int64_t ncells = std::int64_t(m.fill.size());
+  for (std::size_t b = 0; b < split.big.size(); ++b) key[split.big[b]] = ncells + std::int64_t(b);
+  m.nsmall = int(n - split.big.size());
+  for (auto* v : {&m.big_x, &m.big_y, &m.big_z, &m.big_r, &m.big_gap}) v->resize(split.big.size());
+  m.big_nbr.assign(split.big.size(), std::vector<std::uint32_t>(kPerLine));
   m.orig.resize(n);
   m.wraps.assign(n, {0, 0, 0});
   m.pair_collisions.assign(n, 0);
@@ -916,7 +1056,10 @@ EventEngine::EventEngine(const ParticleSystem& sys, const EventConfig& cfg) : im
     m.pred[k].cz = p0[i].z;
     m.mass[k] = sys.mass[i];
     m.cc[k] = k0[i];
-    m.link(int(k));
+    if (m.is_big(int(k)))
+      m.set_big_centre(int(k));
+    else
+      m.link(int(k));
   }
   m.nfill.assign(n, 0);
   m.alloc_lists(m.nbr, m.nbase, n);

@@ -59,3 +59,31 @@ def test_event_bad_input(hs, tmp_path, args, needle):
     assert p.returncode == 2, (p.returncode, p.stderr)
     assert needle in p.stderr, p.stderr
     assert not (tmp_path / "out.json").exists()
+
+
+def big_sphere_data(path, length, big=1):
+    """`big` spheres of diameter 10 (mass 1000) and 16 unit spheres in a periodic box of
+    length x 20 x 20."""
+    atoms = [(10.0, 1000.0, length / 2 - 5 * k, 5.0 + 10 * k, 10.0) for k in range(big)]
+    atoms += [(1.0, 1.0, 0.5, y, z) for y in (1.0, 3.0, 17.0, 19.0) for z in (1.0, 3.0, 17.0, 19.0)]
+    lines = ["big spheres", "", f"{len(atoms)} atoms", "2 atom types", "",
+             f"0 {length} xlo xhi", "0 20 ylo yhi", "0 20 zlo zhi", "", "Atoms # sphere", ""]
+    for i, (d, m, x, y, z) in enumerate(atoms):
+        lines.append(f"{i + 1} {2 if d > 1 else 1} {d} {m / (3.141592653589793 / 6 * d ** 3)!r} {x} {y} {z}")
+    lines += ["", "Velocities", ""]
+    lines += [f"{i + 1} {0.01 if i < big else 1} {0.3 * (i % 3 - 1)} {0.2 * (i % 2)}" for i in range(len(atoms))]
+    path.write_text("\n".join(lines) + "\n")
+
+
+def test_event_big_sphere_box_rules(hs, tmp_path):
+    # Big spheres do not size the cells: a periodic axis shorter than three big diameters runs
+    # if it is longer than twice the largest contact distance plus a shell (one big sphere:
+    # 2 x 5.5); with two big spheres 20 is not.
+    ok, short = tmp_path / "ok.data", tmp_path / "short.data"
+    big_sphere_data(ok, 21.0)
+    big_sphere_data(short, 20.0, big=2)
+    j = run_json(hs, "--engine", "event", "--read-data", ok, "--time", 5)
+    assert j["collisions"] > 0 and abs(j["energy_rel_drift"]) < 1e-12 and j["max_overlap"] < 1e-10
+    p = run(hs, "--engine", "event", "--read-data", short, "--time", 1, "--json", "out.json", cwd=tmp_path)
+    assert p.returncode == 2 and "twice the contact distance" in p.stderr, p.stderr
+    assert not (tmp_path / "out.json").exists()

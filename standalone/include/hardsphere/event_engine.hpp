@@ -10,8 +10,10 @@
 //! centre, so while neither of two unlisted spheres has rebuilt they are more than sigma_ij
 //! apart: every collision is between listed spheres, and predictions scan only the list. The
 //! cell grid (width >= largest diameter + shell) files spheres by list centre, is consulted only
-//! by rebuilds and is never crossed. Each sphere holds exactly one entry in the event calendar
-//! (its earliest predicted event); an entry naming a partner is stale once that partner has
+//! by rebuilds and is never crossed. Spheres over two median diameters (at most the 256 largest,
+//! "big") are not filed and do not size the grid: every rebuild tests their centres, and a big
+//! sphere's rebuild scans all the cells its range overlaps. Each sphere holds exactly one entry
+//! in the event calendar (its earliest predicted event); an entry naming a partner is stale once that partner has
 //! collided since (per-sphere collision counters), and a stale entry is re-predicted when it
 //! comes up (or replaced by the stored second-best candidate). Positions are "delayed": each
 //! sphere stores its position at its own last update time and is advanced only when it takes part
@@ -40,6 +42,7 @@ struct EventConfig {
   //! Cells per axis of the grid that finds neighbour-list members (spheres are filed by their
   //! list centre); 0 = auto (as many as fit with width >= (largest diameter + shell) / reach,
   //! at most max_cells_per_sphere * reach^3 * N cells). Periodic axes need 2 reach + 1 cells.
+  //! Here and below "largest diameter" leaves out the big spheres.
   std::array<int, 3> cells{0, 0, 0};
   double max_cells_per_sphere = 2.0;
   //! Stencil half-width in cells for list rebuilds: cells are at least (largest diameter +
@@ -83,7 +86,8 @@ struct EventCounters {
 
 class EventEngine {
  public:
-  //! Validates (throws InputError: overlaps, periodic axes shorter than 3 largest diameters).
+  //! Validates (throws InputError: overlaps, periodic axes shorter than 3 largest diameters of
+  //! the spheres that are not big, or not longer than twice the two largest radii plus a shell).
   explicit EventEngine(const ParticleSystem& sys, const EventConfig& cfg = {});
   ~EventEngine();
   EventEngine(const EventEngine&) = delete;
