@@ -32,7 +32,7 @@ The validation point is phi 0.01 (mean free path 11.8, four times sigma12): from
 path below sigma12 = 3) the measured D exceeds Enskog's clearly (the sweep shows it), as correlated
 collisions and the gas's backflow come in once the big sphere is not small against the mean free path.
 --quick: D_big 5, M 125, phi 0.01, 1000 small spheres, 4 runs per engine, each run one block, no sweep.
-Full (docs/validation/brownian.md): 2000 small spheres, 16 event runs of 7000 and 4 stepper runs of 5000,
+Full (docs/validation/brownian.md): 2000 small spheres, 48 event runs and 24 stepper runs of 7000,
 and the sweep.
 """
 import argparse
@@ -98,20 +98,14 @@ def make_state(path, n_small, phi, d_big, m_big, seed):
     return scene["box"], kT
 
 
-def event_cells(length, d_big):
-    """The event engine's cells are sized by the big sphere; a grid of cells ~1.5 D_big wide keeps the
-    neighbour shell near D_big / 2 (the automatic shell, about D_big, makes every small sphere's list huge)."""
-    return max(3, int(length / (1.5 * d_big) + 0.5))
-
-
-def run_track(exe, data, engine, duration, length, d_big, workdir, tag):
+def run_track(exe, data, engine, duration, workdir, tag):
     track = Path(workdir) / f"{tag}.track"
     summary = Path(workdir) / f"{tag}.json"
     cmd = [exe, "run", "--read-data", str(data), "--time", repr(duration), "--equilibrate-time", repr(EQUILIBRATE),
            "--track", "1", "--track-every", repr(SAMPLE_EVERY), "--track-file", str(track), "--json", str(summary),
            "--quiet"]
     if engine == "event":
-        cmd += ["--engine", "event", "--blocks", "1", "--cells", str(event_cells(length, d_big))]
+        cmd += ["--engine", "event", "--blocks", "1"]
     else:
         # Sweep detection: overlap detection (auto's choice at this dt) misses grazes, ~0.4% of the collisions.
         cmd += ["--dt", repr(STEPPER_DT), "--detect", "sweep"]
@@ -278,8 +272,8 @@ def measure(exe, engines, n_small, phi, d_big, m_big, seeds, workdir, jobs, whol
     length = states[seeds[0]][1]
     tasks = [(eng, s) for eng, (t, k) in engines.items() for s in seeds[:k]]
     with ThreadPoolExecutor(max_workers=jobs) as pool:
-        futs = {task: pool.submit(run_track, exe, states[task[1]][0], task[0], engines[task[0]][0], length, d_big,
-                                  workdir, f"{task[0]}_{phi}_{d_big}_{task[1]}") for task in tasks}
+        futs = {task: pool.submit(run_track, exe, states[task[1]][0], task[0], engines[task[0]][0], workdir,
+                                  f"{task[0]}_{phi}_{d_big}_{task[1]}") for task in tasks}
         done = {task: f.result() for task, f in futs.items()}
     out = {}
     for eng in engines:
@@ -309,6 +303,11 @@ def fmt(x, e=None, digits=4):
     if e is None:
         return f"{x:.{digits}g}"
     return f"{x:.{digits}g} ± {e:.2g}"
+
+
+def free_path(n):
+    """Mean free path of a dilute gas of unit spheres at number density n."""
+    return 1 / (math.sqrt(2) * math.pi * n)
 
 
 def report(out, a, val, sweep, params, elapsed, sigmas, failures):
@@ -351,18 +350,21 @@ def report(out, a, val, sweep, params, elapsed, sigmas, failures):
              "![MSD and velocity autocorrelation](brownian_msd_vacf.png)", ""]
     if sweep:
         lines += ["## Sweep over density and size (event engine, figure only)", "",
-                  "| phi | D_big | M | D | D_exp (Enskog) | D_SE (slip, finite box) | D / D_exp |",
-                  "|---|---|---|---|---|---|---|"]
+                  "| phi | D_big | M | mean free path / sigma12 | D | D_exp (Enskog) | D_SE (slip, finite box) "
+                  "| D / D_exp |",
+                  "|---|---|---|---|---|---|---|---|"]
         for s in sweep:
-            lines.append(f"| {s['phi']:g} | {s['D_big']:g} | {s['M']:g} | {fmt(s['D'], s['D_err'])} | "
+            knudsen = free_path(s["n_small"] / s["box"] ** 3) / (0.5 * (s["D_big"] + 1))
+            lines.append(f"| {s['phi']:g} | {s['D_big']:g} | {s['M']:g} | {knudsen:.2g} | {fmt(s['D'], s['D_err'])} | "
                          f"{fmt(s['D_expected'])} | {fmt(s['D_stokes_einstein'])} | "
                          f"{fmt(s['D'] / s['D_expected'], s['D_err'] / s['D_expected'], 3)} |")
         lines += ["", "Slip Stokes-Einstein: D_SE = kT / (4 pi eta sigma12) - kT xi / (6 pi eta L), xi = 2.837297 "
-                  "(Yeh-Hummer / Hasimoto), eta Enskog's shear viscosity of the small-sphere fluid. From phi 0.1 on, "
-                  "where the mean free path of the gas, 1 / (sqrt(2) pi n), is below sigma12, D exceeds Enskog's "
-                  "value by half or more: correlated collisions and the gas's backflow, which the uncorrelated-"
-                  "collision (Enskog) value leaves out, carry the big sphere further; at the highest densities D "
-                  "lies between Enskog's value and slip Stokes-Einstein's.", "",
+                  "(Yeh-Hummer / Hasimoto), eta Enskog's shear viscosity of the small-sphere fluid. Enskog's heavy-tracer "
+                  "value assumes uncorrelated collisions, the limit of a big sphere small against the gas's mean "
+                  "free path 1 / (sqrt(2) pi n) (a Knudsen number mean free path / sigma12 well above 1). As that "
+                  "ratio falls towards and below 1, correlated collisions and the gas's backflow carry the big "
+                  "sphere further than Enskog's value; in the dense gas D lies between Enskog's value and slip "
+                  "Stokes-Einstein's, the hydrodynamic limit.", "",
                   "![D against density and size](brownian_sweep.png)", ""]
     if failures:
         lines += ["**Failed:** " + "; ".join(failures), ""]
@@ -376,9 +378,9 @@ def main(argv=None):
     ap.add_argument("--exe", default=str(ROOT / "build" / "standalone" / "hardsphere"),
                     help="the hardsphere program (default build/standalone/hardsphere)")
     ap.add_argument("--event-time", type=float, help="event-engine time per run (full 7000, quick 4000)")
-    ap.add_argument("--event-runs", type=int, help="independent event-engine runs (full 16, quick 4)")
-    ap.add_argument("--stepper-time", type=float, help="stepper time per run (full 5000, quick 3000)")
-    ap.add_argument("--stepper-runs", type=int, help="independent stepper runs (full 4, quick 4)")
+    ap.add_argument("--event-runs", type=int, help="independent event-engine runs (full 48, quick 4)")
+    ap.add_argument("--stepper-time", type=float, help="stepper time per run (full 7000, quick 3000)")
+    ap.add_argument("--stepper-runs", type=int, help="independent stepper runs (full 24, quick 4)")
     ap.add_argument("--no-sweep", action="store_true", help="skip the density and size sweep")
     ap.add_argument("--jobs", type=int, default=2, help="runs at once (2)")
     a = ap.parse_args(argv)
@@ -392,7 +394,7 @@ def main(argv=None):
         ev, er, st, sr, sigmas = 4000.0, 4, 3000.0, 4, 4.0
     else:
         params = dict(n_small=2000, phi=0.01, D_big=5.0, M=125.0)
-        ev, er, st, sr, sigmas = 7000.0, 16, 5000.0, 4, 3.0
+        ev, er, st, sr, sigmas = 7000.0, 48, 7000.0, 24, 3.0
     ev, er = a.event_time or ev, a.event_runs or er
     st, sr = a.stepper_time or st, a.stepper_runs or sr
     params.update(event_time=ev, event_runs=er, stepper_time=st, stepper_runs=sr, sample_every=SAMPLE_EVERY,
