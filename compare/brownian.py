@@ -348,7 +348,10 @@ def report(out, a, val, sweep, params, elapsed, sigmas, failures):
               f"{sigmas:g} sigma and |Gamma12 - Enskog's| <= max({sigmas:g} sigma, 2%). Expected: the heavy-tracer Enskog value holds up to corrections of order "
               f"sqrt(m/M) = {1 / math.sqrt(p['M']):.3f} and from correlated (ring) collisions; the factor "
               f"(1 - M/M_tot)^2 = {head['momentum_factor']:.4f} is the zero-total-momentum frame (the big sphere's "
-              "displacement is 1 - M/M_tot of its displacement relative to the gas). g12 from the measured "
+              "displacement is 1 - M/M_tot of its displacement relative to the gas). Not in D_exp: the periodic "
+              "box's hydrodynamic correction kT xi / (6 pi eta L), which would lower D by "
+              f"{head['kT'] * 2.837297 / (6 * math.pi * head['eta'] * head['box']) / head['D_expected']:.1%} of "
+              "D_exp if the gas were hydrodynamic on the box's scale. g12 from the measured "
               f"collision rate: {head['g12_measured']:.4f} (BMCSL {head['g12']:.4f}).", "",
              "![path of the big sphere](brownian_path.png)", "",
              "![MSD and velocity autocorrelation](brownian_msd_vacf.png)", ""]
