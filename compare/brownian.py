@@ -33,7 +33,7 @@ The validation point is phi 0.01 (mean free path 11.8, four times sigma12): from
 path below sigma12 = 3) the measured D exceeds Enskog's clearly (the sweep shows it), as correlated
 collisions and the gas's backflow come in once the big sphere is not small against the mean free path.
 --quick: D_big 5, M 125, phi 0.01, 1000 small spheres, 4 runs per engine, each run one block, no sweep.
-Full (docs/validation/brownian.md): 2000 small spheres, 48 event runs and 24 stepper runs of 7000,
+Full (docs/validation/brownian.md): 2000 small spheres, 144 event runs and 24 stepper runs of 7000,
 and the sweep.
 """
 import argparse
@@ -385,7 +385,7 @@ def main(argv=None):
     ap.add_argument("--exe", default=str(ROOT / "build" / "standalone" / "hardsphere"),
                     help="the hardsphere program (default build/standalone/hardsphere)")
     ap.add_argument("--event-time", type=float, help="event-engine time per run (full 7000, quick 4000)")
-    ap.add_argument("--event-runs", type=int, help="independent event-engine runs (full 48, quick 4)")
+    ap.add_argument("--event-runs", type=int, help="independent event-engine runs (full 144, quick 4)")
     ap.add_argument("--stepper-time", type=float, help="stepper time per run (full 7000, quick 3000)")
     ap.add_argument("--stepper-runs", type=int, help="independent stepper runs (full 24, quick 4)")
     ap.add_argument("--no-sweep", action="store_true", help="skip the density and size sweep")
@@ -401,7 +401,7 @@ def main(argv=None):
         ev, er, st, sr, sigmas = 4000.0, 4, 3000.0, 4, 4.0
     else:
         params = dict(n_small=2000, phi=0.01, D_big=5.0, M=125.0)
-        ev, er, st, sr, sigmas = 7000.0, 48, 7000.0, 24, 3.0
+        ev, er, st, sr, sigmas = 7000.0, 144, 7000.0, 24, 3.0
     ev, er = a.event_time or ev, a.event_runs or er
     st, sr = a.stepper_time or st, a.stepper_runs or sr
     params.update(event_time=ev, event_runs=er, stepper_time=st, stepper_runs=sr, sample_every=SAMPLE_EVERY,
