@@ -166,11 +166,7 @@ nlohmann::json run_event_simulation(const RunSpec& spec) {
   j["cpu_seconds_per_unit_time"] = c.sim_time > 0 ? cpu / c.sim_time : 0.0;
   j["collision_rate_error"] = rate_err;
   j["compressibility_factor_error"] = z_err;
-  if (tracker)
-    j["track"] = {{"id", *spec.track_id},
-                  {"every", spec.track_every},
-                  {"samples", tracker->samples()},
-                  {"file", *spec.track_file}};
+  if (tracker) j["track"] = tracker->summary();
   commit_outputs(j, fin, spec.write_data, "hardsphere state after event-driven time " + std::to_string(c.sim_time),
                  dump, json_file, tracker ? &tracker->file() : nullptr);
   return j;

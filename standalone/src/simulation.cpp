@@ -183,11 +183,7 @@ nlohmann::json run_simulation(const RunSpec& spec) {
       j["warnings"].push_back(m.str());
     }
   }
-  if (tracker)
-    j["track"] = {{"id", *spec.track_id},
-                  {"every", spec.track_every},
-                  {"samples", tracker->samples()},
-                  {"file", *spec.track_file}};
+  if (tracker) j["track"] = tracker->summary();
   commit_outputs(j, fin, spec.write_data, "hardsphere state after " + std::to_string(c.steps) + " steps", dump,
                  json_file, tracker ? &tracker->file() : nullptr);
   return j;

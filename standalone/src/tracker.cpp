@@ -16,7 +16,7 @@ std::size_t Tracker::find_index(const ParticleSystem& sys, std::int64_t id) {
 
 Tracker::Tracker(const std::string& path, const ParticleSystem& sys, std::int64_t id, double every, double run_time,
                  const std::string& engine)
-    : index_(find_index(sys, id)), every_(every) {
+    : id_(id), path_(path), index_(find_index(sys, id)), every_(every) {
   if (!(every > 0) || !std::isfinite(every)) {
     std::ostringstream m;
     m << "--track-every " << every << " must be positive and finite";
@@ -43,6 +43,10 @@ void Tracker::write(double time, const SphereSample& s) {
   o << time << ' ' << s.unwrapped.x << ' ' << s.unwrapped.y << ' ' << s.unwrapped.z << ' ' << s.velocity.x << ' '
     << s.velocity.y << ' ' << s.velocity.z << ' ' << s.pair_collisions << '\n';
   ++samples_;
+}
+
+nlohmann::json Tracker::summary() const {
+  return {{"id", id_}, {"every", every_}, {"samples", samples_}, {"file", path_}};
 }
 
 }  // namespace hardsphere

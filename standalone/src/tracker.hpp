@@ -4,6 +4,7 @@
 //! with the run's other outputs).
 #include <cstdint>
 #include <memory>
+#include <nlohmann/json.hpp>
 #include <string>
 
 #include "hardsphere/atomic_file.hpp"
@@ -24,14 +25,17 @@ class Tracker {
           const std::string& engine);
   std::size_t index() const { return index_; }
   double every() const { return every_; }
-  std::int64_t samples() const { return samples_; }
   //! Time (since the start of the measured run) of the next row to write.
   double next_time() const { return double(samples_) * every_; }
   void write(double time, const SphereSample& s);
   AtomicFile& file() { return *file_; }
+  //! The run summary's "track" key: id, every, samples, file.
+  nlohmann::json summary() const;
 
  private:
   static std::size_t find_index(const ParticleSystem& sys, std::int64_t id);
+  std::int64_t id_;
+  std::string path_;
   std::size_t index_;
   double every_;
   std::int64_t samples_ = 0;
