@@ -225,6 +225,8 @@ void FixHardSphere::ghost_path_step() {
 void FixHardSphere::post_run() {
   if (serial && stepper && !state_written) serial_write();  // a run cut short (timer timeout)
   run_set_up = false;                                       // a following 'run ... pre no' starts without setup()
+  if (newton_saved >= 0) force->newton = newton_saved;      // the user's setting between runs
+  newton_saved = -1;
 }
 
 void FixHardSphere::post_force(int vflag) {

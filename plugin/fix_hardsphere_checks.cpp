@@ -121,6 +121,7 @@ void FixHardSphere::check_input() {
                "radii between runs, 'set ... diameter', instead)");
   check_other_fixes();
   apply_neighbor_settings();
+  skip_reverse_comm();
 }
 
 void FixHardSphere::check_other_fixes() {
@@ -223,6 +224,20 @@ void FixHardSphere::apply_neighbor_settings() {
                                      "'): on the owned + ghost path it re-neighbours when an atom could reach past "
                                      "the ghost shell\n");
   neigh_noted = true;
+}
+
+void FixHardSphere::skip_reverse_comm() {
+  // With newton on, LAMMPS clears and sends back the forces and torques of every ghost each
+  // step; hard spheres (the only pair style allowed, no bonds) put none there. Comm::init() and
+  // the integrator read force->newton after the fixes' init(); post_run() restores it.
+  if (!force->newton || atom->molecular != Atom::ATOMIC) return;
+  newton_saved = force->newton;
+  force->newton = 0;
+  if (comm->me == 0 && !newton_noted)
+    utils::logmesg(lmp,
+                   "fix hardsphere: ghost forces are not communicated back during runs (as with 'newton off'): "
+                   "hard spheres exert no forces\n");
+  newton_noted = true;
 }
 
 void FixHardSphere::read_gravity() {

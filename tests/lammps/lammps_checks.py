@@ -484,6 +484,17 @@ run 100
                     tag + f"collisions explicit / default / every 2 delay 4 check no / standalone: "
                     f"{counts['explicit']:.0f} / {counts['default']:.0f} / {counts['every 2 delay 4 check no']:.0f} "
                     f"/ {ref['collisions']}")
+        # With newton on (the default) the fix skips LAMMPS's reverse communication of ghost
+        # forces during runs (hard spheres exert none), says so once, and restores the setting.
+        newton = explicit.replace("thermo_style custom step ke f_hs[1]", "variable nw equal is_active(newton,any)\n"
+                                  "thermo_style custom step ke f_hs[1] v_nw") + 'print "after: newton ${nw}"\n'
+        rc, out = run_lmp(args, newton, d, np_=args.np)
+        rows = thermo(out)
+        notes = [l for l in out.splitlines() if "ghost forces are not communicated back" in l]
+        during = {r["v_nw"] for r in rows}
+        ok &= check(len(notes) == 1 and during == {0} and "after: newton 1" in out and rows[-1]["f_hs[1]"] == ref["collisions"],
+                    tag + f"newton on: off during both runs ({during}), one note ({len(notes)}), on again after, "
+                    f"collisions {rows[-1]['f_hs[1]']:.0f} == standalone {ref['collisions']}")
         # Fixes that are allowed: setforce NULL NULL NULL (sets nothing), momentum (end of step;
         # the total momentum is zero already), balance (moves sub-domain boundaries only).
         allowed = default.replace("run 100\nrun 100\n", "") + """fix idle all setforce NULL NULL NULL
