@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <string>
 
 #include "atom.h"
@@ -163,9 +164,14 @@ void RankStepper::map_slots() {
     for (int d = 0; d < 3; d++) s[d] += double(slot_image_[3 * k + std::size_t(d)]) * domain->prd[d];
     slot_shift_[k] = s;
   }
+  // Only owned rows are written back: a ghost's row is its owner's, refreshed by LAMMPS.
   ghost_slots_.clear();
-  for (std::size_t k = 0; k < n; k++)
-    if (int(slot_local_[k]) >= atom->nlocal) ghost_slots_.push_back(std::uint32_t(k));
+  slot_dest_.resize(n);
+  for (std::size_t k = 0; k < n; k++) {
+    const bool ghost = int(slot_local_[k]) >= atom->nlocal;
+    if (ghost) ghost_slots_.push_back(std::uint32_t(k));
+    slot_dest_[k] = ghost ? hardsphere::StateExchange::kNoRow : slot_local_[k];
+  }
   mapped_rebuilds_ = stepper_->counters().rebuilds;
 }
 
@@ -206,9 +212,12 @@ RankStepper::StepTotals RankStepper::step() {
   refresh_v_ = false;
   const int nlocal = atom->nlocal;
   double **x = atom->x, **v = atom->v;
+  static_assert(sizeof(Vec3d) == 3 * sizeof(double), "Vec3d rows are LAMMPS rows");
   x_start_.resize(std::size_t(nlocal)), v_start_.resize(std::size_t(nlocal));
-  for (int i = 0; i < nlocal; i++)
-    x_start_[std::size_t(i)] = {x[i][0], x[i][1], x[i][2]}, v_start_[std::size_t(i)] = {v[i][0], v[i][1], v[i][2]};
+  if (nlocal) {
+    std::memcpy(static_cast<void *>(x_start_.data()), x[0], sizeof(Vec3d) * std::size_t(nlocal));
+    std::memcpy(static_cast<void *>(v_start_.data()), v[0], sizeof(Vec3d) * std::size_t(nlocal));
+  }
 
   StepTotals t;
   if (stepper_) {
@@ -218,9 +227,7 @@ RankStepper::StepTotals RankStepper::step() {
       error->one(FLERR, std::string("fix hardsphere: ") + e.what());
     }
     if (stepper_->counters().rebuilds != mapped_rebuilds_) map_slots();
-    // Owned and ghost rows alike: the ghosts' rows hold this rank's copies until LAMMPS
-    // refreshes them from their owners.
-    hardsphere::state_exchange(*stepper_).scatter_state(slot_local_.data(), slot_shift_.data(), x[0], v[0]);
+    hardsphere::state_exchange(*stepper_).scatter_state(slot_dest_.data(), slot_shift_.data(), x[0], v[0]);
   }
 
   // Largest owned move since the build, for the shell's slack and the owner check's zone.
@@ -265,14 +272,17 @@ bool RankStepper::ghosts_agree() {
   comm->forward_comm_fix(fix_, kForwardSize);
   comm_mode_ = 0;
   if (!stepper_) return true;
+  auto &exch = hardsphere::state_exchange(*stepper_);
   met_.resize(slot_local_.size());
-  hardsphere::state_exchange(*stepper_).copy_met_owned(met_.data());
-  double **v = atom->v;
-  for (std::size_t k = 0; k < slot_local_.size(); k++) {
-    if (!met_[k]) continue;
-    const int g = int(slot_local_[k]);
-    const Vec3d d = Vec3d{v[g][0], v[g][1], v[g][2]} - v_owner_[std::size_t(g)];
-    if (!(std::sqrt(norm2(d)) <= 1e-9 * (1.0 + std::sqrt(norm2(v_owner_[std::size_t(g)]))))) return false;
+  exch.copy_met_owned(met_.data());
+  met_slots_.clear();
+  for (const std::uint32_t k : ghost_slots_)
+    if (met_[k]) met_slots_.push_back(k);
+  met_vel_.resize(met_slots_.size());
+  exch.copy_velocities(met_slots_.data(), met_slots_.size(), met_vel_.data());
+  for (std::size_t i = 0; i < met_slots_.size(); i++) {
+    const Vec3d &owner = v_owner_[slot_local_[met_slots_[i]]];
+    if (!(std::sqrt(norm2(met_vel_[i] - owner)) <= 1e-9 * (1.0 + std::sqrt(norm2(owner))))) return false;
   }
   return true;
 }

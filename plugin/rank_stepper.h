@@ -68,10 +68,13 @@ class RankStepper : protected Pointers {
   std::vector<int> input_local_;                //!< stepper input index -> LAMMPS local index
   std::vector<hardsphere::Vec3d> input_shift_;  //!< LAMMPS x - stepper position at build, per input
   std::vector<std::uint32_t> slot_input_, slot_local_, ghost_slots_;
+  std::vector<std::uint32_t> slot_dest_;  //!< per slot: its LAMMPS row if owned, else StateExchange::kNoRow
   std::vector<hardsphere::Vec3d> ghost_pos_, ghost_vel_;  //!< scratch for sync_ghosts
   std::vector<std::int32_t> slot_image_;
   std::vector<hardsphere::Vec3d> slot_shift_;
   std::vector<std::uint8_t> met_;                     //!< per slot: a ghost that met an owned atom in this step
+  std::vector<std::uint32_t> met_slots_;              //!< those slots
+  std::vector<hardsphere::Vec3d> met_vel_;            //!< and this rank's velocities of them
   std::vector<hardsphere::Vec3d> x_ref_;              //!< owned positions when LAMMPS last re-neighboured
   std::vector<hardsphere::Vec3d> x_start_, v_start_;  //!< owned state at the step's start
   std::vector<hardsphere::Vec3d> v_owner_;            //!< per ghost: its owner's velocity after the step

@@ -9,6 +9,12 @@ SizeSplit split_by_size(const ParticleSystem& sys) {
   SizeSplit out;
   const std::size_t n = sys.size();
   if (n == 0) return out;
+  // Nothing is big when no diameter exceeds kBigOverMedian smallest ones: skip the sort.
+  const auto [lo, hi] = std::minmax_element(sys.radius.begin(), sys.radius.end());
+  if (*hi <= kBigOverMedian * *lo) {
+    out.grid_diameter = 2 * *hi;
+    return out;
+  }
   std::vector<std::uint32_t> idx(n);
   std::iota(idx.begin(), idx.end(), 0u);
   // Largest first; ties by index so the split does not depend on the sort's stability.

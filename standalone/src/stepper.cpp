@@ -54,6 +54,26 @@ bool detects_by_sweep(Detect d, const ParticleSystem& sys, double dt) {
   return rms_speed(sys) * dt > kOverlapDetectionLimit * smallest;
 }
 
+//! Indices that put the ids in ascending order, stable for equal ids. Ids that span a range
+//! of a few times their number (atom tags) are counted into place in O(n).
+std::vector<std::size_t> order_by_id(const std::vector<std::int64_t>& id) {
+  const std::size_t n = id.size();
+  std::vector<std::size_t> order(n);
+  std::iota(order.begin(), order.end(), std::size_t(0));
+  if (std::is_sorted(id.begin(), id.end())) return order;
+  const auto [lo, hi] = std::minmax_element(id.begin(), id.end());
+  const std::uint64_t span = std::uint64_t(*hi) - std::uint64_t(*lo);
+  if (span >= 4 * std::uint64_t(n) + 1024) {
+    std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return id[a] < id[b]; });
+    return order;
+  }
+  std::vector<std::size_t> start(std::size_t(span) + 2, 0);
+  for (const std::int64_t v : id) ++start[std::size_t(std::uint64_t(v) - std::uint64_t(*lo)) + 1];
+  std::partial_sum(start.begin(), start.end(), start.begin());
+  for (std::size_t i = 0; i < n; ++i) order[start[std::size_t(std::uint64_t(id[i]) - std::uint64_t(*lo))]++] = i;
+  return order;
+}
+
 double auto_skin(const ParticleSystem& sys, double dt) {
   // A thin skin means frequent rebuilds, a thick one longer scans and neighbour sweeps.
   // (1) A rebuild every ~4 steps at most for the fastest spheres (~2.5 rms speeds): skin >=
@@ -180,10 +200,11 @@ class Stepper final : public StepperBase, public StateExchange {
   void scatter_state(const std::uint32_t* dest, const Vec3d* shift, double* x, double* v) const override {
     const std::size_t n = pos_.size(), ahead = 16;  // rows are scattered: request them early
     for (std::size_t k = 0; k < n; ++k) {
-      if (k + ahead < n) {
+      if (k + ahead < n && dest[k + ahead] != kNoRow) {
         __builtin_prefetch(x + 3 * std::size_t(dest[k + ahead]), 1);
         __builtin_prefetch(v + 3 * std::size_t(dest[k + ahead]), 1);
       }
+      if (dest[k] == kNoRow) continue;
       double* xo = x + 3 * std::size_t(dest[k]);
       double* vo = v + 3 * std::size_t(dest[k]);
       const Vec3d p = user_position(k);
@@ -194,6 +215,12 @@ class Stepper final : public StepperBase, public StateExchange {
   void set_velocities(const Vec3d* vel) override {
     for (std::size_t k = 0; k < vel_.size(); ++k) vel_[k] = {Real(vel[k].x), Real(vel[k].y), Real(vel[k].z)};
     refresh_speed_bound();
+  }
+  void copy_velocities(const std::uint32_t* slots, std::size_t count, Vec3d* out) const override {
+    for (std::size_t i = 0; i < count; ++i) {
+      const auto& u = vel_[slots[i]];
+      out[i] = {double(u.x), double(u.y), double(u.z)};
+    }
   }
   void set_spheres(const std::uint32_t* slots, std::size_t count, const Vec3d* pos, const Vec3d* vel) override {
     // A changed position is a displacement like any other: the next drift measures it from the
@@ -552,10 +579,7 @@ Stepper<Real, Mono>::Stepper(const ParticleSystem& sys, const StepperConfig& cfg
   if (cfg.count_per_sphere) pair_collisions_.assign(n, 0);
   // Internal order starts from the ids, not the input order: the cell sorts are stable, so the
   // same spheres give the same run bit for bit in whatever order an adapter hands them over.
-  std::vector<std::size_t> by_id(n);
-  std::iota(by_id.begin(), by_id.end(), std::size_t(0));
-  if (!std::is_sorted(sys.id.begin(), sys.id.end()))
-    std::stable_sort(by_id.begin(), by_id.end(), [&](std::size_t a, std::size_t b) { return sys.id[a] < sys.id[b]; });
+  const std::vector<std::size_t> by_id = order_by_id(sys.id);
   input_of_rank_.assign(by_id.begin(), by_id.end());
   for (std::size_t i = 0; i < n; ++i) {
     const std::size_t s = by_id[i];

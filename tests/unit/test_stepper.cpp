@@ -77,6 +77,33 @@ TEST(StepperTwoBody, PairAcrossThePeriodicBoundaryCollides) {
   EXPECT_DOUBLE_EQ(out.vel[0].x, 1.0);
 }
 
+TEST(StepperAdapterApi, ScatterSkipsNoRowSlotsAndCopiesChosenVelocities) {
+  // An adapter writes back only the spheres it owns (kNoRow for the others) and reads the
+  // velocities of chosen slots, e.g. the copies it compares with their owners.
+  const auto s = two({1, 2, 3}, {0.5, 0, 0}, {5, 6, 7}, {0, -0.25, 0});
+  StepperConfig cfg;
+  cfg.dt = 0.01;
+  auto st = make_stepper(s, cfg);
+  st->run(10);
+  auto& ex = hardsphere::state_exchange(*st);
+  std::vector<std::int64_t> ids(2);
+  ex.copy_ids(ids.data());
+  const std::size_t first = ids[0] == 1 ? 0 : 1;  // the slot of id 1
+  std::vector<std::uint32_t> dest(2, hardsphere::StateExchange::kNoRow);
+  dest[first] = 0;
+  std::vector<double> x(6, -1.0), v(6, -1.0);
+  const std::vector<Vec3d> shift(2, Vec3d{0, 0, 0});
+  ex.scatter_state(dest.data(), shift.data(), x.data(), v.data());
+  EXPECT_NEAR(x[0], 1.05, 1e-12);
+  EXPECT_EQ(v[0], 0.5);
+  for (std::size_t i = 3; i < 6; ++i) EXPECT_EQ(x[i], -1.0) << "a kNoRow slot was written";
+  const std::uint32_t other = std::uint32_t(1 - first);
+  Vec3d u{};
+  ex.copy_velocities(&other, 1, &u);
+  EXPECT_EQ(u.x, 0.0);
+  EXPECT_EQ(u.y, -0.25);
+}
+
 TEST(StepperAdapterApi, WrapCountsKeepTheUnwrappedTrajectoryContinuous) {
   // Two spheres on parallel lines (never touching) cross the periodic faces many times, one
   // forwards in x and backwards in z, the other backwards in y. What an adapter reads back

@@ -34,9 +34,14 @@ class StateExchange {
   //! position by wrapping since construction: position + image * L is continuous in time.
   virtual void copy_images(std::int32_t* out) const = 0;
   virtual void copy_state(Vec3d* pos, Vec3d* vel) const = 0;
+  //! A row index that scatter_state skips.
+  static constexpr std::uint32_t kNoRow = 0xffffffffu;
   //! Writes the state straight into an adapter's flat arrays (3 doubles per sphere): slot k
-  //! goes to row dest[k], its position shifted by shift[k]. One pass, no intermediate copy.
+  //! goes to row dest[k] (none if kNoRow), its position shifted by shift[k]. One pass, no
+  //! intermediate copy.
   virtual void scatter_state(const std::uint32_t* dest, const Vec3d* shift, double* x, double* v) const = 0;
+  //! The velocities of the given slots.
+  virtual void copy_velocities(const std::uint32_t* slots, std::size_t count, Vec3d* out) const = 0;
   //! Replaces every velocity (slot order), e.g. after a thermostat changed them.
   virtual void set_velocities(const Vec3d* vel) = 0;
   //! The same from an adapter's flat array: slot k takes row src[k] of v.
