@@ -41,9 +41,16 @@ void RankStepper::build() {
 
   const int nlocal = atom->nlocal, nall = nlocal + atom->nghost;
   double **x = atom->x, **v = atom->v;
-  double rmax = 0;
-  for (int i = 0; i < nlocal; i++) rmax = std::max(rmax, atom->radius[i]);
+  double rmax = 0, volume = 0;
+  for (int i = 0; i < nlocal; i++) {
+    const double r = atom->radius[i];
+    rmax = std::max(rmax, r), volume += r * r * r;
+  }
   MPI_Allreduce(MPI_IN_PLACE, &rmax, 1, MPI_DOUBLE, MPI_MAX, world);
+  MPI_Allreduce(MPI_IN_PLACE, &volume, 1, MPI_DOUBLE, MPI_SUM, world);
+  // The rank's box has empty margins: its stepper is tuned by the whole gas's packing fraction.
+  hardsphere::StepperConfig config = config_;
+  config.packing_fraction = 4.0 / 3.0 * M_PI * volume / (domain->xprd * domain->yprd * domain->zprd);
   const double dmax = 2 * rmax;
   const double shell = std::min({comm->cutghost[0], comm->cutghost[1], comm->cutghost[2]});
 
@@ -115,7 +122,7 @@ void RankStepper::build() {
     return;
   }
   try {
-    stepper_ = hardsphere::make_stepper(sys, config_);
+    stepper_ = hardsphere::make_stepper(sys, config);
   } catch (const std::exception &e) {
     error->one(FLERR, std::string("fix hardsphere: ") + e.what());
   }

@@ -74,7 +74,7 @@ std::vector<std::size_t> order_by_id(const std::vector<std::int64_t>& id) {
   return order;
 }
 
-double auto_skin(const ParticleSystem& sys, double dt) {
+double auto_skin(const ParticleSystem& sys, double dt, double phi_gas) {
   // A thin skin means frequent rebuilds, a thick one longer scans and neighbour sweeps.
   // (1) A rebuild every ~4 steps at most for the fastest spheres (~2.5 rms speeds): skin >=
   // 20 v_rms dt; more frequent rebuilds also fall mid-step in dense gases. (2) The list costs
@@ -95,7 +95,7 @@ double auto_skin(const ParticleSystem& sys, double dt) {
   const auto mid = radii.begin() + std::ptrdiff_t(radii.size() / 2);
   if (!radii.empty()) std::nth_element(radii.begin(), mid, radii.end());
   const double diameter = radii.empty() ? 0.0 : 2 * *mid;
-  const double phi = std::max(sys.packing_fraction(), 1e-3);
+  const double phi = std::max(phi_gas, 1e-3);
   const double skin = std::max(20.0 * v_rms * dt, 1.75 * std::sqrt(v_rms * dt * diameter / phi));
   const double thickest = std::clamp(0.6 - 2.0 * (phi - 0.2), 0.4, 0.6);
   return std::max(std::clamp(skin, 0.3 * diameter, thickest * diameter), 6.0 * v_rms * dt);
@@ -513,9 +513,13 @@ Stepper<Real, Mono>::Stepper(const ParticleSystem& sys, const StepperConfig& cfg
   if (!auto_cells)
     for (int d = 0; d < 3; ++d)
       if (cfg.cells[d] < 1) throw InputError("cells per axis must be >= 1, got " + std::to_string(cfg.cells[d]));
+  if (!(cfg.packing_fraction >= 0 && cfg.packing_fraction < 1))
+    throw InputError("packing fraction hint " + std::to_string(cfg.packing_fraction) + " must be in [0, 1)");
+  const double phi_gas = cfg.packing_fraction > 0 ? cfg.packing_fraction : sys.packing_fraction();
   auto grid_for = [&](double diameter) {
-    return auto_cells ? CellGrid::with_min_width(box_, diameter + auto_skin(sys, cfg.dt), std::int64_t(2 * n + 27))
-                      : CellGrid(box_, cfg.cells);
+    return auto_cells
+               ? CellGrid::with_min_width(box_, diameter + auto_skin(sys, cfg.dt, phi_gas), std::int64_t(2 * n + 27))
+               : CellGrid(box_, cfg.cells);
   };
   auto skin_of = [](const CellGrid& g, double diameter) {
     const double reach = g.reach();
@@ -622,8 +626,7 @@ Stepper<Real, Mono>::Stepper(const ParticleSystem& sys, const StepperConfig& cfg
   // Speeds pay where the sweeps' extra loads hit the cache: positions and speeds within ~1 MiB
   // (the L2 of this machine's cores); beyond it each speed is one more miss (see docs/performance.md).
   // Under gravity speeds change during the step, so the per-sphere bounds are not used.
-  speeds_ = !has_gravity_ && sys.packing_fraction() >= 0.3 &&
-            double(n) * double(sizeof(V3<Real>) + sizeof(Real)) <= 1048576.0;
+  speeds_ = !has_gravity_ && phi_gas >= 0.3 && double(n) * double(sizeof(V3<Real>) + sizeof(Real)) <= 1048576.0;
   rebuild();
   counters_.rebuilds = 0;
   refresh_speed_bound();

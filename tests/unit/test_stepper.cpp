@@ -389,3 +389,25 @@ TEST(StepperDetection, DefaultIsOverlapForShortStepsAndSweepForLongOnes) {
     EXPECT_EQ(max_overlap(out_a), 0.0) << "dt " << dt;
   }
 }
+
+TEST(StepperConfigHint, GasPackingFractionSetsTheAutoSkinOfAPaddedBox) {
+  // One MPI rank's box holds its spheres and empty margins. Told the gas's packing fraction,
+  // its stepper picks the skin a stepper over the whole gas picks (thinner at phi >= 0.3).
+  const ParticleSystem dense = gas(4000, 0.3, 11);
+  ParticleSystem padded = dense;
+  padded.box.hi[0] += dense.box.length(0);  // half the box empty: phi 0.15 by volume
+  padded.box.periodic[0] = false;
+  StepperConfig cfg;
+  cfg.dt = 0.01;
+  const double whole = make_stepper(dense, cfg)->skin(), box = make_stepper(padded, cfg)->skin();
+  cfg.packing_fraction = dense.packing_fraction();
+  const double told = make_stepper(padded, cfg)->skin();
+  // Auto skins are 0.4 diameters at phi 0.3 and 0.6 at 0.15, widened to whole cells.
+  EXPECT_GT(box, 0.55);
+  EXPECT_LT(whole, 0.5);
+  EXPECT_LT(told, 0.5);
+  cfg.packing_fraction = 1.0;
+  EXPECT_THROW(make_stepper(padded, cfg), InputError);
+  cfg.packing_fraction = -0.1;
+  EXPECT_THROW(make_stepper(padded, cfg), InputError);
+}

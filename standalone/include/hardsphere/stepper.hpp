@@ -75,6 +75,10 @@ struct StepperConfig {
   //! Uniform acceleration (gravity), allowed along wall axes only: flights are parabolas,
   //! relative motion of pairs stays straight. Potential energy -m g.(x - lo).
   std::array<double, 3> gravity{0, 0, 0};
+  //! Packing fraction of the gas for the auto skin and the kernel choice; 0: the box's. An
+  //! adapter whose box has empty margins (one MPI rank's spheres and ghosts) passes the whole
+  //! gas's, so its stepper is tuned like one over the whole gas.
+  double packing_fraction = 0.0;
   //! Count each sphere's pair collisions (StepperBase::sphere(), pair_collisions_per_sphere()).
   //! Off by default: two scattered increments per collision cost dense gases a few per cent.
   bool count_per_sphere = false;
