@@ -59,6 +59,7 @@ void RankStepper::build() {
   // walls no ghost reaches before LAMMPS re-neighbours (it starts within the shell and moves
   // less than half the shell's slack).
   hardsphere::ParticleSystem sys;
+  sys.reserve(std::size_t(nall));
   std::array<bool, 3> whole{};
   double lo[3], hi[3];
   for (int d = 0; d < 3; d++) {
@@ -84,6 +85,7 @@ void RankStepper::build() {
   for (int i = 0; i < nall; i++) max_tag = std::max(max_tag, atom->tag[i]);
   std::vector<std::uint8_t> seen(std::size_t(max_tag) + 1, 0);
   std::vector<std::uint8_t> owned;
+  owned.reserve(std::size_t(nall));
   input_local_.clear();
   input_shift_.clear();
   std::int64_t extra_id = std::int64_t(max_tag) + 1;
@@ -280,11 +282,11 @@ bool RankStepper::ghosts_agree() {
   comm_mode_ = 0;
   if (!stepper_) return true;
   auto &exch = hardsphere::state_exchange(*stepper_);
-  met_.resize(slot_local_.size());
-  exch.copy_met_owned(met_.data());
+  met_.resize(ghost_slots_.size());
+  exch.copy_met_owned(ghost_slots_.data(), ghost_slots_.size(), met_.data());
   met_slots_.clear();
-  for (const std::uint32_t k : ghost_slots_)
-    if (met_[k]) met_slots_.push_back(k);
+  for (std::size_t i = 0; i < ghost_slots_.size(); i++)
+    if (met_[i]) met_slots_.push_back(ghost_slots_[i]);
   met_vel_.resize(met_slots_.size());
   exch.copy_velocities(met_slots_.data(), met_slots_.size(), met_vel_.data());
   for (std::size_t i = 0; i < met_slots_.size(); i++) {

@@ -72,7 +72,7 @@ class RankStepper : protected Pointers {
   std::vector<hardsphere::Vec3d> ghost_pos_, ghost_vel_;  //!< scratch for sync_ghosts
   std::vector<std::int32_t> slot_image_;
   std::vector<hardsphere::Vec3d> slot_shift_;
-  std::vector<std::uint8_t> met_;                     //!< per slot: a ghost that met an owned atom in this step
+  std::vector<std::uint8_t> met_;                     //!< per ghost slot: it met an owned atom in this step
   std::vector<std::uint32_t> met_slots_;              //!< those slots
   std::vector<hardsphere::Vec3d> met_vel_;            //!< and this rank's velocities of them
   std::vector<hardsphere::Vec3d> x_ref_;              //!< owned positions when LAMMPS last re-neighboured

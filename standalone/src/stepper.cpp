@@ -177,8 +177,8 @@ class Stepper final : public StepperBase, public StateExchange {
     met_owned_.assign(owned_.size(), 0);
     bind_resolver();
   }
-  void copy_met_owned(std::uint8_t* out) const override {
-    for (std::size_t k = 0; k < slot_.size(); ++k) out[k] = met_owned_.empty() ? 0 : met_owned_[slot_[k]];
+  void copy_met_owned(const std::uint32_t* slots, std::size_t count, std::uint8_t* out) const override {
+    for (std::size_t i = 0; i < count; ++i) out[i] = met_owned_.empty() ? 0 : met_owned_[slot_[slots[i]]];
   }
   const OwnedCounters& owned_counters() const override {
     owned_counters_.collisions = tally_.owned_collisions;

@@ -54,8 +54,9 @@ class StateExchange {
   //! accumulate from the next step on. Without it nothing is accumulated there.
   virtual void set_owned(const std::uint8_t* owned) = 0;
   virtual const OwnedCounters& owned_counters() const = 0;
-  //! Per slot: 1 if the sphere is not owned and collided with an owned one in the last run().
-  virtual void copy_met_owned(std::uint8_t* out) const = 0;
+  //! Per given slot: 1 if the sphere is not owned and collided with an owned one in the last
+  //! run().
+  virtual void copy_met_owned(const std::uint32_t* slots, std::size_t count, std::uint8_t* out) const = 0;
 };
 
 //! The exchange interface of a stepper made by make_stepper.
