@@ -3,13 +3,14 @@
 medians of LAMMPS's loop (wall) time; prints a markdown table. Speed is reported, never asserted.
 
   compare/lammps_scaling.py --hs build/standalone/hardsphere --lmp build/plugin/lmp_hs \
-      [--n 64000 1000000] [--phi 0.3 0.45] [--steps 300] [--rounds 3] [--weak 32000]
+      [--n 64000 1000000] [--phi 0.3 0.45] [--steps 300] [--rounds 3] [--weak 32000] [--timing]
 
 Columns: speed-up = serial time / 2-rank time; cost per sphere-step on 2 ranks over serial =
 2 x 2-rank time / serial time (all ranks counted); collisions of both runs (equal while the
 runs stay deterministic; chaos makes them differ in the last digits over long runs); steps re-run
 for all atoms because a ghost copy disagreed with its owner; re-neighbourings forced by the fix.
-Weak scaling: 1 rank with N/2 spheres against 2 ranks with N at the same density.
+Weak scaling: 1 rank with N/2 spheres against 2 ranks with N at the same density. --timing adds,
+per row, the fix's own table of wall time per part of its step on 2 ranks (`timing yes`).
 """
 import argparse
 import statistics
@@ -17,7 +18,7 @@ import subprocess
 import tempfile
 from pathlib import Path
 
-from lammps_speed import run_lammps
+from lammps_speed import lammps_output, run_lammps
 
 INPUT = """units lj
 atom_style sphere
@@ -46,6 +47,15 @@ def run(lmp, d, data, ranks, dt, steps, mpirun):
     return loop, row[1], row[2], row[3]
 
 
+def part_times(lmp, d, data, dt, steps, mpirun):
+    """The fix's own table of wall time per part ('timing yes') of one 2-rank run."""
+    script = INPUT.format(data=data, dt=dt, steps=steps).replace("fix hs all hardsphere", "fix hs all hardsphere timing yes")
+    lines = lammps_output(lmp, d, script, 2, mpirun).splitlines()
+    start = next(k for k, ln in enumerate(lines) if ln.startswith("fix hardsphere timing"))
+    end = next(k for k in range(start + 1, len(lines)) if not lines[k].startswith("  "))
+    return "\n".join(lines[start:end]) + "\n"
+
+
 def alternate(lmp, d, data, dt, steps, rounds, mpirun, ranks=(1, 2)):
     runs = {r: [] for r in ranks}
     for _ in range(rounds):
@@ -65,12 +75,15 @@ def main():
     ap.add_argument("--steps", type=int, default=300)
     ap.add_argument("--rounds", type=int, default=3)
     ap.add_argument("--weak", type=int, default=32000, help="spheres per rank of the weak-scaling rows (0: none)")
+    ap.add_argument("--timing", action="store_true",
+                    help="after each row, one more 2-rank run with 'timing yes': the fix's time per part")
     a = ap.parse_args()
     hs, lmp = str(Path(a.hs).resolve()), str(Path(a.lmp).resolve())
     print(f"dt {a.dt}, {a.steps} steps, medians of {a.rounds} alternating rounds of LAMMPS's loop time (s)\n")
     print("| N | phi | serial | 2 ranks | speed-up | cost per sphere-step, 2 ranks / serial | "
           "collisions serial / 2 ranks | re-run steps | forced re-neighbourings |")
     print("|---|---|---|---|---|---|---|---|---|")
+    timings = []
     with tempfile.TemporaryDirectory() as d:
         for phi in a.phi:
             for n in a.n:
@@ -80,6 +93,10 @@ def main():
                 (t1, r1), (t2, r2) = res[1], res[2]
                 print(f"| {n} | {phi} | {t1:.3g} | {t2:.3g} | {t1 / t2:.2f} | {2 * t2 / t1:.2f} | "
                       f"{r1[1]:.0f} / {r2[1]:.0f} | {r2[2]:.0f} | {r2[3]:.0f} |", flush=True)
+                if a.timing:
+                    timings.append((n, phi, part_times(lmp, d, data, a.dt, a.steps, a.mpirun)))
+        for n, phi, text in timings:
+            print(f"\nN {n}, phi {phi}, 2 ranks:\n```\n{text}```")
         if a.weak:
             print("\nWeak scaling (same density, N per rank fixed):\n")
             print("| N per rank | phi | 1 rank | 2 ranks | efficiency |")

@@ -45,14 +45,19 @@ def standalone(hs, d, *opts):
     return json.loads(p.stdout)
 
 
-def run_lammps(lmp, d, script, np_, mpirun):
-    """Runs `script` with lmp on np_ ranks in d; returns LAMMPS's loop time and the fields of the
-    last thermo row."""
+def lammps_output(lmp, d, script, np_, mpirun):
+    """Runs `script` with lmp on np_ ranks in d; returns what it printed."""
     (Path(d) / "in.speed").write_text(script)
     cmd = [lmp, "-in", "in.speed", "-log", "none", "-echo", "none"]
     if np_ > 1:
         cmd = [mpirun, "--allow-run-as-root", "--oversubscribe", "-np", str(np_)] + cmd
-    out = subprocess.run(cmd, cwd=d, capture_output=True, text=True, check=True).stdout
+    return subprocess.run(cmd, cwd=d, capture_output=True, text=True, check=True).stdout
+
+
+def run_lammps(lmp, d, script, np_, mpirun):
+    """Runs `script` with lmp on np_ ranks in d; returns LAMMPS's loop time and the fields of the
+    last thermo row."""
+    out = lammps_output(lmp, d, script, np_, mpirun)
     m = re.search(r"Loop time of ([0-9.eE+-]+) on (\d+) procs for (\d+) steps with (\d+) atoms", out)
     last = [ln.split() for ln in out.splitlines() if ln.split()[:1] and ln.split()[0].isdigit()][-1]
     return float(m.group(1)), [float(f) for f in last]

@@ -63,6 +63,10 @@ FixHardSphere::FixHardSphere(LAMMPS *lmp, int narg, char **arg) : Fix(lmp, narg,
         ghost_auto = false;
       else
         error->all(FLERR, "fix hardsphere: ghost must be 'auto' or 'user', got '" + val + "'");
+    } else if (key == "timing") {
+      if (val != "yes" && val != "no")
+        error->all(FLERR, "fix hardsphere: timing must be 'yes' or 'no', got '" + val + "'");
+      timing.enable(val == "yes");
     } else if (key == "path") {
       if (val == "auto")
         ghost_path_only = false;
@@ -72,7 +76,7 @@ FixHardSphere::FixHardSphere(LAMMPS *lmp, int narg, char **arg) : Fix(lmp, narg,
         error->all(FLERR, "fix hardsphere: path must be 'auto' or 'ghosts', got '" + val + "'");
     } else {
       error->all(FLERR, "fix hardsphere: unknown keyword '" + key +
-                            "' (known: detect, max_events, restitution, contact_time, ghost, path)");
+                            "' (known: detect, max_events, restitution, contact_time, ghost, path, timing)");
     }
   }
   if (restitution < 1.0 && contact_time == 0.0)
@@ -114,7 +118,7 @@ void FixHardSphere::init() {
                      " (3 x contact distance + 2 x skin) so the ghosts an owned atom meets see all their partners\n");
     }
   }
-  if (!rank) rank = std::make_unique<RankStepper>(lmp, this);
+  if (!rank) rank = std::make_unique<RankStepper>(lmp, this, timing);
 }
 
 void FixHardSphere::reset_dt() { dt = update->dt; }
@@ -223,6 +227,8 @@ void FixHardSphere::ghost_path_step() {
 }
 
 void FixHardSphere::post_run() {
+  timing.report(lmp, world, long(update->nsteps));
+  timing.reset();
   if (serial && stepper && !state_written) serial_write();  // a run cut short (timer timeout)
   run_set_up = false;                                       // a following 'run ... pre no' starts without setup()
   if (newton_saved >= 0) force->newton = newton_saved;      // the user's setting between runs

@@ -1,6 +1,6 @@
 #pragma once
 //! fix ID all hardsphere [detect overlap|sweep] [max_events N] [restitution e] [contact_time tc]
-//!                       [ghost auto|user] [path auto|ghosts]
+//!                       [ghost auto|user] [path auto|ghosts] [timing no|yes]
 //!
 //! Time integrator for hard spheres (instead of fix nve/sphere); user documentation in
 //! docs/fix_hardsphere.md. On one rank it hands the atoms to the standalone stepper
@@ -89,6 +89,7 @@ class FixHardSphere : public Fix {
   // periodic images itself: no ghosts, no neighbour list, the standalone result by construction.
   // 'path ghosts' forces the owned + ghost path (the MPI one) in serial too.
   bool ghost_path_only = false;
+  PartTimer timing;  //!< 'timing yes': wall time per part, printed at the end of each run
   bool serial = false;
   std::unique_ptr<hardsphere::StepperBase> stepper;
   std::vector<std::int64_t> slot_id;           //!< scratch: the stepper's atom tags, slot order

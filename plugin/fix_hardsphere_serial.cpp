@@ -223,6 +223,7 @@ void FixHardSphere::serial_step() {
     t_now = temperature_now();
     run_set_up = true;
   }
+  timing.start();
   if (lammps_moved) serial_follow_lammps();
   const int nlocal = atom->nlocal;
   double *v = nlocal ? atom->v[0] : nullptr;  // LAMMPS's per-atom rows are one contiguous block
@@ -239,15 +240,18 @@ void FixHardSphere::serial_step() {
     }
     v_written.clear();
   }
+  timing.charge(PartTimer::Follow);
 
   const hardsphere::StepCounters before = stepper->counters();
   stepper->run(1);
+  timing.charge(PartTimer::Steps);
   const hardsphere::StepCounters &after = stepper->counters();
   state_written = false;
   if (serial_must_write()) {
     serial_write();
     if (others_every_step || !others_every.empty()) v_written.assign(v, v + 3 * nlocal);
   }
+  timing.charge(PartTimer::Write);
 
   n_coll_step = double(after.collisions - before.collisions);
   n_coll += n_coll_step;

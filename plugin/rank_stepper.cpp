@@ -202,8 +202,10 @@ void RankStepper::sync_ghosts() {
 }
 
 RankStepper::StepTotals RankStepper::step() {
+  timer_.start();
   if (stale_) {
     build();
+    timer_.charge(PartTimer::Remake);
   } else if (stepper_) {
     if (refresh_v_) {  // every atom's velocity from LAMMPS, the ghosts' from their owners
       comm_mode_ = 0;
@@ -217,6 +219,7 @@ RankStepper::StepTotals RankStepper::step() {
       }
     }
     sync_ghosts();
+    timer_.charge(PartTimer::Ghosts);
   }
   refresh_v_ = false;
   const int nlocal = atom->nlocal;
@@ -228,6 +231,8 @@ RankStepper::StepTotals RankStepper::step() {
     std::memcpy(static_cast<void *>(v_start_.data()), v[0], sizeof(Vec3d) * std::size_t(nlocal));
   }
 
+  timer_.charge(PartTimer::Start);
+
   StepTotals t;
   if (stepper_) {
     try {
@@ -235,8 +240,10 @@ RankStepper::StepTotals RankStepper::step() {
     } catch (const std::exception &e) {
       error->one(FLERR, std::string("fix hardsphere: ") + e.what());
     }
+    timer_.charge(PartTimer::Steps);
     if (stepper_->counters().rebuilds != mapped_rebuilds_) map_slots();
     hardsphere::state_exchange(*stepper_).scatter_state(slot_dest_.data(), slot_shift_.data(), x[0], v[0]);
+    timer_.charge(PartTimer::Write);
   }
 
   // Largest owned move since the build, for the shell's slack and the owner check's zone.
@@ -246,13 +253,16 @@ RankStepper::StepTotals RankStepper::step() {
     v2 = std::max(v2, v[i][0] * v[i][0] + v[i][1] * v[i][1] + v[i][2] * v[i][2]);
   }
   const double disp = std::sqrt(disp2), vmax_local = std::sqrt(v2);
+  timer_.charge(PartTimer::Start);
   const bool agree = ghosts_agree();
   double loc[3] = {agree ? 0.0 : 1.0, disp, vmax_local}, glob[3];
   MPI_Allreduce(loc, glob, 3, MPI_DOUBLE, MPI_MAX, world);
 
+  timer_.charge(PartTimer::Check);
   if (glob[0] != 0.0) {
     t = rerun_globally();
     stale_ = true;
+    timer_.charge(PartTimer::Rerun);
   } else if (stepper_) {
     const hardsphere::OwnedCounters &c = hardsphere::state_exchange(*stepper_).owned_counters();
     t.collisions = c.collisions - last_.collisions;

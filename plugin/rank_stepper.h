@@ -14,6 +14,7 @@
 
 #include "hardsphere/state_exchange.hpp"
 #include "hardsphere/stepper.hpp"
+#include "part_timer.h"
 #include "pointers.h"
 
 namespace LAMMPS_NS {
@@ -27,7 +28,7 @@ class RankStepper : protected Pointers {
     bool rerun = false;  //!< the step was re-run for all atoms (rank 0 carries the totals)
   };
 
-  RankStepper(LAMMPS *lmp, class Fix *fix) : Pointers(lmp), fix_(fix) {}
+  RankStepper(LAMMPS *lmp, class Fix *fix, PartTimer &timer) : Pointers(lmp), fix_(fix), timer_(timer) {}
   void configure(const hardsphere::StepperConfig &c) { config_ = c; }
   //! The ghost shell for contact distance `contact` and LAMMPS's skin: a ghost an owned atom
   //! meets must see all its own partners (two contact distances), and the skin twice over plus
@@ -59,6 +60,7 @@ class RankStepper : protected Pointers {
   StepTotals rerun_globally();
 
   class Fix *fix_;
+  PartTimer &timer_;
   hardsphere::StepperConfig config_;  //!< for every stepper this path makes
   bool stale_ = true, epoch_ = true, refresh_v_ = false, reneighbor_ = false;
   std::unique_ptr<hardsphere::StepperBase> stepper_;

@@ -576,6 +576,34 @@ run 200
         # LAMMPS's own pressure, averaged over the run's steps, is the same time average.
         ok &= check(abs(p / last["f_pav"] - 1) < 1e-12, tag + f"f_hs[10] == <press> over the run {last['f_pav']!r}")
 
+        # 'timing yes' prints, at the end of each run, wall time per part of the fix's step: the
+        # parts of the run's path, within LAMMPS's loop time; the collisions stay the same.
+        timed = script.replace("fix hs all hardsphere", "fix hs all hardsphere timing yes").replace(
+            "thermo 200\nrun 200\n", "thermo 100\nrun 100\nrun 100\n").replace("ave/time 1 200 200", "ave/time 1 100 100")
+        rc, out = run_lmp(args, timed, d, np_=args.np)
+        lines = out.splitlines()
+        heads = [k for k, l in enumerate(lines) if l.startswith("fix hardsphere timing over 100 steps")]
+        loops = [float(l.split()[3]) for l in lines if l.startswith("Loop time of")]
+        parts = []
+        for k in heads:
+            rows = {}
+            for l in lines[k + 1:k + 10]:
+                if not l.startswith("  "):
+                    break
+                *name, lo, avg, hi = l.split()
+                rows[" ".join(name)] = (float(lo), float(avg), float(hi))
+            parts.append(rows)
+        path_rows = "owner check (incl. waiting for ranks)" if args.np > 1 else "writing LAMMPS's x and v"
+        good = (len(heads) == 2 and len(loops) == 2 and all(
+            r.get("steps (the stepper)", (0, 0, 0))[1] > 0 and path_rows in r and
+            all(lo <= avg <= hi for lo, avg, hi in r.values()) and sum(v[2] for v in r.values()) <= 1.05 * loop
+            for r, loop in zip(parts, loops)) and thermo(out)[-1]["f_hs[1]"] == ref["collisions"])
+        ok &= check(good, tag + f"timing yes: one table per run, parts within the loop time {loops}: "
+                    f"{[{k: v[1] for k, v in r.items()} for r in parts]}")
+        rc, out = run_lmp(args, script.replace("fix hs all hardsphere", "fix hs all hardsphere timing maybe"), d,
+                          np_=args.np, expect_ok=False)
+        ok &= check(rc != 0 and "timing must be 'yes' or 'no', got 'maybe'" in out, tag + "timing maybe is refused")
+
         # Walls (boundary p p f): V is the box volume, as in the standalone (which reports the
         # wall pressures separately).
         run_lmp(args, WALLS.split("pair_style")[0] + "write_data walls.data\n", d)
