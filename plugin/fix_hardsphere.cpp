@@ -139,6 +139,7 @@ void FixHardSphere::pre_neighbor() {
 
 void FixHardSphere::setup(int vflag) {
   check_setup();
+  skip_reverse_comm();
   read_gravity();
   if (serial) {
     serial_setup();
@@ -196,6 +197,7 @@ void FixHardSphere::initial_integrate(int) {
     error->all(FLERR,
                "fix hardsphere: fix gravity changed its acceleration during the run (a variable magnitude "
                "or direction); hard-sphere flights need a constant one");
+  if (!run_set_up) skip_reverse_comm();  // 'run ... pre no' skips setup()
   if (serial) {
     serial_step();
     return;

@@ -121,7 +121,6 @@ void FixHardSphere::check_input() {
                "radii between runs, 'set ... diameter', instead)");
   check_other_fixes();
   apply_neighbor_settings();
-  skip_reverse_comm();
 }
 
 void FixHardSphere::check_other_fixes() {
@@ -228,8 +227,9 @@ void FixHardSphere::apply_neighbor_settings() {
 
 void FixHardSphere::skip_reverse_comm() {
   // With newton on, LAMMPS clears and sends back the forces and torques of every ghost each
-  // step; hard spheres (the only pair style allowed, no bonds) put none there. Comm::init() and
-  // the integrator read force->newton after the fixes' init(); post_run() restores it.
+  // step; hard spheres (the only pair style allowed, no bonds) put none there. The integrator
+  // reads force->newton every step: set at a run's start (not in init(), which write_data and
+  // velocity call too), restored by post_run().
   if (!force->newton || atom->molecular != Atom::ATOMIC) return;
   newton_saved = force->newton;
   force->newton = 0;

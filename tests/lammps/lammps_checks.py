@@ -487,13 +487,15 @@ run 100
         # With newton on (the default) the fix skips LAMMPS's reverse communication of ghost
         # forces during runs (hard spheres exert none), says so once, and restores the setting.
         newton = explicit.replace("thermo_style custom step ke f_hs[1]", "variable nw equal is_active(newton,any)\n"
-                                  "thermo_style custom step ke f_hs[1] v_nw") + 'print "after: newton ${nw}"\n'
+                                  "thermo_style custom step ke f_hs[1] v_nw\nwrite_data pre.data\nprint \"before: newton ${nw}\"") + \
+            'print "after: newton ${nw}"\nrun 50 pre no\nprint "after pre no: newton ${nw}"\n'
         rc, out = run_lmp(args, newton, d, np_=args.np)
-        rows = thermo(out)
+        rows = thermo(out.split("after: newton")[0])  # the two runs with setup
         notes = [l for l in out.splitlines() if "ghost forces are not communicated back" in l]
         during = {r["v_nw"] for r in rows}
-        ok &= check(len(notes) == 1 and during == {0} and "after: newton 1" in out and rows[-1]["f_hs[1]"] == ref["collisions"],
-                    tag + f"newton on: off during both runs ({during}), one note ({len(notes)}), on again after, "
+        ok &= check(len(notes) == 1 and during == {0} and "after: newton 1" in out and "before: newton 1" in out
+                    and "after pre no: newton 1" in out and rows[-1]["f_hs[1]"] == ref["collisions"],
+                    tag + f"newton on: off during the runs ({during}), one note ({len(notes)}), on before (write_data's init) and after, "
                     f"collisions {rows[-1]['f_hs[1]']:.0f} == standalone {ref['collisions']}")
         # Fixes that are allowed: setforce NULL NULL NULL (sets nothing), momentum (end of step;
         # the total momentum is zero already), balance (moves sub-domain boundaries only).
