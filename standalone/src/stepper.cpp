@@ -387,6 +387,19 @@ class Stepper final : public StepperBase, public StateExchange {
       wrap_image_.push_back(image);
     }
   }
+  //! Lists i and j if their nearest images are within the list's reach (pair builds that do not
+  //! go by the half stencil: any grid, big spheres among themselves).
+  void push_if_near(std::uint32_t i, std::uint32_t j) {
+    V3<Real> d = pos_[i] - pos_[j];
+    int k[3] = {0, 0, 0};
+    for (int a = 0; a < 3; ++a)
+      if (box_.periodic[a]) {
+        k[a] = int(std::nearbyint(d[a] / length_[a]));
+        d[a] -= Real(k[a]) * length_[a];
+      }
+    const Real cut = list_cut(r_[i] + r_[j]);
+    if (dot(d, d) < cut * cut) push_pair(i, j, image_code(k[0], k[1], k[2]));
+  }
   //! Candidate cut-off of a pair: contact distance plus skin (an infinite skin takes all).
   Real list_cut(Real contact) const {
     return std::isinf(skin_) ? std::numeric_limits<Real>::max() / 4 : contact + skin_;
@@ -740,17 +753,7 @@ void Stepper<Real, Mono>::build_pairs_any_grid() {
       if (nb < c) return;
       const std::uint32_t e1 = cell_start_[nb + 1];
       for (std::uint32_t i = b0; i < b1; ++i) {
-        for (std::uint32_t j = (nb == c ? i + 1 : cell_start_[nb]); j < e1; ++j) {
-          V3<Real> d = pos_[i] - pos_[j];
-          int k[3] = {0, 0, 0};
-          for (int a = 0; a < 3; ++a)
-            if (box_.periodic[a]) {
-              k[a] = int(std::nearbyint(d[a] / length_[a]));
-              d[a] -= Real(k[a]) * length_[a];
-            }
-          const Real cut = list_cut(r_[i] + r_[j]);
-          if (dot(d, d) < cut * cut) push_pair(i, j, image_code(k[0], k[1], k[2]));
-        }
+        for (std::uint32_t j = (nb == c ? i + 1 : cell_start_[nb]); j < e1; ++j) push_if_near(i, j);
       }
     });
   }
@@ -874,17 +877,7 @@ void Stepper<Real, Mono>::build_big_pairs() {
     detail::for_each_gap_between<Real, false>(
         cells, b, sigma_, cell_radius_, -std::numeric_limits<Real>::infinity(), skin_, threat_scratch_,
         [&](std::uint32_t j, Real, std::uint8_t image) { push_pair(j, b, std::uint8_t(26 - image)); });
-    for (std::uint32_t c = b + 1; c < n; ++c) {
-      V3<Real> d = pos_[b] - pos_[c];
-      int k[3] = {0, 0, 0};
-      for (int a = 0; a < 3; ++a)
-        if (box_.periodic[a]) {
-          k[a] = int(std::nearbyint(d[a] / length_[a]));
-          d[a] -= Real(k[a]) * length_[a];
-        }
-      const Real cut = list_cut(r_[b] + r_[c]);
-      if (dot(d, d) < cut * cut) push_pair(b, c, image_code(k[0], k[1], k[2]));
-    }
+    for (std::uint32_t c = b + 1; c < n; ++c) push_if_near(b, c);
   }
 }
 
