@@ -19,6 +19,10 @@ double spacing(double x) {
   return std::nextafter(a, std::numeric_limits<double>::infinity()) - a;
 }
 
+//! A magnitude below which every double is resolved to tol (spacing() <= tol): a power of two
+//! whose spacing is at most tol, so per-coordinate spacing() is needed only at or above it.
+double resolved_below(double tol) { return tol > 0 ? std::ldexp(1.0, std::ilogb(tol) + 52) : 0.0; }
+
 //! |v| without overflow in the squares.
 double speed(Vec3d v) { return std::hypot(std::hypot(v.x, v.y), v.z); }
 
@@ -74,6 +78,7 @@ void check_scene_numbers(const ParticleSystem& sys, const std::string& source, c
       }
   // Masses: reduced masses m1 m2 / (m1 + m2) must neither overflow nor underflow.
   const double mass_lo = 1e-150, mass_hi = 1e150, speed_hi = 1e150;
+  const double resolved = resolved_below(tol);
   double sum_mv2 = 0;
   for (std::size_t i = 0; i < sys.size(); ++i) {
     const double m_i = sys.mass[i];
@@ -82,7 +87,9 @@ void check_scene_numbers(const ParticleSystem& sys, const std::string& source, c
       m << atom_origin(sys, i, source, atom_lines) << ": ";
       return m;
     };
-    for (int d = 0; d < 3; ++d)
+    const Vec3d p = sys.pos[i];
+    const bool near_origin = std::max({std::abs(p.x), std::abs(p.y), std::abs(p.z)}) < resolved;
+    for (int d = 0; d < 3 && !near_origin; ++d)
       if (spacing(sys.pos[i][d]) > tol) {
         auto m = atom();
         m << kAxis[d] << " = " << sys.pos[i][d] << " cannot be resolved: doubles there are " << spacing(sys.pos[i][d])
@@ -129,7 +136,8 @@ void check_engine_numbers(const ParticleSystem& sys, double eps, double largest,
   if (dmin < small) fail("diameter ", dmin, " is below ", small, ", the smallest this precision carries");
   for (std::size_t i = 0; i < sys.size(); ++i) {
     const double v2 = dot(sys.vel[i], sys.vel[i]);
-    if (!(speed(sys.vel[i]) <= big))
+    // The square decides away from the bound (big^2 is finite); hypot only near it.
+    if (!(v2 <= 0.99 * big * big) && !(speed(sys.vel[i]) <= big))
       fail("atom ", sys.id[i], ": speed ", speed(sys.vel[i]), " is above ", big,
            ", the largest this precision carries");
     if (sys.mass[i] > big || sys.mass[i] < small)

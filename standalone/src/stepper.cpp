@@ -369,7 +369,8 @@ class Stepper final : public StepperBase, public StateExchange {
   void scan_pair_list();
   void rebuild();
   void bind_resolver();
-  void build_stencil();
+  struct CellRun;
+  int stencil_runs(std::int64_t c, CellRun* out) const;
   void build_pairs_half_stencil();
   void build_pairs_any_grid();
   void build_adjacency();
@@ -471,13 +472,14 @@ class Stepper final : public StepperBase, public StateExchange {
   mutable std::vector<std::uint32_t> threat_scratch_;  // for_each_threat(): one row's spheres within reach
   // Half stencil as runs of consecutive cells: the 13 forward neighbours of a cell are one
   // cell and four rows of three along x, contiguous in cell order (so in memory) unless a row
-  // wraps through a periodic x face. For each cell up to kMaxRuns runs [begin, end) + image.
+  // wraps through a periodic x face. Up to kMaxRuns runs [begin, end) + image per cell, made
+  // when the pair list is built: a table of them would be larger than the spheres' own data.
   struct CellRun {
     int begin, end;
     std::uint8_t image;
   };
   static constexpr int kMaxRuns = 10;
-  std::vector<CellRun> stencil_;
+  bool half_stencil_ = false;
   std::vector<V3<Real>> scratch_v3_;
   std::vector<Real> scratch_real_;
   std::vector<std::uint32_t> scratch_u32_;
@@ -632,7 +634,7 @@ Stepper<Real, Mono>::Stepper(const ParticleSystem& sys, const StepperConfig& cfg
   gravity_ = {Real(cfg.gravity[0]), Real(cfg.gravity[1]), Real(cfg.gravity[2])};
   has_gravity_ = cfg.gravity != std::array<double, 3>{0, 0, 0};
   resolver_.set_gravity(gravity_);
-  if (grid_.half_stencil_ok()) build_stencil();
+  half_stencil_ = grid_.half_stencil_ok();
   // Threats are enumerated from the cells within two of a sphere's: every periodic axis needs
   // 3 cells (so a cell is at least sigma + skin wide).
   guard_.configure(skin_, cfg.pairwise_list_check && grid_.half_stencil_ok(), std::max<std::size_t>(n / 32, 16));
@@ -646,48 +648,54 @@ Stepper<Real, Mono>::Stepper(const ParticleSystem& sys, const StepperConfig& cfg
 }
 
 template <class Real, bool Mono>
-void Stepper<Real, Mono>::build_stencil() {
+int Stepper<Real, Mono>::stencil_runs(std::int64_t c, CellRun* const first) const {
   // Every periodic axis has >= 3 cells: the 13 forward neighbours of a cell are distinct, and
   // wrapping a neighbour's cell coordinate gives exactly the pair's minimum image, so each
   // unordered pair of neighbouring cells is met once and no pair needs a division.
   // Forward rows (dy, dz) whose x range is [dx_lo, 1]: the cell's own row only ahead of it.
   static const int rows[5][3] = {{1, 0, 0}, {-1, 1, 0}, {-1, -1, 1}, {-1, 0, 1}, {-1, 1, 1}};
   const auto k = grid_.counts();
-  stencil_.assign(std::size_t(grid_.size()) * kMaxRuns, CellRun{0, 0, kNoImage});
-  for (int cz = 0; cz < k[2]; ++cz)
-    for (int cy = 0; cy < k[1]; ++cy)
-      for (int cx = 0; cx < k[0]; ++cx) {
-        CellRun* out = &stencil_[std::size_t(grid_.index(cx, cy, cz)) * kMaxRuns];
-        for (const auto& row : rows) {
-          int ny = cy + row[1], nz = cz + row[2], iy = 0, iz = 0;
-          if (ny < 0 || ny >= k[1]) {
-            if (!box_.periodic[1]) continue;
-            iy = ny < 0 ? -1 : 1;  // across the lower face j's nearest image is one box down
-            ny = (ny + k[1]) % k[1];
-          }
-          if (nz < 0 || nz >= k[2]) {
-            if (!box_.periodic[2]) continue;
-            iz = nz < 0 ? -1 : 1;
-            nz = (nz + k[2]) % k[2];
-          }
-          // Split the x range [cx + dx_lo, cx + 1] where it leaves the box.
-          for (int x = cx + row[0]; x <= cx + 1; ++x) {
-            int nx = x, ix = 0;
-            if (nx < 0 || nx >= k[0]) {
-              if (!box_.periodic[0]) continue;
-              ix = nx < 0 ? -1 : 1;
-              nx = (nx + k[0]) % k[0];
-            }
-            const int cell = grid_.index(nx, ny, nz);
-            const std::uint8_t image = image_code(ix, iy, iz);
-            if (out != &stencil_[std::size_t(grid_.index(cx, cy, cz)) * kMaxRuns] && out[-1].end == cell &&
-                out[-1].image == image)
-              ++out[-1].end;  // extends the previous run
-            else
-              *out++ = {cell, cell + 1, image};
-          }
-        }
+  const int cx = int(c % k[0]), cy = int(c / k[0] % k[1]), cz = int(c / k[0] / k[1]);
+  if (cx >= 1 && cx + 1 < k[0] && k[0] >= 4 && cy >= 1 && cy + 1 < k[1] && cz + 1 < k[2]) {
+    // Inside the grid the five runs are offsets (with 4 or more cells along x none of them
+    // touch, so none merge).
+    const int row = k[0], layer = k[0] * k[1], ci = int(c);
+    for (int r = 0; r < 5; ++r) {
+      const int begin = ci + rows[r][0] + rows[r][1] * row + rows[r][2] * layer;
+      first[r] = {begin, ci + 2 + rows[r][1] * row + rows[r][2] * layer, kNoImage};
+    }
+    return 5;
+  }
+  CellRun* out = first;
+  for (const auto& row : rows) {
+    int ny = cy + row[1], nz = cz + row[2], iy = 0, iz = 0;
+    if (ny < 0 || ny >= k[1]) {
+      if (!box_.periodic[1]) continue;
+      iy = ny < 0 ? -1 : 1;  // across the lower face j's nearest image is one box down
+      ny = (ny + k[1]) % k[1];
+    }
+    if (nz < 0 || nz >= k[2]) {
+      if (!box_.periodic[2]) continue;
+      iz = nz < 0 ? -1 : 1;
+      nz = (nz + k[2]) % k[2];
+    }
+    // Split the x range [cx + dx_lo, cx + 1] where it leaves the box.
+    for (int x = cx + row[0]; x <= cx + 1; ++x) {
+      int nx = x, ix = 0;
+      if (nx < 0 || nx >= k[0]) {
+        if (!box_.periodic[0]) continue;
+        ix = nx < 0 ? -1 : 1;
+        nx = (nx + k[0]) % k[0];
       }
+      const int cell = grid_.index(nx, ny, nz);
+      const std::uint8_t image = image_code(ix, iy, iz);
+      if (out != first && out[-1].end == cell && out[-1].image == image)
+        ++out[-1].end;  // extends the previous run
+      else
+        *out++ = {cell, cell + 1, image};
+    }
+  }
+  return int(out - first);
 }
 
 template <class Real, bool Mono>
@@ -704,24 +712,24 @@ void Stepper<Real, Mono>::build_pairs_half_stencil() {
   for (std::int64_t c = 0; c < ncell; ++c) {
     const std::uint32_t b0 = cell_start_[c], b1 = cell_start_[c + 1];
     if (b0 == b1) continue;
-    const CellRun* runs = &stencil_[std::size_t(c) * kMaxRuns];
+    CellRun runs[kMaxRuns];
+    const int nruns = stencil_runs(c, runs);
     std::size_t reach = b1 - b0;  // an upper bound of the pairs this cell can add
-    for (int r = 0; r < kMaxRuns && runs[r].begin != runs[r].end; ++r)
-      reach += cell_start_[runs[r].end] - cell_start_[runs[r].begin];
+    for (int r = 0; r < nruns; ++r) reach += cell_start_[runs[r].end] - cell_start_[runs[r].begin];
     const std::size_t need = n_near + (b1 - b0) * reach + detail::kRowSlack;
     if (need > near_.size()) near_.resize(2 * need);
     // The cell's own row (after i) and a first run that starts at the next cell without an
     // image (the +x neighbour, unless x wraps) are contiguous: one row.
     int first = 0;
     std::uint32_t own_end = b1;
-    if (runs[0].begin == c + 1 && runs[0].end != runs[0].begin && runs[0].image == kNoImage) {
+    if (nruns > 0 && runs[0].begin == c + 1 && runs[0].image == kNoImage) {
       own_end = cell_start_[runs[0].end];
       first = 1;
     }
     auto* out = reinterpret_cast<std::uint32_t*>(near_.data());
     n_near = detail::append_close_block<Real, Mono>(soa, b0, b1, b0 + 1, own_end, true, skin_, mono_cut2, out, n_near,
                                                     degree);
-    for (int r = first; r < kMaxRuns && runs[r].begin != runs[r].end; ++r) {
+    for (int r = first; r < nruns; ++r) {
       const std::uint32_t e0 = cell_start_[runs[r].begin], e1 = cell_start_[runs[r].end];
       if (runs[r].image == kNoImage) {
         n_near =
@@ -812,7 +820,7 @@ void Stepper<Real, Mono>::rebuild() {
   wrap_.clear();
   wrap_image_.clear();
   adj_start_.assign(n + 1, 0);  // each sphere's list length, counted where its pairs are found
-  if (!stencil_.empty())
+  if (half_stencil_)
     build_pairs_half_stencil();
   else
     build_pairs_any_grid();
