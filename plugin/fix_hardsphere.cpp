@@ -146,6 +146,10 @@ void FixHardSphere::setup(int vflag) {
   } else {
     rank->configure(stepper_config());
     rank->neighbours_changed();
+    // Made here, outside the run's loop, as the serial path's stepper is; the first step still
+    // takes up velocities that other fixes' setup may have changed.
+    rank->prepare();
+    rank->velocities_changed();
   }
   t_now = temperature_now();
   run_set_up = true;

@@ -213,6 +213,7 @@ RankStepper::StepTotals RankStepper::step() {
       if (stepper_->counters().rebuilds != mapped_rebuilds_) map_slots();
       hardsphere::state_exchange(*stepper_).gather_velocities(slot_local_.data(), atom->v[0]);
       double **v = atom->v;
+      v_owner_.resize(std::size_t(atom->nlocal + atom->nghost));
       for (std::size_t k = 0; k < ghost_slots_.size(); k++) {
         const int g = int(slot_local_[ghost_slots_[k]]);
         v_owner_[std::size_t(g)] = {v[g][0], v[g][1], v[g][2]};

@@ -41,6 +41,10 @@ class RankStepper : protected Pointers {
   void atoms_changed() { stale_ = true; }
   //! Another fix or command may have changed velocities: they are read again before the next step.
   void velocities_changed() { refresh_v_ = true; }
+  //! Makes the stepper now if it is due (a run's setup), not at the next step.
+  void prepare() {
+    if (stale_) build();
+  }
   //! Advances the owned atoms (and this rank's ghost copies) by one step.
   StepTotals step();
   //! Whether LAMMPS must re-neighbour before the next step so that every atom an owned atom
