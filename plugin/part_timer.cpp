@@ -25,7 +25,7 @@ void PartTimer::report(LAMMPS *lmp, MPI_Comm world, long steps) const {
       "making the stepper again (re-neighbouring)",
       "following LAMMPS's re-neighbouring",
       "writing LAMMPS's x and v",
-      "keeping the step's start, largest move",
+      "largest move (when to re-neighbour)",
       "setting ghost copies from their owners",
       "owner check (incl. waiting for ranks)",
       "steps re-run for all atoms",

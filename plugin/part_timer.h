@@ -11,7 +11,7 @@ namespace LAMMPS_NS {
 
 class PartTimer {
  public:
-  enum Part { Steps, Remake, Follow, Write, Start, Ghosts, Check, Rerun, kParts };
+  enum Part { Steps, Remake, Follow, Write, Moves, Ghosts, Check, Rerun, kParts };
 
   void enable(bool on) { on_ = on; }
   bool enabled() const { return on_; }

@@ -4,7 +4,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstring>
 #include <string>
 
 #include "atom.h"
@@ -37,7 +36,14 @@ double distance_outside(const double *p, const double *lo, const double *hi) {
 void RankStepper::build() {
   // Ghost velocities come from their owners; LAMMPS refreshed the ghost positions.
   comm_mode_ = 0;
+  sent_rows_.clear();
+  record_sends_ = true;
   comm->forward_comm_fix(fix_, kForwardSize);
+  record_sends_ = false;
+  std::sort(sent_rows_.begin(), sent_rows_.end());
+  sent_rows_.erase(std::unique(sent_rows_.begin(), sent_rows_.end()), sent_rows_.end());
+  row_sent_.assign(std::size_t(atom->nlocal), -1);
+  for (std::size_t b = 0; b < sent_rows_.size(); b++) row_sent_[std::size_t(sent_rows_[b])] = int(b);
 
   const int nlocal = atom->nlocal, nall = nlocal + atom->nghost;
   double **x = atom->x, **v = atom->v;
@@ -119,6 +125,7 @@ void RankStepper::build() {
   if (epoch_) start_epoch(shell, dmax);
 
   stepper_.reset();
+  sent_slots_.clear();
   if (!sys.size()) {
     stale_ = false;
     return;
@@ -181,6 +188,11 @@ void RankStepper::map_slots() {
     if (ghost) ghost_slots_.push_back(std::uint32_t(k));
     slot_dest_[k] = ghost ? hardsphere::StateExchange::kNoRow : slot_local_[k];
   }
+  std::vector<std::uint32_t> row_slot(std::size_t(atom->nlocal));
+  for (std::size_t k = 0; k < n; k++)
+    if (slot_dest_[k] != hardsphere::StateExchange::kNoRow) row_slot[slot_dest_[k]] = std::uint32_t(k);
+  sent_slots_.resize(sent_rows_.size());
+  for (std::size_t b = 0; b < sent_rows_.size(); b++) sent_slots_[b] = row_slot[std::size_t(sent_rows_[b])];
   mapped_rebuilds_ = stepper_->counters().rebuilds;
 }
 
@@ -223,17 +235,9 @@ RankStepper::StepTotals RankStepper::step() {
     timer_.charge(PartTimer::Ghosts);
   }
   refresh_v_ = false;
-  const int nlocal = atom->nlocal;
-  double **x = atom->x, **v = atom->v;
-  static_assert(sizeof(Vec3d) == 3 * sizeof(double), "Vec3d rows are LAMMPS rows");
-  x_start_.resize(std::size_t(nlocal)), v_start_.resize(std::size_t(nlocal));
-  if (nlocal) {
-    std::memcpy(static_cast<void *>(x_start_.data()), x[0], sizeof(Vec3d) * std::size_t(nlocal));
-    std::memcpy(static_cast<void *>(v_start_.data()), v[0], sizeof(Vec3d) * std::size_t(nlocal));
-  }
 
-  timer_.charge(PartTimer::Start);
-
+  // LAMMPS's x and v keep the step's start until the owner check has passed (a re-run starts
+  // from them); the owners' new velocities reach the ghosts first.
   StepTotals t;
   if (stepper_) {
     try {
@@ -243,28 +247,22 @@ RankStepper::StepTotals RankStepper::step() {
     }
     timer_.charge(PartTimer::Steps);
     if (stepper_->counters().rebuilds != mapped_rebuilds_) map_slots();
-    hardsphere::state_exchange(*stepper_).scatter_state(slot_dest_.data(), slot_shift_.data(), x[0], v[0]);
-    timer_.charge(PartTimer::Write);
+    sent_vel_.resize(sent_slots_.size());
+    hardsphere::state_exchange(*stepper_).copy_velocities(sent_slots_.data(), sent_slots_.size(), sent_vel_.data());
   }
-
-  // Largest owned move since the build, for the shell's slack and the owner check's zone.
-  double disp2 = 0, v2 = 0;
-  for (int i = 0; i < nlocal; i++) {
-    disp2 = std::max(disp2, norm2(Vec3d{x[i][0], x[i][1], x[i][2]} - x_ref_[std::size_t(i)]));
-    v2 = std::max(v2, v[i][0] * v[i][0] + v[i][1] * v[i][1] + v[i][2] * v[i][2]);
-  }
-  const double disp = std::sqrt(disp2), vmax_local = std::sqrt(v2);
-  timer_.charge(PartTimer::Start);
-  const bool agree = ghosts_agree();
-  double loc[3] = {agree ? 0.0 : 1.0, disp, vmax_local}, glob[3];
-  MPI_Allreduce(loc, glob, 3, MPI_DOUBLE, MPI_MAX, world);
-
+  int disagree = ghosts_agree() ? 0 : 1;
+  MPI_Allreduce(MPI_IN_PLACE, &disagree, 1, MPI_INT, MPI_MAX, world);
   timer_.charge(PartTimer::Check);
-  if (glob[0] != 0.0) {
+
+  const int nlocal = atom->nlocal;
+  double **x = atom->x, **v = atom->v;
+  if (disagree) {
     t = rerun_globally();
     stale_ = true;
     timer_.charge(PartTimer::Rerun);
   } else if (stepper_) {
+    hardsphere::state_exchange(*stepper_).scatter_state(slot_dest_.data(), slot_shift_.data(), x[0], v[0]);
+    timer_.charge(PartTimer::Write);
     const hardsphere::OwnedCounters &c = hardsphere::state_exchange(*stepper_).owned_counters();
     t.collisions = c.collisions - last_.collisions;
     t.wall_collisions = c.wall_collisions - last_.wall_collisions;
@@ -274,10 +272,19 @@ RankStepper::StepTotals RankStepper::step() {
     t.unresolved = double(unresolved - last_unresolved_);
     last_unresolved_ = unresolved;
   }
-  // Before the next step every atom that can meet an owned atom must be here: re-neighbour
-  // when the moves since the build (both atoms of a pair) and one more step could use up the
-  // shell's slack.
-  reneighbor_ = 2.0 * (glob[1] + 2.0 * glob[2] * config_.dt) >= reach_;
+
+  // Largest owned move since the build, for the shell's slack. Before the next step every atom
+  // that can meet an owned atom must be here: re-neighbour when the moves since the build (both
+  // atoms of a pair) and one more step could use up the shell's slack.
+  double disp2 = 0, v2 = 0;
+  for (int i = 0; i < nlocal; i++) {
+    disp2 = std::max(disp2, norm2(Vec3d{x[i][0], x[i][1], x[i][2]} - x_ref_[std::size_t(i)]));
+    v2 = std::max(v2, v[i][0] * v[i][0] + v[i][1] * v[i][1] + v[i][2] * v[i][2]);
+  }
+  double moves[2] = {std::sqrt(disp2), std::sqrt(v2)};
+  MPI_Allreduce(MPI_IN_PLACE, moves, 2, MPI_DOUBLE, MPI_MAX, world);
+  reneighbor_ = 2.0 * (moves[0] + 2.0 * moves[1] * config_.dt) >= reach_;
+  timer_.charge(PartTimer::Moves);
   return t;
 }
 
@@ -316,9 +323,9 @@ RankStepper::StepTotals RankStepper::rerun_globally() {
   std::vector<double> mine(std::size_t(nlocal) * kFields);
   for (int i = 0; i < nlocal; i++) {
     double *o = &mine[std::size_t(i) * kFields];
-    const Vec3d &p = x_start_[std::size_t(i)], &u = v_start_[std::size_t(i)];
+    const double *p = atom->x[i], *u = atom->v[i];  // still the step's start
     o[0] = double(atom->tag[i]), o[1] = atom->type[i], o[2] = atom->radius[i], o[3] = atom->rmass[i];
-    o[4] = p.x, o[5] = p.y, o[6] = p.z, o[7] = u.x, o[8] = u.y, o[9] = u.z;
+    o[4] = p[0], o[5] = p[1], o[6] = p[2], o[7] = u[0], o[8] = u[1], o[9] = u[2];
   }
   const int nprocs = comm->nprocs;
   int count = nlocal * kFields;
@@ -355,10 +362,11 @@ RankStepper::StepTotals RankStepper::rerun_globally() {
   for (int i = 0; i < nlocal; i++) {
     const auto it = std::lower_bound(out.id.begin(), out.id.end(), std::int64_t(atom->tag[i]));
     const std::size_t k = std::size_t(it - out.id.begin());
-    Vec3d d = out.pos[k] - x_start_[std::size_t(i)];
+    const Vec3d start{x[i][0], x[i][1], x[i][2]};
+    Vec3d d = out.pos[k] - start;
     for (int a = 0; a < 3; a++)
       if (sys.box.periodic[a]) d[a] -= sys.box.length(a) * std::nearbyint(d[a] / sys.box.length(a));
-    const Vec3d p = x_start_[std::size_t(i)] + d;
+    const Vec3d p = start + d;
     x[i][0] = p.x, x[i][1] = p.y, x[i][2] = p.z;
     v[i][0] = out.vel[k].x, v[i][1] = out.vel[k].y, v[i][2] = out.vel[k].z;
   }
@@ -378,8 +386,9 @@ int RankStepper::pack_forward(int n, int *list, double *buf) {
   int m = 0;
   for (int k = 0; k < n; k++) {
     const int j = list[k];
-    if (comm_mode_ == 1 && j >= atom->nlocal) {  // a ghost passed on: its owner's value
-      const Vec3d &o = v_owner_[std::size_t(j)];
+    if (record_sends_ && j < atom->nlocal) sent_rows_.push_back(j);
+    if (comm_mode_ == 1) {  // after the step: an owner's new velocity, or a ghost's passed on
+      const Vec3d &o = j < atom->nlocal ? sent_vel_[std::size_t(row_sent_[std::size_t(j)])] : v_owner_[std::size_t(j)];
       buf[m++] = o.x, buf[m++] = o.y, buf[m++] = o.z;
     } else {
       buf[m++] = v[j][0], buf[m++] = v[j][1], buf[m++] = v[j][2];

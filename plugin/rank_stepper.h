@@ -78,14 +78,21 @@ class RankStepper : protected Pointers {
   std::vector<hardsphere::Vec3d> ghost_pos_, ghost_vel_;  //!< scratch for sync_ghosts
   std::vector<std::int32_t> slot_image_;
   std::vector<hardsphere::Vec3d> slot_shift_;
-  std::vector<std::uint8_t> met_;                     //!< per ghost slot: it met an owned atom in this step
-  std::vector<std::uint32_t> met_slots_;              //!< those slots
-  std::vector<hardsphere::Vec3d> met_vel_;            //!< and this rank's velocities of them
-  std::vector<hardsphere::Vec3d> x_ref_;              //!< owned positions when LAMMPS last re-neighboured
-  std::vector<hardsphere::Vec3d> x_start_, v_start_;  //!< owned state at the step's start
-  std::vector<hardsphere::Vec3d> v_owner_;            //!< per ghost: its owner's velocity after the step
-  int comm_mode_ = 0;                                 //!< 0: velocities, 1: owners' results
-  double reach_ = 0;  //!< slack of the ghost shell when LAMMPS last re-neighboured (length)
+  std::vector<std::uint8_t> met_;           //!< per ghost slot: it met an owned atom in this step
+  std::vector<std::uint32_t> met_slots_;    //!< those slots
+  std::vector<hardsphere::Vec3d> met_vel_;  //!< and this rank's velocities of them
+  std::vector<hardsphere::Vec3d> x_ref_;    //!< owned positions when LAMMPS last re-neighboured
+  std::vector<hardsphere::Vec3d> v_owner_;  //!< per ghost: its owner's velocity after the step
+  // Owned atoms that other ranks (or periodic images) hold as ghosts: LAMMPS's rows, recorded
+  // from its send lists at the build, their slots, and their velocities after the step, sent
+  // to the ghosts before LAMMPS's own rows are written.
+  std::vector<int> sent_rows_;
+  std::vector<std::uint32_t> sent_slots_;
+  std::vector<hardsphere::Vec3d> sent_vel_;
+  std::vector<int> row_sent_;  //!< per owned row: its index in sent_rows_, or -1
+  bool record_sends_ = false;
+  int comm_mode_ = 0;  //!< 0: velocities, 1: owners' results
+  double reach_ = 0;   //!< slack of the ghost shell when LAMMPS last re-neighboured (length)
 };
 
 }  // namespace LAMMPS_NS
