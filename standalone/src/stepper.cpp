@@ -370,7 +370,7 @@ class Stepper final : public StepperBase, public StateExchange {
   void rebuild();
   void bind_resolver();
   struct CellRun;
-  int stencil_runs(std::int64_t c, CellRun* out) const;
+  int stencil_runs(std::int64_t c, const std::array<int, 3>& at, CellRun* out) const;
   void build_pairs_half_stencil();
   void build_pairs_any_grid();
   void build_adjacency();
@@ -648,14 +648,14 @@ Stepper<Real, Mono>::Stepper(const ParticleSystem& sys, const StepperConfig& cfg
 }
 
 template <class Real, bool Mono>
-int Stepper<Real, Mono>::stencil_runs(std::int64_t c, CellRun* const first) const {
+int Stepper<Real, Mono>::stencil_runs(std::int64_t c, const std::array<int, 3>& at, CellRun* const first) const {
   // Every periodic axis has >= 3 cells: the 13 forward neighbours of a cell are distinct, and
   // wrapping a neighbour's cell coordinate gives exactly the pair's minimum image, so each
   // unordered pair of neighbouring cells is met once and no pair needs a division.
   // Forward rows (dy, dz) whose x range is [dx_lo, 1]: the cell's own row only ahead of it.
   static const int rows[5][3] = {{1, 0, 0}, {-1, 1, 0}, {-1, -1, 1}, {-1, 0, 1}, {-1, 1, 1}};
   const auto k = grid_.counts();
-  const int cx = int(c % k[0]), cy = int(c / k[0] % k[1]), cz = int(c / k[0] / k[1]);
+  const int cx = at[0], cy = at[1], cz = at[2];  // cell c's coordinates
   if (cx >= 1 && cx + 1 < k[0] && k[0] >= 4 && cy >= 1 && cy + 1 < k[1] && cz + 1 < k[2]) {
     // Inside the grid the five runs are offsets (with 4 or more cells along x none of them
     // touch, so none merge).
@@ -709,11 +709,17 @@ void Stepper<Real, Mono>::build_pairs_half_stencil() {
   near_.resize(std::max<std::size_t>(near_.size(), 1024));
   std::uint32_t* degree = adj_start_.data() + 1;  // list lengths, see rebuild()
   const detail::RowSoA<Real> soa{soa_x_.data(), soa_y_.data(), soa_z_.data(), r_.data()};
+  const auto counts = grid_.counts();
+  std::array<int, 3> at{-1, 0, 0};  // cell c's coordinates, x fastest
   for (std::int64_t c = 0; c < ncell; ++c) {
+    if (++at[0] == counts[0]) {
+      at[0] = 0;
+      if (++at[1] == counts[1]) at[1] = 0, ++at[2];
+    }
     const std::uint32_t b0 = cell_start_[c], b1 = cell_start_[c + 1];
     if (b0 == b1) continue;
     CellRun runs[kMaxRuns];
-    const int nruns = stencil_runs(c, runs);
+    const int nruns = stencil_runs(c, at, runs);
     std::size_t reach = b1 - b0;  // an upper bound of the pairs this cell can add
     for (int r = 0; r < nruns; ++r) reach += cell_start_[runs[r].end] - cell_start_[runs[r].begin];
     const std::size_t need = n_near + (b1 - b0) * reach + detail::kRowSlack;
