@@ -35,11 +35,15 @@ double distance_outside(const double *p, const double *lo, const double *hi) {
 
 void RankStepper::build() {
   // Ghost velocities come from their owners; LAMMPS refreshed the ghost positions.
-  comm_mode_ = 0;
-  sent_rows_.clear();
+  sent_rows_.clear(), rows_self_.clear(), rows_pending_.clear(), self_swap_.clear();
+  packed_ = nullptr;
+  swaps_known_ = true;
   record_sends_ = true;
-  comm->forward_comm_fix(fix_, kForwardSize);
+  forward_comm(0);
   record_sends_ = false;
+  if (packed_) swaps_known_ = false;  // a pack without its unpack
+  // Velocities after the step go to other ranks only, unless the swaps were not recognised.
+  if (!swaps_known_) sent_rows_.insert(sent_rows_.end(), rows_self_.begin(), rows_self_.end());
   std::sort(sent_rows_.begin(), sent_rows_.end());
   sent_rows_.erase(std::unique(sent_rows_.begin(), sent_rows_.end()), sent_rows_.end());
   row_sent_.assign(std::size_t(atom->nlocal), -1);
@@ -220,8 +224,7 @@ RankStepper::StepTotals RankStepper::step() {
     timer_.charge(PartTimer::Remake);
   } else if (stepper_) {
     if (refresh_v_) {  // every atom's velocity from LAMMPS, the ghosts' from their owners
-      comm_mode_ = 0;
-      comm->forward_comm_fix(fix_, kForwardSize);
+      forward_comm(0);
       if (stepper_->counters().rebuilds != mapped_rebuilds_) map_slots();
       hardsphere::state_exchange(*stepper_).gather_velocities(slot_local_.data(), atom->v[0]);
       double **v = atom->v;
@@ -295,9 +298,7 @@ bool RankStepper::ghosts_agree() {
   // copies' next step (sync_ghosts).
   const int nall = atom->nlocal + atom->nghost;
   v_owner_.resize(std::size_t(nall));
-  comm_mode_ = 1;
-  comm->forward_comm_fix(fix_, kForwardSize);
-  comm_mode_ = 0;
+  forward_comm(1);
   if (!stepper_) return true;
   auto &exch = hardsphere::state_exchange(*stepper_);
   met_.resize(ghost_slots_.size());
@@ -381,12 +382,25 @@ RankStepper::StepTotals RankStepper::rerun_globally() {
   return t;
 }
 
+void RankStepper::forward_comm(int mode) {
+  comm_mode_ = mode;
+  swap_ = 0;
+  comm->forward_comm_fix(fix_, kForwardSize);
+  comm_mode_ = 0;
+}
+
 int RankStepper::pack_forward(int n, int *list, double *buf) {
+  if (record_sends_) {
+    if (packed_) swaps_known_ = false;  // two packs in a row
+    packed_ = buf;
+    for (int k = 0; k < n; k++)
+      if (list[k] < atom->nlocal) rows_pending_.push_back(list[k]);
+  }
+  if (skip_swap()) return 0;
   double **v = atom->v;
   int m = 0;
   for (int k = 0; k < n; k++) {
     const int j = list[k];
-    if (record_sends_ && j < atom->nlocal) sent_rows_.push_back(j);
     if (comm_mode_ == 1) {  // after the step: an owner's new velocity, or a ghost's passed on
       const Vec3d &o = j < atom->nlocal ? sent_vel_[std::size_t(row_sent_[std::size_t(j)])] : v_owner_[std::size_t(j)];
       buf[m++] = o.x, buf[m++] = o.y, buf[m++] = o.z;
@@ -398,6 +412,18 @@ int RankStepper::pack_forward(int n, int *list, double *buf) {
 }
 
 void RankStepper::unpack_forward(int n, int first, double *buf) {
+  if (record_sends_) {
+    if (!packed_) swaps_known_ = false;  // an unpack without its pack
+    const bool self = buf == packed_;
+    self_swap_.push_back(self ? 1 : 0);
+    auto &rows = self ? rows_self_ : sent_rows_;
+    rows.insert(rows.end(), rows_pending_.begin(), rows_pending_.end());
+    rows_pending_.clear();
+    packed_ = nullptr;
+  }
+  const bool skip = skip_swap();
+  ++swap_;
+  if (skip) return;
   double **v = atom->v;
   for (int i = first, m = 0; i < first + n; i++, m += 3) {
     if (comm_mode_ == 1)  // owners' results, kept apart from this rank's copies

@@ -60,6 +60,8 @@ class RankStepper : protected Pointers {
   void start_epoch(double shell, double dmax);
   void map_slots();
   void sync_ghosts();
+  void forward_comm(int mode);
+  bool skip_swap() const { return comm_mode_ == 1 && swaps_known_ && swap_ < self_swap_.size() && self_swap_[swap_]; }
   bool ghosts_agree();
   StepTotals rerun_globally();
 
@@ -91,6 +93,14 @@ class RankStepper : protected Pointers {
   std::vector<hardsphere::Vec3d> sent_vel_;
   std::vector<int> row_sent_;  //!< per owned row: its index in sent_rows_, or -1
   bool record_sends_ = false;
+  // LAMMPS's forward communication, swap by swap in call order: which swaps copy atoms to this
+  // rank itself (periodic images along an unsplit axis, which no rank's stepper uses). The
+  // owner check skips them when the pattern was recognised (each pack followed by its unpack).
+  std::vector<std::uint8_t> self_swap_;
+  std::vector<int> rows_pending_, rows_self_;  //!< while recording: rows of the current swap, of self swaps
+  const double *packed_ = nullptr;             //!< the last pack's buffer (a self swap unpacks from it)
+  std::size_t swap_ = 0;                       //!< swaps so far in the current communication
+  bool swaps_known_ = false;
   int comm_mode_ = 0;  //!< 0: velocities, 1: owners' results
   double reach_ = 0;   //!< slack of the ghost shell when LAMMPS last re-neighboured (length)
 };
