@@ -35,19 +35,7 @@ double distance_outside(const double *p, const double *lo, const double *hi) {
 
 void RankStepper::build() {
   // Ghost velocities come from their owners; LAMMPS refreshed the ghost positions.
-  sent_rows_.clear(), rows_self_.clear(), rows_pending_.clear(), self_swap_.clear();
-  packed_ = nullptr;
-  swaps_known_ = true;
-  record_sends_ = true;
-  forward_comm(0);
-  record_sends_ = false;
-  if (packed_) swaps_known_ = false;  // a pack without its unpack
-  // Velocities after the step go to other ranks only, unless the swaps were not recognised.
-  if (!swaps_known_) sent_rows_.insert(sent_rows_.end(), rows_self_.begin(), rows_self_.end());
-  std::sort(sent_rows_.begin(), sent_rows_.end());
-  sent_rows_.erase(std::unique(sent_rows_.begin(), sent_rows_.end()), sent_rows_.end());
-  row_sent_.assign(std::size_t(atom->nlocal), -1);
-  for (std::size_t b = 0; b < sent_rows_.size(); b++) row_sent_[std::size_t(sent_rows_[b])] = int(b);
+  forward_comm_learning_swaps();
 
   const int nlocal = atom->nlocal, nall = nlocal + atom->nghost;
   double **x = atom->x, **v = atom->v;
@@ -380,6 +368,24 @@ RankStepper::StepTotals RankStepper::rerun_globally() {
     for (std::size_t k = 0; k < 6; k++) t.virial[k] = c.pair_virial_tensor[k];
   }
   return t;
+}
+
+void RankStepper::forward_comm_learning_swaps() {
+  // LAMMPS's send lists and swaps stay as they are until it re-neighbours: learn which owned
+  // rows other ranks hold as ghosts and which swaps only copy to this rank itself.
+  sent_rows_.clear(), rows_self_.clear(), rows_pending_.clear(), self_swap_.clear();
+  packed_ = nullptr;
+  swaps_known_ = true;
+  record_sends_ = true;
+  forward_comm(0);
+  record_sends_ = false;
+  if (packed_) swaps_known_ = false;  // a pack without its unpack
+  // Velocities after the step go to other ranks only, unless the swaps were not recognised.
+  if (!swaps_known_) sent_rows_.insert(sent_rows_.end(), rows_self_.begin(), rows_self_.end());
+  std::sort(sent_rows_.begin(), sent_rows_.end());
+  sent_rows_.erase(std::unique(sent_rows_.begin(), sent_rows_.end()), sent_rows_.end());
+  row_sent_.assign(std::size_t(atom->nlocal), -1);
+  for (std::size_t b = 0; b < sent_rows_.size(); b++) row_sent_[std::size_t(sent_rows_[b])] = int(b);
 }
 
 void RankStepper::forward_comm(int mode) {

@@ -61,6 +61,7 @@ class RankStepper : protected Pointers {
   void map_slots();
   void sync_ghosts();
   void forward_comm(int mode);
+  void forward_comm_learning_swaps();
   bool skip_swap() const { return comm_mode_ == 1 && swaps_known_ && swap_ < self_swap_.size() && self_swap_[swap_]; }
   bool ghosts_agree();
   StepTotals rerun_globally();
