@@ -175,14 +175,15 @@ void RankStepper::map_slots() {
   // Only owned rows are written back: a ghost's row is its owner's, refreshed by LAMMPS.
   ghost_slots_.clear();
   slot_dest_.resize(n);
+  std::vector<std::uint32_t> row_slot(std::size_t(atom->nlocal));
   for (std::size_t k = 0; k < n; k++) {
     const bool ghost = int(slot_local_[k]) >= atom->nlocal;
-    if (ghost) ghost_slots_.push_back(std::uint32_t(k));
+    if (ghost)
+      ghost_slots_.push_back(std::uint32_t(k));
+    else
+      row_slot[slot_local_[k]] = std::uint32_t(k);
     slot_dest_[k] = ghost ? hardsphere::StateExchange::kNoRow : slot_local_[k];
   }
-  std::vector<std::uint32_t> row_slot(std::size_t(atom->nlocal));
-  for (std::size_t k = 0; k < n; k++)
-    if (slot_dest_[k] != hardsphere::StateExchange::kNoRow) row_slot[slot_dest_[k]] = std::uint32_t(k);
   sent_slots_.resize(sent_rows_.size());
   for (std::size_t b = 0; b < sent_rows_.size(); b++) sent_slots_[b] = row_slot[std::size_t(sent_rows_[b])];
   mapped_rebuilds_ = stepper_->counters().rebuilds;

@@ -86,9 +86,9 @@ class RankStepper : protected Pointers {
   std::vector<hardsphere::Vec3d> met_vel_;  //!< and this rank's velocities of them
   std::vector<hardsphere::Vec3d> x_ref_;    //!< owned positions when LAMMPS last re-neighboured
   std::vector<hardsphere::Vec3d> v_owner_;  //!< per ghost: its owner's velocity after the step
-  // Owned atoms that other ranks (or periodic images) hold as ghosts: LAMMPS's rows, recorded
-  // from its send lists at the build, their slots, and their velocities after the step, sent
-  // to the ghosts before LAMMPS's own rows are written.
+  // Owned atoms that other ranks hold as ghosts (and this rank's own periodic images, if the
+  // swaps were not recognised): LAMMPS's rows, recorded from its send lists at the build, their
+  // slots, and their velocities after the step, sent before LAMMPS's own rows are written.
   std::vector<int> sent_rows_;
   std::vector<std::uint32_t> sent_slots_;
   std::vector<hardsphere::Vec3d> sent_vel_;

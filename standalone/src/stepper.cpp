@@ -479,7 +479,6 @@ class Stepper final : public StepperBase, public StateExchange {
     std::uint8_t image;
   };
   static constexpr int kMaxRuns = 10;
-  bool half_stencil_ = false;
   std::vector<V3<Real>> scratch_v3_;
   std::vector<Real> scratch_real_;
   std::vector<std::uint32_t> scratch_u32_;
@@ -634,7 +633,6 @@ Stepper<Real, Mono>::Stepper(const ParticleSystem& sys, const StepperConfig& cfg
   gravity_ = {Real(cfg.gravity[0]), Real(cfg.gravity[1]), Real(cfg.gravity[2])};
   has_gravity_ = cfg.gravity != std::array<double, 3>{0, 0, 0};
   resolver_.set_gravity(gravity_);
-  half_stencil_ = grid_.half_stencil_ok();
   // Threats are enumerated from the cells within two of a sphere's: every periodic axis needs
   // 3 cells (so a cell is at least sigma + skin wide).
   guard_.configure(skin_, cfg.pairwise_list_check && grid_.half_stencil_ok(), std::max<std::size_t>(n / 32, 16));
@@ -826,7 +824,7 @@ void Stepper<Real, Mono>::rebuild() {
   wrap_.clear();
   wrap_image_.clear();
   adj_start_.assign(n + 1, 0);  // each sphere's list length, counted where its pairs are found
-  if (half_stencil_)
+  if (grid_.half_stencil_ok())
     build_pairs_half_stencil();
   else
     build_pairs_any_grid();

@@ -15,10 +15,11 @@
 //! sphere's rebuild scans all the cells its range overlaps. Each sphere holds exactly one entry
 //! in the event calendar (its earliest predicted event); an entry naming a partner is stale once
 //! that partner has collided since (per-sphere collision counters), and a stale entry is
-//! re-predicted when it comes up (or replaced by the stored second-best candidate). Positions are "delayed": each
-//! sphere stores its position at its own last update time and is advanced only when it takes part
-//! in an event or is observed. The clock is re-based to zero every few events per sphere (and the
-//! spheres renumbered in Morton order of their cells) so long runs keep full precision.
+//! re-predicted when it comes up (or replaced by the stored second-best candidate). Positions
+//! are "delayed": each sphere stores its position at its own last update time and is advanced
+//! only when it takes part in an event or is observed. The clock is re-based to zero every few
+//! events per sphere (and the spheres renumbered in Morton order of their cells) so long runs
+//! keep full precision.
 #include <array>
 #include <cstdint>
 #include <limits>
