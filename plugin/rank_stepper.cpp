@@ -129,6 +129,7 @@ void RankStepper::build() {
   }
   auto &exch = hardsphere::state_exchange(*stepper_);
   exch.set_owned(owned.data());
+  exch.set_rebuild_agreement([this](bool due) { return agree_rebuild(due); });
   last_ = hardsphere::OwnedCounters{};
   last_unresolved_ = 0;
   map_slots();
@@ -241,6 +242,8 @@ RankStepper::StepTotals RankStepper::step() {
     if (stepper_->counters().rebuilds != mapped_rebuilds_) map_slots();
     sent_vel_.resize(sent_slots_.size());
     hardsphere::state_exchange(*stepper_).copy_velocities(sent_slots_.data(), sent_slots_.size(), sent_vel_.data());
+  } else {
+    agree_rebuild(false);  // the other ranks' steppers ask once per step
   }
   int disagree = ghosts_agree() ? 0 : 1;
   MPI_Allreduce(MPI_IN_PLACE, &disagree, 1, MPI_INT, MPI_MAX, world);
@@ -278,6 +281,14 @@ RankStepper::StepTotals RankStepper::step() {
   reneighbor_ = 2.0 * (moves[0] + 2.0 * moves[1] * config_.dt) >= reach_;
   timer_.charge(PartTimer::Moves);
   return t;
+}
+
+bool RankStepper::agree_rebuild(bool due) {
+  // Every rank waits for the slowest after each step: one rank's pair-list rebuild would
+  // stall all the others, so all rebuild on the steps any of them needs to.
+  int any = due ? 1 : 0;
+  MPI_Allreduce(MPI_IN_PLACE, &any, 1, MPI_INT, MPI_LOR, world);
+  return any != 0;
 }
 
 bool RankStepper::ghosts_agree() {

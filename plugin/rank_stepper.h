@@ -63,6 +63,7 @@ class RankStepper : protected Pointers {
   void forward_comm(int mode);
   void forward_comm_learning_swaps();
   bool skip_swap() const { return comm_mode_ == 1 && swaps_known_ && swap_ < self_swap_.size() && self_swap_[swap_]; }
+  bool agree_rebuild(bool due);
   bool ghosts_agree();
   StepTotals rerun_globally();
 

@@ -3,9 +3,11 @@
 #include <algorithm>
 #include <cmath>
 #include <cstddef>
+#include <functional>
 #include <limits>
 #include <numeric>
 #include <sstream>
+#include <utility>
 #include <vector>
 
 #include "cell_grid.hpp"
@@ -239,6 +241,7 @@ class Stepper final : public StepperBase, public StateExchange {
     }
     refresh_speed_bound();
   }
+  void set_rebuild_agreement(std::function<bool(bool)> agree) override { agree_ = std::move(agree); }
   bool sweep_detection() const override { return sweep_; }
   double substeps_per_step() const override {
     return std::max(1.0, std::ceil(double(resolver_.speed_bound()) * double(dt_) / double(half_skin_)));
@@ -491,6 +494,8 @@ class Stepper final : public StepperBase, public StateExchange {
   mutable OwnedCounters owned_counters_;
   std::vector<std::uint8_t> owned_;           // id order; empty: no ownership accounting
   std::vector<std::uint8_t> met_owned_;       // id order: not owned, collided with an owned sphere in this run()
+  std::function<bool(bool)> agree_;           // set_rebuild_agreement
+  bool vote_due_ = false;                     // this step has not asked agree_ yet
   std::vector<std::uint32_t> input_of_rank_;  // id rank -> index in the constructor's input
   std::vector<double> last_collision_;        // id order: each sphere's last collision time (restitution < 1)
   // Cell order, like pos_, so a collision's two increments hit lines its spheres' neighbours use too.
@@ -981,6 +986,7 @@ void Stepper<Real, Mono>::scan_pair_list() {
 template <class Real, bool Mono>
 template <bool AllPeriodic, bool Sweep>
 void Stepper<Real, Mono>::step() {
+  vote_due_ = bool(agree_);
   // The speed bound is an upper bound of every speed now (set at the drift, raised by each
   // collision), so one comparison tells whether a whole step keeps every path within half
   // the skin; only long steps for the skin are split.
@@ -1024,7 +1030,12 @@ Real Stepper<Real, Mono>::substep() {
     kick(Real(0.5) * h_);
     refresh_speed_bound();
   }
-  if (list_expired()) {
+  bool rebuild_due = list_expired();
+  if (vote_due_) {  // the first sub-step of a step asks the other engines
+    vote_due_ = false;
+    rebuild_due = agree_(rebuild_due) || rebuild_due;
+  }
+  if (rebuild_due) {
     rebuild();
     cover_windows(false);
   }

@@ -135,6 +135,49 @@ TEST(StepperAdapterApi, WrapCountsKeepTheUnwrappedTrajectoryContinuous) {
   }
 }
 
+TEST(StepperAdapterApi, RebuildAgreementIsAskedOncePerStepAndCanOnlyAddRebuilds) {
+  // Engines on MPI ranks rebuild their pair lists on the steps any of them needs to. The
+  // engine asks once per step, also when a long step is split into sub-steps; an answer of
+  // "no" cannot skip a rebuild the engine needs, and "yes" rebuilds without changing the run.
+  // Runs over t = 2 at most: the gas's chaos keeps rounding differences below 1e-9 there.
+  // Steps of 1 move the fastest spheres beyond the skin (at most ~3 diameters here).
+  const auto s = gas(200, 0.2, 9);
+  for (const double dt : {0.01, 1.0}) {
+    StepperConfig cfg;
+    cfg.dt = dt;
+    const std::int64_t steps = dt < 0.1 ? 100 : 2;
+    auto alone = make_stepper(s, cfg), never = make_stepper(s, cfg), always = make_stepper(s, cfg);
+    std::int64_t asked_never = 0, asked_always = 0, due_told = 0;
+    state_exchange(*never).set_rebuild_agreement([&](bool due) {
+      ++asked_never;
+      due_told += due ? 1 : 0;
+      return false;
+    });
+    state_exchange(*always).set_rebuild_agreement([&](bool) {
+      ++asked_always;
+      return true;
+    });
+    alone->run(steps), never->run(steps), always->run(steps);
+    EXPECT_EQ(asked_never, steps) << "dt " << dt;
+    EXPECT_EQ(asked_always, steps) << "dt " << dt;
+    if (dt > 0.1) {
+      EXPECT_GT(never->counters().substeps, 2 * steps) << "the long steps were not split";
+    }
+    ASSERT_GT(due_told, 0) << "dt " << dt;
+    EXPECT_EQ(never->counters().rebuilds, alone->counters().rebuilds) << "dt " << dt;
+    EXPECT_GE(always->counters().rebuilds, steps) << "dt " << dt;
+    EXPECT_GT(always->counters().rebuilds, alone->counters().rebuilds) << "dt " << dt;
+    EXPECT_EQ(always->counters().collisions, alone->counters().collisions) << "dt " << dt;
+    const auto a = alone->state(), b = never->state(), c = always->state();
+    for (std::size_t i = 0; i < s.size(); ++i) {
+      ASSERT_EQ(a.pos[i].x, b.pos[i].x);
+      ASSERT_EQ(a.vel[i].y, b.vel[i].y);
+      EXPECT_NEAR(a.pos[i].z, c.pos[i].z, 1e-9);
+      EXPECT_NEAR(a.vel[i].x, c.vel[i].x, 1e-9);
+    }
+  }
+}
+
 TEST(StepperTwoBody, WallBounceMirrorsAtTheContactTime) {
   // Radius 0.5 at x = 1 moving at -1 toward the wall at 0: contact after 0.5, then 0.2 back.
   auto s = two({1, 5, 5}, {-1, 0, 0}, {7, 5, 5}, {0, 0, 0}, 0.5, 0.5, 1, 1, 10, {false, true, true});

@@ -5,6 +5,7 @@
 #include <array>
 #include <cstddef>
 #include <cstdint>
+#include <functional>
 
 #include "hardsphere/stepper.hpp"
 #include "hardsphere/vec3.hpp"
@@ -57,6 +58,12 @@ class StateExchange {
   //! Per given slot: 1 if the sphere is not owned and collided with an owned one in the last
   //! run().
   virtual void copy_met_owned(const std::uint32_t* slots, std::size_t count, std::uint8_t* out) const = 0;
+  //! For engines that step side by side and wait for each other after every step (one per MPI
+  //! rank): they rebuild their pair lists on the same steps, so none waits while another
+  //! rebuilds. In every step, after its first drift, the engine calls agree(due), due telling
+  //! whether its own list must be rebuilt, and rebuilds if the answer is true (it must be when
+  //! due is). Each step calls it exactly once. Empty (the default): each engine decides alone.
+  virtual void set_rebuild_agreement(std::function<bool(bool)> agree) = 0;
 };
 
 //! The exchange interface of a stepper made by make_stepper.
