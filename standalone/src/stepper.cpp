@@ -226,13 +226,16 @@ class Stepper final : public StepperBase, public StateExchange {
   }
   void set_spheres(const std::uint32_t* slots, std::size_t count, const Vec3d* pos, const Vec3d* vel) override {
     // A changed position is a displacement like any other: the next drift measures it from the
-    // rebuild position, so the list guard sees it.
+    // rebuild position, so the list guard sees it. The speed bound stays an upper bound if
+    // raised by the new speeds (the other spheres' are below it): no pass over every sphere.
+    Real v2 = 0;
     for (std::size_t i = 0; i < count; ++i) {
       const std::uint32_t k = slots[i];
       pos_[k] = {Real(pos[i].x - origin_[0]), Real(pos[i].y - origin_[1]), Real(pos[i].z - origin_[2])};
       vel_[k] = {Real(vel[i].x), Real(vel[i].y), Real(vel[i].z)};
+      v2 = std::max(v2, dot(vel_[k], vel_[k]));
     }
-    refresh_speed_bound();
+    resolver_.set_speed_bound(std::max(resolver_.speed_bound(), std::sqrt(v2) + path_bend()));
   }
   void gather_velocities(const std::uint32_t* src, const double* v) override {
     for (std::size_t k = 0; k < vel_.size(); ++k) {
@@ -313,12 +316,13 @@ class Stepper final : public StepperBase, public StateExchange {
   void refresh_speed_bound() {
     Real v2 = 0;
     for (const auto& v : vel_) v2 = std::max(v2, dot(v, v));
-    // Under gravity a path over a step bends by at most |g| h^2 / 2: |g| h more speed covers it.
-    const Real bend = has_gravity_ ? std::sqrt(dot(V3<Real>{gravity_[0], gravity_[1], gravity_[2]},
-                                                   V3<Real>{gravity_[0], gravity_[1], gravity_[2]})) *
-                                         h_
-                                   : Real(0);
-    resolver_.set_speed_bound(std::sqrt(v2) + bend);
+    resolver_.set_speed_bound(std::sqrt(v2) + path_bend());
+  }
+  //! Under gravity a path over a step bends by at most |g| h^2 / 2: |g| h more speed covers it.
+  Real path_bend() const {
+    if (!has_gravity_) return Real(0);
+    const V3<Real> g{gravity_[0], gravity_[1], gravity_[2]};
+    return std::sqrt(dot(g, g)) * h_;
   }
   void kick(Real t) {
     const V3<Real> dv{gravity_[0] * t, gravity_[1] * t, gravity_[2] * t};

@@ -135,6 +135,32 @@ TEST(StepperAdapterApi, WrapCountsKeepTheUnwrappedTrajectoryContinuous) {
   }
 }
 
+TEST(StepperAdapterApi, SetSpheresTakesEffectAtTheNextStepHoweverFast) {
+  // An adapter moves sphere 2 next to sphere 1 and sends it at it at 500 diameters per unit
+  // time: 5 diameters in the next step, far past the skin. The step must be split for the new
+  // speed (an unsplit one would jump through sphere 1) and the head-on collision swap the
+  // velocities.
+  const auto s = two({5, 10, 10}, {0, 0, 0}, {15, 10, 10}, {0, 0.1, 0}, 0.5, 0.5, 1, 1, 20);
+  StepperConfig cfg;
+  cfg.dt = 0.01;
+  auto st = make_stepper(s, cfg);
+  st->run(1);
+  auto& ex = state_exchange(*st);
+  std::vector<std::int64_t> ids(2);
+  ex.copy_ids(ids.data());
+  const std::uint32_t slot2 = ids[0] == 2 ? 0 : 1;
+  const Vec3d pos{8, 10, 10}, vel{-500, 0, 0};
+  ex.set_spheres(&slot2, 1, &pos, &vel);
+  st->run(1);
+  const auto out = st->state();
+  EXPECT_EQ(st->counters().collisions, 1);
+  EXPECT_GT(st->counters().substeps, 2);  // the second step was split
+  EXPECT_NEAR(out.vel[0].x, -500.0, 1e-9);
+  EXPECT_NEAR(out.vel[1].x, 0.0, 1e-9);
+  EXPECT_NEAR(out.pos[0].x, 2.0, 1e-9);  // sphere 1 leaves at t = 0.004 (gap 2 closed at 500)
+  EXPECT_NEAR(out.pos[1].x, 6.0, 1e-9);
+}
+
 TEST(StepperAdapterApi, RebuildAgreementIsAskedOncePerStepAndCanOnlyAddRebuilds) {
   // Engines on MPI ranks rebuild their pair lists on the steps any of them needs to. The
   // engine asks once per step, also when a long step is split into sub-steps; an answer of
