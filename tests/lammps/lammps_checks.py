@@ -802,6 +802,35 @@ run 100 pre no every 50 "{}"
             ok &= check(good and r6[-1]["f_hs[1]"] > r6[0]["f_hs[1]"],
                         f"np={args.np}: run pre no every 50 \"{command}\": {r6[0]['Atoms']:.0f} atoms, T "
                         f"{r6[0]['Temp']:.12f}, energy kept over the second piece ({expect})")
+        # All atoms in the middle of one half of a long box (x 6..14 of 40): on 2 ranks the
+        # other sub-domain and its ghost shell start empty (that rank has no stepper but must
+        # join every step's collective calls) and fill up during the run. The collisions are
+        # the standalone stepper's.
+        script = """units lj
+atom_style sphere
+boundary p p p
+lattice sc 0.125
+region box block 0 20 0 5 0 5
+create_box 1 box
+region half block 2.5 7.5 0 5 0 5
+create_atoms 1 region half
+set type 1 mass 1.0
+velocity all create 1.0 4928 dist gaussian mom yes
+write_data half.data
+"""
+        run_lmp(args, script, d)
+        ref_half = standalone(args, d, "--read-data", "half.data", "--steps", "400", "--dt", "0.01")
+        script = HEADER.format(data="half.data", skin=0.5, dt=0.01) + """
+thermo_style custom step ke f_hs[1]
+thermo_modify format float %.17g
+thermo 400
+run 400
+"""
+        rc, out7 = run_lmp(args, script, d, np_=args.np)
+        r7 = thermo(out7)
+        ok &= check(r7[-1]["f_hs[1]"] == ref_half["collisions"] and abs(r7[-1]["KinEng"] / r7[0]["KinEng"] - 1) < 1e-12,
+                    f"np={args.np}: atoms in one half of the box (the other rank starts without atoms): "
+                    f"{r7[-1]['f_hs[1]']:.0f} collisions == standalone {ref_half['collisions']}, energy kept")
         blocks, cur = [], None
         for line in (out1 + out2).splitlines():
             s = line.split()
