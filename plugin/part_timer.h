@@ -16,10 +16,11 @@ class PartTimer {
   void enable(bool on) { on_ = on; }
   bool enabled() const { return on_; }
   void reset() { total_.fill(0.0); }
-  //! Charges the time since the last mark (or start()) to `part`.
+  //! Marks the start of a step's first part.
   void start() {
     if (on_) last_ = Clock::now();
   }
+  //! Charges the time since the last mark (or start()) to `part`.
   void charge(Part part) {
     if (!on_) return;
     const auto now = Clock::now();

@@ -61,8 +61,9 @@ class StateExchange {
   //! For engines that step side by side and wait for each other after every step (one per MPI
   //! rank): they rebuild their pair lists on the same steps, so none waits while another
   //! rebuilds. In every step, after its first drift, the engine calls agree(due), due telling
-  //! whether its own list must be rebuilt, and rebuilds if the answer is true (it must be when
-  //! due is). Each step calls it exactly once. Empty (the default): each engine decides alone.
+  //! whether its own list must be rebuilt, and rebuilds if its list is due or the answer is true
+  //! (a "no" never skips a rebuild). Each step calls it exactly once. Empty (the default): each
+  //! engine decides alone.
   virtual void set_rebuild_agreement(std::function<bool(bool)> agree) = 0;
 };
 
