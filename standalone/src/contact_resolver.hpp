@@ -58,11 +58,11 @@ struct ContactArrays {
   //! Optional: row s's entries before adj_plain_end[s] all have image kNoImage (the sweeps then
   //! skip their shift, a sizeable part of the filter's instructions; see docs/performance.md).
   const std::uint32_t* adj_plain_end = nullptr;
-  //! Optional: 1 for the spheres this engine owns (indexed like id): the tally's owned_* sums
+  //! Optional: 1 for the spheres this engine owns (indexed like pos): the tally's owned_* sums
   //! then weight each collision by the owned share of its pair and each bounce by its sphere's.
   const std::uint8_t* owned = nullptr;
   //! With owned: set to 1 for each sphere not owned that collided with an owned one (indexed
-  //! like id), so an adapter can check those copies against their owners.
+  //! like pos), so an adapter can check those copies against their owners.
   std::uint8_t* met_owned = nullptr;
   //! Optional: each sphere's pair collisions (indexed like pos), incremented for both spheres.
   std::int64_t* pair_collisions = nullptr;
@@ -486,7 +486,7 @@ class ContactResolver {
   }
   std::int64_t id(std::uint32_t i) const { return a_.id_slot ? a_.id[a_.id_slot[i]] : a_.id[i]; }
   std::uint32_t id_index(std::uint32_t i) const { return a_.id_slot ? a_.id_slot[i] : i; }
-  double owned(std::uint32_t i) const { return a_.owned[id_index(i)]; }
+  double owned(std::uint32_t i) const { return a_.owned[i]; }
   //! TC model: a collision `back` before the step's end is elastic if either sphere collided
   //! within contact_time_ before it.
   bool collided_recently(std::uint32_t i, std::uint32_t j, Real back) const {
@@ -615,7 +615,7 @@ class ContactResolver {
     if (a_.pair_collisions) ++a_.pair_collisions[i], ++a_.pair_collisions[j];
     if (a_.owned) {
       const double w = 0.5 * (owned(i) + owned(j));
-      if (w == 0.5) a_.met_owned[id_index(owned(i) != 0.0 ? j : i)] = 1;
+      if (w == 0.5) a_.met_owned[owned(i) != 0.0 ? j : i] = 1;
       tally.owned_collisions += w;
       tally.owned_virial += w * virial;
       const double t[6] = {r[0] * dp[0], r[1] * dp[1], r[2] * dp[2], r[0] * dp[1], r[0] * dp[2], r[1] * dp[2]};

@@ -174,13 +174,14 @@ class Stepper final : public StepperBase, public StateExchange {
     for (std::size_t k = 0; k < slot_.size(); ++k) out[k] = input_of_rank_[slot_[k]];
   }
   void set_owned(const std::uint8_t* owned) override {
-    owned_.resize(slot_.size());  // in id order, like every field reached through slot_
-    for (std::size_t r = 0; r < owned_.size(); ++r) owned_[r] = owned[input_of_rank_[r]];
+    // In slot order, permuted at each rebuild: the resolver reads both at every collision.
+    owned_.resize(slot_.size());
+    for (std::size_t k = 0; k < owned_.size(); ++k) owned_[k] = owned[input_of_rank_[slot_[k]]];
     met_owned_.assign(owned_.size(), 0);
     bind_resolver();
   }
   void copy_met_owned(const std::uint32_t* slots, std::size_t count, std::uint8_t* out) const override {
-    for (std::size_t i = 0; i < count; ++i) out[i] = met_owned_.empty() ? 0 : met_owned_[slot_[slots[i]]];
+    for (std::size_t i = 0; i < count; ++i) out[i] = met_owned_.empty() ? 0 : met_owned_[slots[i]];
   }
   const OwnedCounters& owned_counters() const override {
     owned_counters_.collisions = tally_.owned_collisions;
@@ -496,14 +497,15 @@ class Stepper final : public StepperBase, public StateExchange {
   ContactTally tally_;
   mutable StepCounters counters_;
   mutable OwnedCounters owned_counters_;
-  std::vector<std::uint8_t> owned_;           // id order; empty: no ownership accounting
-  std::vector<std::uint8_t> met_owned_;       // id order: not owned, collided with an owned sphere in this run()
+  std::vector<std::uint8_t> owned_;           // slot order; empty: no ownership accounting
+  std::vector<std::uint8_t> met_owned_;       // slot order: not owned, collided with an owned sphere in this run()
   std::function<bool(bool)> agree_;           // set_rebuild_agreement
   bool vote_due_ = false;                     // this step has not asked agree_ yet
   std::vector<std::uint32_t> input_of_rank_;  // id rank -> index in the constructor's input
   std::vector<double> last_collision_;        // id order: each sphere's last collision time (restitution < 1)
   // Cell order, like pos_, so a collision's two increments hit lines its spheres' neighbours use too.
   std::vector<std::int64_t> pair_collisions_, scratch_i64_;  // since reset_counters() (if counted)
+  std::vector<std::uint8_t> scratch_u8_;
   mutable std::size_t sampled_at_ = 0;    // sphere()'s last cell-order position: valid until a rebuild
   double clock_ = 0;                      // time since construction, for the collision times
   std::array<Real, 3> gravity_{0, 0, 0};  // uniform acceleration (wall axes only)
@@ -825,6 +827,7 @@ void Stepper<Real, Mono>::rebuild() {
   }
   permute(slot_, scratch_u32_);
   if (!pair_collisions_.empty()) permute(pair_collisions_, scratch_i64_);
+  if (!owned_.empty()) permute(owned_, scratch_u8_), permute(met_owned_, scratch_u8_);
   resolver_.permute(order_);
   guard_.reset(n);
 
