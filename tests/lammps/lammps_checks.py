@@ -2,7 +2,8 @@
 """LAMMPS styles (fix hardsphere, pair_style hardsphere) against the standalone stepper.
 
 Usage: lammps_checks.py CHECK --lmp PATH --hs PATH [--mpirun PATH] [--np N]
-CHECK: identical | conservation | errors | runs | defaults | outputs
+CHECK: identical | conservation | errors | runs | defaults | outputs | restitution | gravity |
+       decompositions (MPI: its own rank counts, --np ignored)
 Each check builds its own initial state with `hardsphere run --write-data` in a temporary dir.
 """
 import argparse
@@ -929,10 +930,69 @@ run 1000
     return ok
 
 
+def decompositions(args):
+    """The owned + ghost path on LAMMPS's other decompositions: slabs thinner than the ghost
+    shell (LAMMPS relays ghosts through two swaps), 2-d and 3-d grids (corner ghosts come via a
+    neighbour's neighbour), walls on a split axis, two sphere sizes. Every grid must give the
+    standalone stepper's collisions and final state, keep the energy, and need no step re-run for
+    all atoms: a relay that carried a wrong owner velocity would show up as re-runs. Ranks may
+    exceed the cores (oversubscribed); 1000 spheres keep each run under a second."""
+    ok = True
+    grids = {"periodic": ["2 1 1", "3 1 1", "4 1 1", "2 2 1", "1 2 2", "2 2 2", "3 2 1"],
+             "walls": ["1 1 2", "1 1 4", "2 2 2"], "two sizes": ["2 1 1", "3 1 1", "2 2 2"]}
+    with tempfile.TemporaryDirectory() as d:
+        standalone(args, d, "--n", "1000", "--phi", "0.3", "--steps", "0", "--write-data", "periodic.data")
+        standalone(args, d, "--n", "1000", "--phi", "0.3", "--boundary", "p,p,w", "--steps", "0", "--write-data",
+                   "walls.data")
+        # Every third sphere shrunk to diameter 0.6 (at the same density, so lighter): no overlaps.
+        with open(os.path.join(d, "periodic.data")) as f, open(os.path.join(d, "two_sizes.data"), "w") as g:
+            section = None
+            for line in f:
+                s = line.split()
+                if s and s[0] in ("Atoms", "Velocities"):
+                    section = s[0]
+                elif section == "Atoms" and len(s) >= 7 and int(s[0]) % 3 == 0:
+                    s[2] = "0.6"
+                    line = " ".join(s) + "\n"
+                g.write(line)
+        for scene, scene_grids in grids.items():
+            data, walls = scene.replace(" ", "_") + ".data", scene == "walls"
+            opts = ["--boundary", "p,p,w"] if walls else []
+            # Positions differ from the standalone's by round-off that chaos grows ~100-fold per 50
+            # steps, faster with the light small spheres: they run 100 steps, the others 200.
+            steps = 100 if scene == "two sizes" else 200
+            ref = standalone(args, d, "--read-data", data, *opts, "--steps", str(steps), "--dt", "0.01", "--write-data",
+                             "sa.data")
+            for grid in scene_grids:
+                ranks = int(np.prod([int(t) for t in grid.split()]))
+                script = HEADER.format(data=data, skin=0.5, dt=0.01).replace(
+                    "read_data", f"processors {grid}\nread_data") + """
+thermo_style custom step ke f_hs[1] f_hs[5] f_hs[6]
+thermo_modify format float %.17g
+thermo {steps}
+run {steps}
+write_data lmp.data
+""".format(steps=steps)
+                if walls:
+                    script = script.replace("boundary p p p", "boundary p p f")
+                rc, out = run_lmp(args, script, d, np_=ranks)
+                first, last = thermo(out)[0], thermo(out)[-1]
+                dx, dv = state_difference(os.path.join(d, "sa.data"), os.path.join(d, "lmp.data"),
+                                          (True, True, not walls))
+                ok &= check(last["f_hs[1]"] == ref["collisions"] and last["f_hs[5]"] == ref["wall_collisions"] and
+                            last["f_hs[6]"] == 0 and abs(last["KinEng"] / first["KinEng"] - 1) < 1e-12 and
+                            dx < 1e-6 and dv < 1e-6,
+                            f"{scene}, processors {grid} ({ranks} ranks): collisions {last['f_hs[1]']:.0f} == "
+                            f"standalone {ref['collisions']}, wall bounces {last['f_hs[5]']:.0f} == "
+                            f"{ref['wall_collisions']}, steps re-run {last['f_hs[6]']:.0f}, energy "
+                            f"{first['KinEng']:.17g} -> {last['KinEng']:.17g}, max |dx| {dx:.1e}, |dv| {dv:.1e}")
+    return ok
+
+
 def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("check", choices=["identical", "conservation", "errors", "runs", "defaults", "outputs",
-                                      "restitution", "gravity"])
+                                      "restitution", "gravity", "decompositions"])
     ap.add_argument("--lmp", required=True)
     ap.add_argument("--hs", required=True)
     ap.add_argument("--mpirun", default="mpirun")
