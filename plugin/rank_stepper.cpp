@@ -62,7 +62,9 @@ void RankStepper::build() {
   double lo[3], hi[3];
   for (int d = 0; d < 3; d++) {
     const bool periodic = domain->periodicity[d] != 0;
-    whole[std::size_t(d)] = periodic && comm->procgrid[d] == 1;
+    // LAMMPS sets a sub-domain's bounds to the box's exactly where it spans the axis, with brick
+    // and tiled (balance rcb) layouts alike; procgrid describes only the brick layout.
+    whole[std::size_t(d)] = periodic && domain->sublo[d] == domain->boxlo[d] && domain->subhi[d] == domain->boxhi[d];
     lo[d] = domain->sublo[d] - shell, hi[d] = domain->subhi[d] + shell;
     if (whole[std::size_t(d)]) {
       sys.box.lo[d] = domain->boxlo[d], sys.box.hi[d] = domain->boxhi[d];

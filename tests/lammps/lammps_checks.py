@@ -933,13 +933,16 @@ run 1000
 def decompositions(args):
     """The owned + ghost path on LAMMPS's other decompositions: slabs thinner than the ghost
     shell (LAMMPS relays ghosts through two swaps), 2-d and 3-d grids (corner ghosts come via a
-    neighbour's neighbour), walls on a split axis, two sphere sizes. Every grid must give the
+    neighbour's neighbour), tiled sub-domains from recursive bisection (static, and re-cut during
+    the run), walls on a split axis, two sphere sizes. Every grid must give the
     standalone stepper's collisions and final state, keep the energy, and need no step re-run for
     all atoms: a relay that carried a wrong owner velocity would show up as re-runs. Ranks may
     exceed the cores (oversubscribed); 1000 spheres keep each run under a second."""
     ok = True
-    grids = {"periodic": ["2 1 1", "3 1 1", "4 1 1", "2 2 1", "1 2 2", "2 2 2", "3 2 1"],
-             "walls": ["1 1 2", "1 1 4", "2 2 2"], "two sizes": ["2 1 1", "3 1 1", "2 2 2"]}
+    # "rcb N": comm_style tiled, sub-domains cut by recursive bisection (balance rcb) on N ranks,
+    # again every 20 steps on the walls scene (fix balance).
+    grids = {"periodic": ["2 1 1", "3 1 1", "4 1 1", "2 2 1", "1 2 2", "2 2 2", "3 2 1", "rcb 3", "rcb 4"],
+             "walls": ["1 1 2", "1 1 4", "2 2 2", "rcb 3"], "two sizes": ["2 1 1", "3 1 1", "2 2 2"]}
     with tempfile.TemporaryDirectory() as d:
         standalone(args, d, "--n", "1000", "--phi", "0.3", "--steps", "0", "--write-data", "periodic.data")
         standalone(args, d, "--n", "1000", "--phi", "0.3", "--boundary", "p,p,w", "--steps", "0", "--write-data",
@@ -964,9 +967,14 @@ def decompositions(args):
             ref = standalone(args, d, "--read-data", data, *opts, "--steps", str(steps), "--dt", "0.01", "--write-data",
                              "sa.data")
             for grid in scene_grids:
-                ranks = int(np.prod([int(t) for t in grid.split()]))
-                script = HEADER.format(data=data, skin=0.5, dt=0.01).replace(
-                    "read_data", f"processors {grid}\nread_data") + """
+                rcb = grid.startswith("rcb")
+                ranks = int(grid.split()[1]) if rcb else int(np.prod([int(t) for t in grid.split()]))
+                layout = "comm_style tiled" if rcb else f"processors {grid}"
+                script = HEADER.format(data=data, skin=0.5, dt=0.01).replace("read_data", f"{layout}\nread_data")
+                if rcb:
+                    balance = "fix bal all balance 20 1.0 rcb" if walls else "balance 1.0 rcb"
+                    script = script.replace("fix hs all hardsphere", f"fix hs all hardsphere\n{balance}")
+                script += """
 thermo_style custom step ke f_hs[1] f_hs[5] f_hs[6]
 thermo_modify format float %.17g
 thermo {steps}
@@ -982,7 +990,7 @@ write_data lmp.data
                 ok &= check(last["f_hs[1]"] == ref["collisions"] and last["f_hs[5]"] == ref["wall_collisions"] and
                             last["f_hs[6]"] == 0 and abs(last["KinEng"] / first["KinEng"] - 1) < 1e-12 and
                             dx < 1e-6 and dv < 1e-6,
-                            f"{scene}, processors {grid} ({ranks} ranks): collisions {last['f_hs[1]']:.0f} == "
+                            f"{scene}, {'balance' if rcb else 'processors'} {grid} ({ranks} ranks): collisions {last['f_hs[1]']:.0f} == "
                             f"standalone {ref['collisions']}, wall bounces {last['f_hs[5]']:.0f} == "
                             f"{ref['wall_collisions']}, steps re-run {last['f_hs[6]']:.0f}, energy "
                             f"{first['KinEng']:.17g} -> {last['KinEng']:.17g}, max |dx| {dx:.1e}, |dv| {dv:.1e}")
