@@ -155,9 +155,7 @@ void FixHardSphere::setup(int vflag) {
   run_set_up = true;
   // Thermo at a run's first step reports the last resolved step's collision virial (zero
   // before any step): setup resolves no collisions itself.
-  v_init(vflag);
-  if (vflag_global)
-    for (int k = 0; k < 6; k++) virial[k] = step_virial[k] / dt;
+  report_step_virial(vflag);
 }
 
 void FixHardSphere::check_setup() {
@@ -243,9 +241,14 @@ void FixHardSphere::post_run() {
 
 void FixHardSphere::post_force(int vflag) {
   // The step was taken in initial_integrate; report its collision virial.
+  report_step_virial(vflag);
+}
+
+void FixHardSphere::report_step_virial(int vflag) {
+  // The stepper's sums are mass x velocity x distance; LAMMPS's virial is in energy units.
   v_init(vflag);
   if (vflag_global)
-    for (int k = 0; k < 6; k++) virial[k] = step_virial[k] / dt;
+    for (int k = 0; k < 6; k++) virial[k] = step_virial[k] / dt * force->mvv2e;
 }
 
 double FixHardSphere::temperature_now() const {
@@ -270,7 +273,8 @@ double FixHardSphere::compute_vector(int n) {
   const double natoms = double(atom->natoms), t_mean = sim_time > 0.0 ? t_integral / sim_time : t_now;
   const double z = sim_time > 0.0 && natoms > 0.0 && t_integral > 0.0 ? 1.0 + all / (3.0 * natoms * t_integral) : 1.0;
   if (n == 8) return z;
-  return natoms * t_mean * z / (domain->xprd * domain->yprd * domain->zprd);
+  // <T> is m v^2 / 3: energy after mvv2e, and N <T> / V pressure after nktv2p (1 in lj units).
+  return natoms * t_mean * z / (domain->xprd * domain->yprd * domain->zprd) * force->mvv2e * force->nktv2p;
 }
 
 int FixHardSphere::pack_forward_comm(int n, int *list_, double *buf, int, int *) {

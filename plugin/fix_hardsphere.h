@@ -44,6 +44,8 @@ class FixHardSphere : public Fix {
  private:
   using V3 = hardsphere::Vec3<double>;
   void check_setup();
+  //! The last step's collision virial, as LAMMPS's virial (energy units) when it asks.
+  void report_step_virial(int vflag);
   // fix_hardsphere_checks.cpp: what the fix refuses, and the neighbour settings it needs.
   void check_input();
   void check_other_fixes();

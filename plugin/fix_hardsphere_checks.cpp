@@ -248,7 +248,9 @@ void FixHardSphere::read_gravity() {
     int dim = 0;
     const auto *g = static_cast<const double *>(f->extract("gvec", dim));
     if (!g) error->all(FLERR, "fix hardsphere: cannot read the acceleration of fix " + std::string(f->id));
-    for (int d = 0; d < 3; d++) gravity[std::size_t(d)] += g[d];
+    // fix gravity's vector is a force per mass (m g is added to f); as an acceleration it takes
+    // ftm2v, as in LAMMPS's integrators (1 in lj, si and cgs units).
+    for (int d = 0; d < 3; d++) gravity[std::size_t(d)] += g[d] * force->ftm2v;
   }
   static const char *axis = "xyz";
   for (int d = 0; d < 3; d++)
@@ -263,7 +265,7 @@ bool FixHardSphere::gravity_changed() const {
   for (Fix *f : gravity_fixes) {
     int dim = 0;
     const auto *g = static_cast<const double *>(f->extract("gvec", dim));
-    for (int d = 0; d < 3; d++) now[std::size_t(d)] += g[d];
+    for (int d = 0; d < 3; d++) now[std::size_t(d)] += g[d] * force->ftm2v;
   }
   return now != gravity;
 }

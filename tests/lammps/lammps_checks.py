@@ -2,7 +2,7 @@
 """LAMMPS styles (fix hardsphere, pair_style hardsphere) against the standalone stepper.
 
 Usage: lammps_checks.py CHECK --lmp PATH --hs PATH [--mpirun PATH] [--np N]
-CHECK: identical | conservation | errors | runs | defaults | outputs | restitution | gravity |
+CHECK: identical | conservation | errors | runs | defaults | outputs | restitution | gravity | units |
        decompositions (MPI: its own rank counts, --np ignored)
 Each check builds its own initial state with `hardsphere run --write-data` in a temporary dir.
 """
@@ -930,6 +930,67 @@ run 1000
     return ok
 
 
+# LAMMPS's conversion factors (update.cpp): kinetic energy m v^2 -> energy (mvv2e) and
+# N k T / V -> pressure (nktv2p); a force per mass as an acceleration is times 1 / mvv2e.
+UNITS = {"real": (48.88821291 * 48.88821291, 68568.415), "metal": (1.0364269e-4, 1.6021765e6)}
+
+
+def units(args):
+    """Unit styles other than lj: the dynamics use x, v, dt and masses as they are, so the same
+    numbers give the same collisions; Z is a ratio and stays; P (f_ID[10]) and the virial the fix
+    hands LAMMPS come in the style's pressure and energy units, so f_ID[10] equals LAMMPS's own
+    press averaged over the run; fix gravity's force per mass becomes the acceleration LAMMPS's
+    integrators would give (kinetic + potential energy kept)."""
+    ok = True
+    tag = f"np={args.np}: "
+    tol = 1e-12 if args.np == 1 else 1e-9
+    with tempfile.TemporaryDirectory() as d:
+        standalone(args, d, "--n", "1000", "--phi", "0.3", "--steps", "0", "--write-data", "init.data")
+        ref = standalone(args, d, "--read-data", "init.data", "--steps", "200", "--dt", "0.01")
+        standalone(args, d, "--n", "500", "--box", "10,10,40", "--boundary", "p,p,w", "--steps", "0",
+                   "--write-data", "bed.data")
+        ref_g = standalone(args, d, "--read-data", "bed.data", "--boundary", "p,p,w", "--gravity", "0,0,-1",
+                           "--steps", "1000", "--dt", "0.005")
+        for style, (mvv2e, nktv2p) in UNITS.items():
+            script = HEADER.format(data="init.data", skin=0.5, dt=0.01).replace("units lj", f"units {style}") + """
+compute p all pressure thermo_temp
+fix pav all ave/time 1 200 200 c_p
+thermo_style custom step f_hs[1] f_hs[9] f_hs[10] f_pav
+thermo_modify format float %.17g
+thermo 200
+run 200
+"""
+            rc, out = run_lmp(args, script, d, np_=args.np)
+            last = thermo(out)[-1]
+            z, p = last["f_hs[9]"], last["f_hs[10]"]
+            p_ref = ref["pressure"] * mvv2e * nktv2p
+            ok &= check(last["f_hs[1]"] == ref["collisions"] and abs(z / ref["compressibility_factor"] - 1) < tol and
+                        abs(p / p_ref - 1) < tol and abs(p / last["f_pav"] - 1) < 1e-12,
+                        tag + f"units {style}: collisions {last['f_hs[1]']:.0f} == {ref['collisions']}, Z {z!r} vs "
+                        f"{ref['compressibility_factor']!r}, P {p!r} vs the standalone's x mvv2e x nktv2p {p_ref!r} "
+                        f"and LAMMPS's <press> {last['f_pav']!r}")
+            # A force per mass of mvv2e is an acceleration of 1: the standalone's --gravity 0,0,-1.
+            script = HEADER.format(data="bed.data", skin=0.5, dt=0.005).replace("units lj", f"units {style}").replace(
+                "boundary p p p", "boundary p p f") + f"""
+fix g all gravity {mvv2e!r} vector 0 0 -1
+fix_modify g energy yes
+thermo_style custom step ke pe f_hs[1]
+thermo_modify format float %.17g
+thermo 1000
+run 1000
+"""
+            rc, out = run_lmp(args, script, d, np_=args.np)
+            rows = thermo(out)
+            e0, e1 = rows[0]["KinEng"] + rows[0]["PotEng"], rows[-1]["KinEng"] + rows[-1]["PotEng"]
+            coll = rows[-1]["f_hs[1]"]
+            same = coll == ref_g["collisions"] if args.np == 1 else abs(coll / ref_g["collisions"] - 1) < 0.01
+            ok &= check(same and abs(e1 / e0 - 1) < 1e-9 and rows[-1]["KinEng"] > 5 * rows[0]["KinEng"],
+                        tag + f"units {style}, fix gravity {mvv2e:g}: collisions {coll:.0f} vs standalone "
+                        f"{ref_g['collisions']} ({'equal' if args.np == 1 else 'within 1%'}), kinetic + potential "
+                        f"energy {e0:.12g} -> {e1:.12g}, kinetic x{rows[-1]['KinEng'] / rows[0]['KinEng']:.1f}")
+    return ok
+
+
 def decompositions(args):
     """The owned + ghost path on LAMMPS's other decompositions: slabs thinner than the ghost
     shell (LAMMPS relays ghosts through two swaps), 2-d and 3-d grids (corner ghosts come via a
@@ -1000,7 +1061,7 @@ write_data lmp.data
 def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("check", choices=["identical", "conservation", "errors", "runs", "defaults", "outputs",
-                                      "restitution", "gravity", "decompositions"])
+                                      "restitution", "gravity", "units", "decompositions"])
     ap.add_argument("--lmp", required=True)
     ap.add_argument("--hs", required=True)
     ap.add_argument("--mpirun", default="mpirun")
