@@ -119,6 +119,12 @@ void FixHardSphere::check_input() {
     error->all(FLERR,
                "fix hardsphere needs a fixed box: remove what changes it (compress hard spheres by growing their "
                "radii between runs, 'set ... diameter', instead)");
+  // The steppers find pairs in their own cells, not in LAMMPS's lists: an exclusion would not
+  // let the excluded spheres pass through each other.
+  if (neighbor->nex_type || neighbor->nex_group || neighbor->nex_mol)
+    error->all(FLERR,
+               "fix hardsphere: 'neigh_modify exclude' is not supported (every pair of hard spheres collides); "
+               "use 'neigh_modify exclude none'");
   check_other_fixes();
   apply_neighbor_settings();
 }

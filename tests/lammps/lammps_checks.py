@@ -370,6 +370,9 @@ def errors(args):
             "diameter too small": (base + "pair_coeff * * 0.5\nrun 1\n", "raise that pair_coeff diameter", False),
             "changing box": (base + "fix d all deform 1 x scale 1.1\nrun 1\n",
                              "fix hardsphere needs a fixed box: fix d (deform) changes it", False),
+            "neighbour exclusion": (base + "group half id <= 50\nneigh_modify exclude group half all\nrun 1\n",
+                                    "fix hardsphere: 'neigh_modify exclude' is not supported (every pair of hard "
+                                    "spheres collides); use 'neigh_modify exclude none'", True),
             # Fixes that add or act on forces would have no effect: refused, named, with the reason.
             "fix gravity along a periodic axis": (base + "fix g all gravity 1.0 vector 0 0 -1\nrun 1\n",
                                                   "fix hardsphere: fix gravity has a component along the periodic axis z, "
