@@ -52,8 +52,8 @@ void RankStepper::build() {
   const double dmax = 2 * rmax;
   const double shell = std::min({comm->cutghost[0], comm->cutghost[1], comm->cutghost[2]});
 
-  // The rank's box: an axis that is periodic and not split keeps its period (LAMMPS's images
-  // of it are left out); a split axis ends at the real walls of the box or, inside it, at
+  // The rank's box: a periodic axis the sub-domain spans keeps its period (LAMMPS's images
+  // of it are left out); any other axis ends at the real walls of the box or, inside it, at
   // walls no ghost reaches before LAMMPS re-neighbours (it starts within the shell and moves
   // less than half the shell's slack).
   hardsphere::ParticleSystem sys;

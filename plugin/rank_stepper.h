@@ -1,7 +1,7 @@
 #pragma once
 //! The MPI path of fix hardsphere: on each rank one standalone stepper over the rank's owned
-//! atoms and the ghost atoms LAMMPS provides around its sub-domain (an axis that is periodic and
-//! not split keeps its period; LAMMPS's images along it are left out). LAMMPS decomposes the box,
+//! atoms and the ghost atoms LAMMPS provides around its sub-domain (a periodic axis the
+//! sub-domain spans keeps its period; LAMMPS's images along it are left out). LAMMPS decomposes the box,
 //! migrates atoms and makes new ghosts when this class asks it to re-neighbour; in between, each
 //! rank's copies of its ghosts start every step as their owners ended the last one. Every ghost
 //! that met an owned atom in a step must end it like its owner; if one does not (a collision
