@@ -106,6 +106,13 @@ void FixHardSphere::init() {
   serial_schedule();   // also tells the owned + ghost path when to re-measure the temperature
   if (serial) return;  // the stepper needs no ghost shell and no LAMMPS neighbour list
 
+  // One shell for every atom: mode multi sizes LAMMPS's shells per type from the neighbour
+  // cutoffs, thinner than this path needs ('ghost auto' raises the single-mode cutoff only).
+  if (comm->mode != Comm::SINGLE)
+    error->all(FLERR,
+               "fix hardsphere: 'comm_modify mode multi' gives each atom type its own, thinner ghost shell; "
+               "use 'comm_modify mode single' on more than one rank or with 'path ghosts'");
+
   // Raise the user ghost cutoff (comm_modify cutoff) to the shell the owned + ghost path needs
   // unless 'ghost user' was given. No LAMMPS neighbour list: each rank's stepper makes its own.
   if (ghost_auto) {

@@ -370,6 +370,10 @@ def errors(args):
             "diameter too small": (base + "pair_coeff * * 0.5\nrun 1\n", "raise that pair_coeff diameter", False),
             "changing box": (base + "fix d all deform 1 x scale 1.1\nrun 1\n",
                              "fix hardsphere needs a fixed box: fix d (deform) changes it", False),
+            "comm mode multi": (base.replace("neighbor 0.5 bin", "neighbor 0.5 multi\ncomm_modify mode multi").replace(
+                "fix hs all hardsphere", "fix hs all hardsphere path ghosts") + "run 1\n",
+                                "fix hardsphere: 'comm_modify mode multi' gives each atom type its own, thinner ghost "
+                                "shell; use 'comm_modify mode single' on more than one rank or with 'path ghosts'", True),
             "neighbour exclusion": (base + "group half id <= 50\nneigh_modify exclude group half all\nrun 1\n",
                                     "fix hardsphere: 'neigh_modify exclude' is not supported (every pair of hard "
                                     "spheres collides); use 'neigh_modify exclude none'", True),
