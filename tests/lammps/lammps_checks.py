@@ -111,6 +111,23 @@ def check(cond, msg):
     return bool(cond)
 
 
+def gas_reference(args, d):
+    """The 1000-atom gas at phi 0.3 (init.data in d) and the standalone's 200 steps of 0.01 on it."""
+    standalone(args, d, "--n", "1000", "--phi", "0.3", "--steps", "0", "--write-data", "init.data")
+    return standalone(args, d, "--read-data", "init.data", "--steps", "200", "--dt", "0.01")
+
+
+def pressure_run(columns, units="lj"):
+    """200 steps of the gas with thermo `columns` and LAMMPS's press averaged over them (f_pav)."""
+    return HEADER.format(data="init.data", skin=0.5, dt=0.01).replace("units lj", f"units {units}") + f"""
+compute p all pressure thermo_temp
+fix pav all ave/time 1 200 200 c_p
+thermo_style custom {columns} f_pav
+thermo_modify format float %.17g
+thermo 200
+run 200
+"""
+
 def identical(args):
     """Same state, same dt: the fix reproduces the stepper's collisions. The resolver, its
     ordering and tie-breaks are shared; positions differ only by round-off (LAMMPS wraps
@@ -561,16 +578,8 @@ def outputs(args):
     # collisions, the virial to round-off amplified by chaotic dynamics (see identical()).
     tol = 1e-12 if args.np == 1 else 1e-9
     with tempfile.TemporaryDirectory() as d:
-        standalone(args, d, "--n", "1000", "--phi", "0.3", "--steps", "0", "--write-data", "init.data")
-        ref = standalone(args, d, "--read-data", "init.data", "--steps", "200", "--dt", "0.01")
-        script = HEADER.format(data="init.data", skin=0.5, dt=0.01) + """
-compute p all pressure thermo_temp
-fix pav all ave/time 1 200 200 c_p
-thermo_style custom step atoms vol ke f_hs[1] f_hs[9] f_hs[10] f_pav
-thermo_modify format float %.17g
-thermo 200
-run 200
-"""
+        ref = gas_reference(args, d)
+        script = pressure_run("step atoms vol ke f_hs[1] f_hs[9] f_hs[10]")
         rc, out = run_lmp(args, script, d, np_=args.np)
         last = thermo(out)[-1]
         n, vol = last["Atoms"], last["Volume"]
@@ -952,22 +961,13 @@ def units(args):
     tag = f"np={args.np}: "
     tol = 1e-12 if args.np == 1 else 1e-9
     with tempfile.TemporaryDirectory() as d:
-        standalone(args, d, "--n", "1000", "--phi", "0.3", "--steps", "0", "--write-data", "init.data")
-        ref = standalone(args, d, "--read-data", "init.data", "--steps", "200", "--dt", "0.01")
+        ref = gas_reference(args, d)
         standalone(args, d, "--n", "500", "--box", "10,10,40", "--boundary", "p,p,w", "--steps", "0",
                    "--write-data", "bed.data")
         ref_g = standalone(args, d, "--read-data", "bed.data", "--boundary", "p,p,w", "--gravity", "0,0,-1",
                            "--steps", "1000", "--dt", "0.005")
         for style, (mvv2e, nktv2p) in UNITS.items():
-            script = HEADER.format(data="init.data", skin=0.5, dt=0.01).replace("units lj", f"units {style}") + """
-compute p all pressure thermo_temp
-fix pav all ave/time 1 200 200 c_p
-thermo_style custom step f_hs[1] f_hs[9] f_hs[10] f_pav
-thermo_modify format float %.17g
-thermo 200
-run 200
-"""
-            rc, out = run_lmp(args, script, d, np_=args.np)
+            rc, out = run_lmp(args, pressure_run("step f_hs[1] f_hs[9] f_hs[10]", style), d, np_=args.np)
             last = thermo(out)[-1]
             z, p = last["f_hs[9]"], last["f_hs[10]"]
             p_ref = ref["pressure"] * mvv2e * nktv2p
