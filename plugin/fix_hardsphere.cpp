@@ -153,6 +153,7 @@ void FixHardSphere::setup(int vflag) {
   } else {
     rank->configure(stepper_config());
     rank->neighbours_changed();
+    rank->run_starts();
     // Made here, outside the run's loop, as the serial path's stepper is; the first step still
     // takes up velocities that other fixes' setup may have changed.
     rank->prepare();
@@ -213,7 +214,7 @@ void FixHardSphere::initial_integrate(int) {
   }
   if (!run_set_up || others_acted(update->ntimestep - 1)) t_now = temperature_now();
   if (!run_set_up)
-    rank->atoms_changed();  // a run without setup ('pre no'): commands in between may have changed atoms
+    rank->run_starts_without_setup();  // 'run ... pre no': commands in between may have changed atoms
   else if (others_acted(update->ntimestep - 1))
     rank->velocities_changed();  // by another fix
   run_set_up = true;
@@ -241,8 +242,9 @@ void FixHardSphere::post_run() {
   timing.report(lmp, world, long(update->nsteps));
   timing.reset();
   if (serial && stepper && !state_written) serial_write();  // a run cut short (timer timeout)
-  run_set_up = false;                                       // a following 'run ... pre no' starts without setup()
-  if (newton_saved >= 0) force->newton = newton_saved;      // the user's setting between runs
+  if (!serial && rank) rank->run_ends();
+  run_set_up = false;                                   // a following 'run ... pre no' starts without setup()
+  if (newton_saved >= 0) force->newton = newton_saved;  // the user's setting between runs
   newton_saved = -1;
 }
 
@@ -284,8 +286,8 @@ double FixHardSphere::compute_vector(int n) {
   return natoms * t_mean * z / (domain->xprd * domain->yprd * domain->zprd) * force->mvv2e * force->nktv2p;
 }
 
-int FixHardSphere::pack_forward_comm(int n, int *list_, double *buf, int, int *) {
-  return rank->pack_forward(n, list_, buf);
+int FixHardSphere::pack_forward_comm(int n, int *list_, double *buf, int pbc_flag, int *pbc) {
+  return rank->pack_forward(n, list_, buf, pbc_flag, pbc);
 }
 
 void FixHardSphere::unpack_forward_comm(int n, int first, double *buf) { rank->unpack_forward(n, first, buf); }

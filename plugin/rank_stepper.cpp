@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <sstream>
 #include <string>
 
 #include "atom.h"
@@ -83,7 +84,7 @@ void RankStepper::build() {
   // in boxes a few shells wide) gets an id past every tag.
   tagint max_tag = 0;
   for (int i = 0; i < nall; i++) max_tag = std::max(max_tag, atom->tag[i]);
-  std::vector<std::uint8_t> seen(std::size_t(max_tag) + 1, 0);
+  std::vector<int> first_copy(std::size_t(max_tag) + 1, -1), next_copy;  // held copies of each tag
   std::vector<std::uint8_t> owned;
   owned.reserve(std::size_t(nall));
   input_local_.clear();
@@ -91,13 +92,11 @@ void RankStepper::build() {
   std::int64_t extra_id = std::int64_t(max_tag) + 1;
   for (int i = 0; i < nall; i++) {
     if (i >= nlocal) {
-      bool keep = true;
-      for (int d = 0; d < 3 && keep; d++) {
-        if (whole[std::size_t(d)])
-          keep = x[i][d] >= domain->boxlo[d] && x[i][d] < domain->boxhi[d];
-        else
-          keep = x[i][d] >= lo[d] && x[i][d] <= hi[d];
-      }
+      // This rank's own periodic images miss the owner check's velocities (it skips those
+      // swaps): the copy they repeat is held anyway.
+      bool keep = !(swaps_known_ && self_row_[std::size_t(i)]);
+      for (int d = 0; d < 3 && keep; d++)
+        if (!whole[std::size_t(d)]) keep = x[i][d] >= lo[d] && x[i][d] <= hi[d];
       if (!keep) continue;
     }
     Vec3d p{x[i][0], x[i][1], x[i][2]};
@@ -107,15 +106,36 @@ void RankStepper::build() {
         p[d] -= len * std::floor((p[d] - domain->boxlo[d]) / len);
         if (p[d] >= domain->boxhi[d]) p[d] -= len;
       }
+    // Along a whole axis the copies of one atom (LAMMPS's images, shifted by the box length)
+    // wrap to one position: the first is kept. Copies along split axes lie a box length apart.
     const tagint tag = atom->tag[i];
-    const std::int64_t id = seen[std::size_t(tag)] ? extra_id++ : std::int64_t(tag);
-    seen[std::size_t(tag)] = 1;
+    bool same = false;
+    for (int k = first_copy[std::size_t(tag)]; k >= 0 && !same; k = next_copy[std::size_t(k)])
+      same = norm2(sys.pos[std::size_t(k)] - p) < 0.25 * dmax * dmax;
+    if (same) continue;
+    const int copies = first_copy[std::size_t(tag)];
+    const std::int64_t id = copies >= 0 ? extra_id++ : std::int64_t(tag);
+    next_copy.push_back(copies);
+    first_copy[std::size_t(tag)] = int(sys.size());
     sys.push_back(id, atom->type[i], atom->radius[i], atom->rmass[i], p, {v[i][0], v[i][1], v[i][2]});
     owned.push_back(i < nlocal ? 1 : 0);
     input_local_.push_back(i);
     input_shift_.push_back(Vec3d{x[i][0], x[i][1], x[i][2]} - p);
   }
 
+  if (check_start_) {
+    // A run's start, as the serial path checks it: each rank checks the atoms it holds (every
+    // pair with an owned atom is held by its owner), naming LAMMPS's tags.
+    if (const auto o = hardsphere::find_overlap(sys)) {
+      std::ostringstream m;
+      m.precision(17);
+      m << "fix hardsphere: atom " << atom->tag[input_local_[o->i]] << " overlaps atom "
+        << atom->tag[input_local_[o->j]] << ": distance " << o->distance << " < contact distance " << o->contact
+        << "; start from a valid non-overlapping state";
+      error->one(FLERR, m.str());
+    }
+    check_start_ = false;
+  }
   if (epoch_) start_epoch(shell, dmax);
 
   stepper_.reset();
@@ -210,6 +230,22 @@ void RankStepper::sync_ghosts() {
 }
 
 RankStepper::StepTotals RankStepper::step() {
+  if (unsure_ghosts_) {
+    // 'run ... pre no': LAMMPS kept its ghosts and send lists from the last run. If commands in
+    // between added, deleted or moved atoms between ranks, or moved or sped them up so that the
+    // shell may not hold this step's partners, this step runs for all atoms at once and LAMMPS
+    // re-neighbours in it. Otherwise the ghosts' positions are taken from their owners again.
+    unsure_ghosts_ = false;
+    if (owned_changed() || !shell_holds()) {
+      timer_.start();
+      StepTotals t = step_globally(true);
+      t.rerun = false;  // not a disagreement
+      stale_ = reneighbor_ = true;
+      timer_.charge(PartTimer::Rerun);
+      return t;
+    }
+    forward_comm(2);
+  }
   timer_.start();
   if (stale_) {
     build();
@@ -254,7 +290,7 @@ RankStepper::StepTotals RankStepper::step() {
   const int nlocal = atom->nlocal;
   double **x = atom->x, **v = atom->v;
   if (disagree) {
-    t = rerun_globally();
+    t = step_globally(false);
     stale_ = true;
     timer_.charge(PartTimer::Rerun);
   } else if (stepper_) {
@@ -317,7 +353,7 @@ bool RankStepper::ghosts_agree() {
   return true;
 }
 
-RankStepper::StepTotals RankStepper::rerun_globally() {
+RankStepper::StepTotals RankStepper::step_globally(bool check) {
   // Re-run this step for all atoms at once with one standalone stepper (the same algorithm,
   // so the result a complete ghost shell gives), on every rank from the gathered start state;
   // each rank keeps its own atoms. Rare.
@@ -346,6 +382,13 @@ RankStepper::StepTotals RankStepper::rerun_globally() {
   for (std::size_t k = 0; k < all.size(); k += kFields) {
     const double *o = &all[k];
     sys.push_back(std::int64_t(o[0]), int(o[1]), o[2], o[3], {o[4], o[5], o[6]}, {o[7], o[8], o[9]});
+  }
+  if (check) {
+    try {
+      hardsphere::validate_and_wrap(sys, "fix hardsphere");
+    } catch (const std::exception &e) {
+      error->all(FLERR, std::string(e.what()) + "; start from a valid non-overlapping state");
+    }
   }
   hardsphere::wrap_periodic(sys);
   hardsphere::ParticleSystem out;
@@ -384,10 +427,38 @@ RankStepper::StepTotals RankStepper::rerun_globally() {
   return t;
 }
 
+void RankStepper::run_ends() {
+  end_atoms_[0] = atom->nlocal, end_atoms_[1] = 0;
+  for (int i = 0; i < atom->nlocal; i++) end_atoms_[1] += atom->tag[i];
+}
+
+bool RankStepper::owned_changed() const {
+  bigint sum = 0;
+  for (int i = 0; i < atom->nlocal; i++) sum += atom->tag[i];
+  int changed = atom->nlocal != end_atoms_[0] || sum != end_atoms_[1] ? 1 : 0;
+  MPI_Allreduce(MPI_IN_PLACE, &changed, 1, MPI_INT, MPI_MAX, world);
+  return changed != 0;
+}
+
+bool RankStepper::shell_holds() const {
+  // The test that ends every step (step()), from LAMMPS's rows as they are now. A shell LAMMPS
+  // has made since (every rank knows) is new and starts a new epoch.
+  if (epoch_) return true;
+  double moves[2] = {0, 0};
+  double **x = atom->x, **v = atom->v;
+  for (int i = 0; i < atom->nlocal; i++) {
+    moves[0] = std::max(moves[0], norm2(Vec3d{x[i][0], x[i][1], x[i][2]} - x_ref_[std::size_t(i)]));
+    moves[1] = std::max(moves[1], norm2(Vec3d{v[i][0], v[i][1], v[i][2]}));
+  }
+  MPI_Allreduce(MPI_IN_PLACE, moves, 2, MPI_DOUBLE, MPI_MAX, world);
+  return 2.0 * (std::sqrt(moves[0]) + 2.0 * std::sqrt(moves[1]) * config_.dt) < reach_;
+}
+
 void RankStepper::forward_comm_learning_swaps() {
   // LAMMPS's send lists and swaps stay as they are until it re-neighbours: learn which owned
   // rows other ranks hold as ghosts and which swaps only copy to this rank itself.
   sent_rows_.clear(), rows_self_.clear(), rows_pending_.clear(), self_swap_.clear();
+  self_row_.assign(std::size_t(atom->nlocal + atom->nghost), 0);
   packed_ = nullptr;
   swaps_known_ = true;
   record_sends_ = true;
@@ -409,7 +480,7 @@ void RankStepper::forward_comm(int mode) {
   comm_mode_ = 0;
 }
 
-int RankStepper::pack_forward(int n, int *list, double *buf) {
+int RankStepper::pack_forward(int n, int *list, double *buf, int pbc_flag, const int *pbc) {
   if (record_sends_) {
     if (packed_) swaps_known_ = false;  // two packs in a row
     packed_ = buf;
@@ -417,8 +488,15 @@ int RankStepper::pack_forward(int n, int *list, double *buf) {
       if (list[k] < atom->nlocal) rows_pending_.push_back(list[k]);
   }
   if (skip_swap()) return 0;
-  double **v = atom->v;
+  double **v = atom->v, **x = atom->x;
   int m = 0;
+  if (comm_mode_ == 2) {  // positions, shifted across periodic faces as LAMMPS's own comm does
+    const double shift[3] = {pbc_flag ? pbc[0] * domain->xprd : 0.0, pbc_flag ? pbc[1] * domain->yprd : 0.0,
+                             pbc_flag ? pbc[2] * domain->zprd : 0.0};
+    for (int k = 0; k < n; k++)
+      for (int d = 0; d < 3; d++) buf[m++] = x[list[k]][d] + shift[d];
+    return m;
+  }
   for (int k = 0; k < n; k++) {
     const int j = list[k];
     if (comm_mode_ == 1) {  // after the step: an owner's new velocity, or a ghost's passed on
@@ -436,6 +514,7 @@ void RankStepper::unpack_forward(int n, int first, double *buf) {
     if (!packed_) swaps_known_ = false;  // an unpack without its pack
     const bool self = buf == packed_;
     self_swap_.push_back(self ? 1 : 0);
+    if (self) std::fill(self_row_.begin() + first, self_row_.begin() + first + n, std::uint8_t(1));
     auto &rows = self ? rows_self_ : sent_rows_;
     rows.insert(rows.end(), rows_pending_.begin(), rows_pending_.end());
     rows_pending_.clear();
@@ -444,11 +523,11 @@ void RankStepper::unpack_forward(int n, int first, double *buf) {
   const bool skip = skip_swap();
   ++swap_;
   if (skip) return;
-  double **v = atom->v;
+  double **row = comm_mode_ == 2 ? atom->x : atom->v;
   for (int i = first, m = 0; i < first + n; i++, m += 3) {
     if (comm_mode_ == 1)  // owners' results, kept apart from this rank's copies
       v_owner_[std::size_t(i)] = {buf[m], buf[m + 1], buf[m + 2]};
     else
-      v[i][0] = buf[m], v[i][1] = buf[m + 1], v[i][2] = buf[m + 2];
+      row[i][0] = buf[m], row[i][1] = buf[m + 1], row[i][2] = buf[m + 2];
   }
 }

@@ -37,8 +37,14 @@ class RankStepper : protected Pointers {
   //! LAMMPS has re-neighboured (or a run starts): new ghosts, atoms may have changed ranks; the
   //! stepper is made again before the next step.
   void neighbours_changed() { stale_ = epoch_ = true; }
-  //! Commands between runs may have changed atoms: the stepper is made again from LAMMPS's.
-  void atoms_changed() { stale_ = true; }
+  //! A run starts (setup): the stepper is made again from LAMMPS's atoms, and that state is
+  //! checked as a run's start (no overlapping pair).
+  void run_starts() { stale_ = check_start_ = true; }
+  //! A run starts without setup ('run ... pre no'): as run_starts(), and LAMMPS's ghosts may be
+  //! stale (see step()).
+  void run_starts_without_setup() { stale_ = check_start_ = unsure_ghosts_ = true; }
+  //! A run ends: the owned atoms, against which the next run without setup compares.
+  void run_ends();
   //! Another fix or command may have changed velocities: they are read again before the next step.
   void velocities_changed() { refresh_v_ = true; }
   //! Makes the stepper now if it is due (a run's setup), not at the next step.
@@ -51,7 +57,7 @@ class RankStepper : protected Pointers {
   //! can meet is among this rank's ghosts.
   bool needs_reneighbor() const { return reneighbor_; }
 
-  int pack_forward(int n, int *list, double *buf);
+  int pack_forward(int n, int *list, double *buf, int pbc_flag, const int *pbc);
   void unpack_forward(int n, int first, double *buf);
   static constexpr int kForwardSize = 3;
 
@@ -65,12 +71,19 @@ class RankStepper : protected Pointers {
   bool skip_swap() const { return comm_mode_ == 1 && swaps_known_ && swap_ < self_swap_.size() && self_swap_[swap_]; }
   bool agree_rebuild(bool due);
   bool ghosts_agree();
-  StepTotals rerun_globally();
+  //! One step for all atoms at once from LAMMPS's rows; `check` refuses an overlapping start.
+  StepTotals step_globally(bool check);
+  //! Whether any rank's owned atoms differ from those at the end of the last run.
+  bool owned_changed() const;
+  //! Whether the ghost shell still holds every partner of this step (the test step() ends with).
+  bool shell_holds() const;
 
   class Fix *fix_;
   PartTimer &timer_;
   hardsphere::StepperConfig config_;  //!< for every stepper this path makes
-  bool stale_ = true, epoch_ = true, refresh_v_ = false, reneighbor_ = false;
+  bool stale_ = true, epoch_ = true, refresh_v_ = false, reneighbor_ = false, check_start_ = true;
+  bool unsure_ghosts_ = false;
+  bigint end_atoms_[2] = {-1, -1};  //!< owned atoms and the sum of their tags when the last run ended
   std::unique_ptr<hardsphere::StepperBase> stepper_;
   hardsphere::OwnedCounters last_;  //!< owned counters after the previous step
   std::int64_t last_unresolved_ = 0;
@@ -99,11 +112,12 @@ class RankStepper : protected Pointers {
   // rank itself (periodic images along an unsplit axis, which no rank's stepper uses). The
   // owner check skips them when the pattern was recognised (each pack followed by its unpack).
   std::vector<std::uint8_t> self_swap_;
+  std::vector<std::uint8_t> self_row_;         //!< per LAMMPS row: a ghost a self swap made
   std::vector<int> rows_pending_, rows_self_;  //!< while recording: rows of the current swap, of self swaps
   const double *packed_ = nullptr;             //!< the last pack's buffer (a self swap unpacks from it)
   std::size_t swap_ = 0;                       //!< swaps so far in the current communication
   bool swaps_known_ = false;
-  int comm_mode_ = 0;  //!< 0: velocities, 1: owners' results
+  int comm_mode_ = 0;  //!< 0: velocities, 1: owners' results, 2: positions
   double reach_ = 0;   //!< slack of the ghost shell when LAMMPS last re-neighboured (length)
 };
 

@@ -143,6 +143,15 @@ double max_overlap(const ParticleSystem& sys) {
   return worst;
 }
 
+std::optional<Overlap> find_overlap(const ParticleSystem& sys, double slack) {
+  std::optional<Overlap> found;
+  for_each_close_pair(sys, [&](std::size_t i, std::size_t j, Vec3d dr) {
+    const double dist = norm(dr), contact = sys.radius[i] + sys.radius[j];
+    if (!found && dist < contact - slack) found = Overlap{i, j, dist, contact};
+  });
+  return found;
+}
+
 std::string atom_origin(const ParticleSystem& sys, std::size_t i, const std::string& source,
                         const std::vector<long>* atom_lines) {
   std::string where = source;
@@ -214,18 +223,15 @@ void validate_and_wrap(ParticleSystem& sys, const std::string& source, const std
     }
   wrap_periodic(sys);
   const double slack = rounding_eps > 0 ? overlap_tolerance(sys, rounding_eps) : 0.0;
-  for_each_close_pair(sys, [&](std::size_t i, std::size_t j, Vec3d dr) {
-    const double dist = norm(dr), contact = sys.radius[i] + sys.radius[j];
-    if (dist < contact - slack) {
-      std::ostringstream m;
-      m.precision(17);
-      // The atom met first names the line; the other's line follows.
-      m << atom_origin(sys, i, source, atom_lines) << " overlaps atom " << sys.id[j];
-      if (atom_lines && j < atom_lines->size()) m << " (line " << (*atom_lines)[j] << ")";
-      m << ": distance " << dist << " < contact distance " << contact;
-      throw InputError(m.str());
-    }
-  });
+  if (const auto o = find_overlap(sys, slack)) {
+    std::ostringstream m;
+    m.precision(17);
+    // The atom met first names the line; the other's line follows.
+    m << atom_origin(sys, o->i, source, atom_lines) << " overlaps atom " << sys.id[o->j];
+    if (atom_lines && o->j < atom_lines->size()) m << " (line " << (*atom_lines)[o->j] << ")";
+    m << ": distance " << o->distance << " < contact distance " << o->contact;
+    throw InputError(m.str());
+  }
 }
 
 }  // namespace hardsphere

@@ -382,7 +382,10 @@ def errors(args):
             "another integrator": (base + "fix nve all nve/sphere\nrun 1\n",
                                    "fix hardsphere is the time integrator: remove fix nve (nve/sphere)", False),
             "overlapping atoms": (base + "set atom 1 x 0.0 y 0.0 z 0.0\nset atom 2 x 0.3 y 0.0 z 0.0\nrun 1\n",
-                                  "overlap", False),
+                                  "overlap", True),
+            # Grown diameters (the compression protocol) must be checked at the next run's start too.
+            "overlap after set diameter": (base + "run 10\nset group all diameter 1.3\nrun 10\n",
+                                           "start from a valid non-overlapping state", True),
             "dt too large": (HEADER.format(data="init.data", skin=0.5, dt=0.2) + "run 1\n", "timestep too large", False),
             "diameter too small": (base + "pair_coeff * * 0.5\nrun 1\n", "raise that pair_coeff diameter", False),
             "changing box": (base + "fix d all deform 1 x scale 1.1\nrun 1\n",
@@ -800,25 +803,31 @@ run 200
                     f"np={args.np}: fix temp/rescale every 10 steps: T {r5[0]['Temp']:.3f} -> "
                     f"{min(t5):.15f}..{max(t5):.15f} at every thermo step after (target 0.5, elastic steps keep it)")
         # 'run N pre no every M COMMAND' skips the fix's setup between the pieces: commands that
-        # change velocities or delete atoms still take effect (the serial path re-reads the atoms).
-        for command, expect in (("velocity all scale 2.0", "T 2"), ("delete_atoms region corner", "fewer atoms")):
+        # change velocities, delete or move atoms still take effect (the serial path re-reads the
+        # atoms; on several ranks LAMMPS's ghosts are taken up again, or one step runs for all
+        # atoms while LAMMPS re-neighbours), and no ghost copy disagrees with its owner after.
+        for command, expect in (("print piece", "nothing changed"), ("velocity all scale 2.0", "T 2"),
+                                ("delete_atoms region corner", "fewer atoms"),
+                                ("displace_atoms all move 0.3 0.1 0 units box", "atoms moved")):
             script = """read_restart r.restart
 fix hs all hardsphere
 region corner block 0 2 0 2 0 2
-thermo_style custom step atoms temp ke f_hs[1]
+thermo_style custom step atoms temp ke f_hs[1] f_hs[6]
 thermo_modify format float %.17g
 thermo 50
 run 100 pre no every 50 "{}"
 """.format(command)
             rc, out6 = run_lmp(args, script, d, np_=args.np)
             r6 = thermo(out6)  # the second piece: steps 50 .. 100
+            good = abs(r6[-1]["KinEng"] / r6[0]["KinEng"] - 1) < 1e-12 and r6[-1]["f_hs[6]"] == 0
             if expect == "T 2":
-                good = abs(r6[0]["Temp"] - 2.0) < 1e-12 and abs(r6[-1]["KinEng"] / r6[0]["KinEng"] - 1) < 1e-12
-            else:
-                good = r6[0]["Atoms"] < 500 and abs(r6[-1]["KinEng"] / r6[0]["KinEng"] - 1) < 1e-12
+                good &= abs(r6[0]["Temp"] - 2.0) < 1e-12
+            elif expect == "fewer atoms":
+                good &= r6[0]["Atoms"] < 500
             ok &= check(good and r6[-1]["f_hs[1]"] > r6[0]["f_hs[1]"],
                         f"np={args.np}: run pre no every 50 \"{command}\": {r6[0]['Atoms']:.0f} atoms, T "
-                        f"{r6[0]['Temp']:.12f}, energy kept over the second piece ({expect})")
+                        f"{r6[0]['Temp']:.12f}, energy kept over the second piece, steps re-run "
+                        f"{r6[-1]['f_hs[6]']:.0f} ({expect})")
         # All atoms in the middle of one half of a long box (x 6..14 of 40): on 2 ranks the
         # other sub-domain and its ghost shell start empty (that rank has no stepper but must
         # join every step's collective calls) and fill up during the run. The collisions are

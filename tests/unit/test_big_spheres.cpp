@@ -225,6 +225,14 @@ TEST(BigSphereOverlaps, FoundWithoutAGridAsWideAsTheBigSphere) {
   pair.push_back(3, 1, 3, 200, {30, 30, 30}, {0, 0, 0});
   for (int k = 0; k < 10; ++k) pair.push_back(4 + k, 1, 0.5, 1, {20, 5 + 2.0 * k, 5}, {0, 0, 0});
   EXPECT_NEAR(max_overlap(pair), 0.25, 1e-12);
+  // find_overlap names that pair (by index) and its distances; a slack above the overlap clears it.
+  const auto o = find_overlap(pair);
+  ASSERT_TRUE(o.has_value());
+  EXPECT_EQ(std::min(o->i, o->j), 0u);
+  EXPECT_EQ(std::max(o->i, o->j), 1u);
+  EXPECT_NEAR(o->distance, 7.75, 1e-12);
+  EXPECT_EQ(o->contact, 8.0);
+  EXPECT_FALSE(find_overlap(pair, 0.3).has_value());
   try {
     validate_and_wrap(s, "scene");
     FAIL() << "overlap not refused";

@@ -3,6 +3,7 @@
 //! Engines keep their own reordered, precision-specific copies; this one is ordered as read.
 #include <array>
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -63,6 +64,14 @@ std::string atom_origin(const ParticleSystem& sys, std::size_t i, const std::str
 
 //! Largest pair overlap max(0, R_i + R_j - |r_ij|) over all pairs (minimum image), via a cell grid.
 double max_overlap(const ParticleSystem& sys);
+
+//! A pair closer than its contact distance minus `slack` (minimum image).
+struct Overlap {
+  std::size_t i = 0, j = 0;  //!< indices into the system
+  double distance = 0, contact = 0;
+};
+//! The first overlapping pair a cell pass meets, if any.
+std::optional<Overlap> find_overlap(const ParticleSystem& sys, double slack = 0);
 
 //! Wraps periodic coordinates into [lo, hi) and counts the box lengths taken off in `image`
 //! (saturating at the int32 range).
