@@ -100,6 +100,7 @@ FixHardSphere::~FixHardSphere() = default;
 int FixHardSphere::setmask() { return INITIAL_INTEGRATE | POST_FORCE | PRE_NEIGHBOR; }
 
 void FixHardSphere::init() {
+  initialised = true;
   serial = comm->nprocs == 1 && !ghost_path_only;
   check_input();  // fix_hardsphere_checks.cpp: styles, box, run style, other fixes, neighbour settings
   dt = update->dt;
@@ -203,6 +204,10 @@ void FixHardSphere::check_setup() {
 }
 
 void FixHardSphere::initial_integrate(int) {
+  if (!initialised)
+    error->all(FLERR,
+               "fix hardsphere was defined after the last run's setup, which 'run ... pre no' skips: "
+               "start the first run after 'fix hardsphere' with its setup ('run N' without 'pre no')");
   if (!gravity_fixes.empty() && gravity_changed())
     error->all(FLERR,
                "fix hardsphere: fix gravity changed its acceleration during the run (a variable magnitude "

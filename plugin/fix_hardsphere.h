@@ -124,6 +124,7 @@ class FixHardSphere : public Fix {
   double t_now = 0.0;         //!< current temperature, 2 KE / (3 N)
   double t_integral = 0.0;    //!< sum over steps of t_now * dt (since the fix was defined)
   bool run_set_up = false;    //!< setup() ran for this run ('run ... pre no' skips it)
+  bool initialised = false;   //!< init() ran (a fix defined just before 'run ... pre no' misses it)
   bool neigh_noted = false;   //!< the neighbour settings message was printed
   int newton_saved = -1;      //!< force->newton before this run, while the fix has turned it off
   bool newton_noted = false;  //!< the reverse-communication message was printed

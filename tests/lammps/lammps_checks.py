@@ -394,6 +394,9 @@ def errors(args):
                 "fix hs all hardsphere", "fix hs all hardsphere path ghosts") + "run 1\n",
                                 "fix hardsphere: 'comm_modify mode multi' gives each atom type its own, thinner ghost "
                                 "shell; use 'comm_modify mode single' on more than one rank or with 'path ghosts'", True),
+            "fix defined before run pre no": (base + "run 1\nunfix hs\nfix hs all hardsphere\nrun 1 pre no\n",
+                                              "fix hardsphere was defined after the last run's setup, which 'run "
+                                              "... pre no' skips", True),
             "neighbour exclusion": (base + "group half id <= 50\nneigh_modify exclude group half all\nrun 1\n",
                                     "fix hardsphere: 'neigh_modify exclude' is not supported (every pair of hard "
                                     "spheres collides); use 'neigh_modify exclude none'", True),
