@@ -212,7 +212,11 @@ void FixHardSphere::initial_integrate(int) {
     error->all(FLERR,
                "fix hardsphere: fix gravity changed its acceleration during the run (a variable magnitude "
                "or direction); hard-sphere flights need a constant one");
-  if (!run_set_up) skip_reverse_comm();  // 'run ... pre no' skips setup()
+  if (!run_set_up) {  // 'run ... pre no' skips setup(); 'timestep' in between only sets update->dt
+    skip_reverse_comm();
+    dt = update->dt;
+    if (!serial) rank->configure(stepper_config());
+  }
   if (serial) {
     serial_step();
     return;

@@ -811,11 +811,12 @@ run 200
         # atoms while LAMMPS re-neighbours), and no ghost copy disagrees with its owner after.
         for command, expect in (("print piece", "nothing changed"), ("velocity all scale 2.0", "T 2"),
                                 ("delete_atoms region corner", "fewer atoms"),
-                                ("displace_atoms all move 0.3 0.1 0 units box", "atoms moved")):
+                                ("displace_atoms all move 0.3 0.1 0 units box", "atoms moved"),
+                                ("timestep 0.005", "dt 0.005")):
             script = """read_restart r.restart
 fix hs all hardsphere
 region corner block 0 2 0 2 0 2
-thermo_style custom step atoms temp ke f_hs[1] f_hs[6]
+thermo_style custom step atoms temp ke f_hs[1] f_hs[6] f_hs[4]
 thermo_modify format float %.17g
 thermo 50
 run 100 pre no every 50 "{}"
@@ -827,6 +828,8 @@ run 100 pre no every 50 "{}"
                 good &= abs(r6[0]["Temp"] - 2.0) < 1e-12
             elif expect == "fewer atoms":
                 good &= r6[0]["Atoms"] < 500
+            elif expect == "dt 0.005":  # 50 steps of 0.01, then 50 of 0.005
+                good &= abs(r6[-1]["f_hs[4]"] - 0.75) < 1e-12
             ok &= check(good and r6[-1]["f_hs[1]"] > r6[0]["f_hs[1]"],
                         f"np={args.np}: run pre no every 50 \"{command}\": {r6[0]['Atoms']:.0f} atoms, T "
                         f"{r6[0]['Temp']:.12f}, energy kept over the second piece, steps re-run "
