@@ -15,6 +15,7 @@
 #include <array>
 #include <cstdint>
 #include <memory>
+#include <string>
 #include <vector>
 
 #include "fix.h"
@@ -121,13 +122,14 @@ class FixHardSphere : public Fix {
   double sim_time = 0.0;
   // Time-averaged temperature for Z and P (f_ID[9], f_ID[10]): collisions keep the kinetic
   // energy, so the temperature is recomputed only when something else may have changed it.
-  double t_now = 0.0;         //!< current temperature, 2 KE / (3 N)
-  double t_integral = 0.0;    //!< sum over steps of t_now * dt (since the fix was defined)
-  bool run_set_up = false;    //!< setup() ran for this run ('run ... pre no' skips it)
-  bool initialised = false;   //!< init() ran (a fix defined just before 'run ... pre no' misses it)
-  bool neigh_noted = false;   //!< the neighbour settings message was printed
-  int newton_saved = -1;      //!< force->newton before this run, while the fix has turned it off
-  bool newton_noted = false;  //!< the reverse-communication message was printed
+  double t_now = 0.0;                      //!< current temperature, 2 KE / (3 N)
+  double t_integral = 0.0;                 //!< sum over steps of t_now * dt (since the fix was defined)
+  bool run_set_up = false;                 //!< setup() ran for this run ('run ... pre no' skips it)
+  bool initialised = false;                //!< init() ran (a fix defined just before 'run ... pre no' misses it)
+  std::vector<std::string> fixes_at_init;  //!< IDs of all fixes when init() last ran
+  bool neigh_noted = false;                //!< the neighbour settings message was printed
+  int newton_saved = -1;                   //!< force->newton before this run, while the fix has turned it off
+  bool newton_noted = false;               //!< the reverse-communication message was printed
 };
 
 }  // namespace LAMMPS_NS

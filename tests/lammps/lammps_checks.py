@@ -397,6 +397,9 @@ def errors(args):
             "fix defined before run pre no": (base + "run 1\nunfix hs\nfix hs all hardsphere\nrun 1 pre no\n",
                                               "fix hardsphere was defined after the last run's setup, which 'run "
                                               "... pre no' skips", True),
+            "fix added before run pre no": (base + "run 1\nfix t all temp/rescale 10 1.0 1.0 0.1 1.0\nrun 1 pre no\n",
+                                            "fix hardsphere: fixes were added, removed or replaced since the last "
+                                            "run's setup", True),
             "neighbour exclusion": (base + "group half id <= 50\nneigh_modify exclude group half all\nrun 1\n",
                                     "fix hardsphere: 'neigh_modify exclude' is not supported (every pair of hard "
                                     "spheres collides); use 'neigh_modify exclude none'", True),
