@@ -232,11 +232,11 @@ void RankStepper::sync_ghosts() {
 RankStepper::StepTotals RankStepper::step() {
   if (unsure_ghosts_) {
     // 'run ... pre no': LAMMPS kept its ghosts and send lists from the last run. If commands in
-    // between added, deleted or moved atoms between ranks, or moved or sped them up so that the
-    // shell may not hold this step's partners, this step runs for all atoms at once and LAMMPS
+    // between added, deleted or moved atoms between ranks, changed the sub-domains, or moved or
+    // sped atoms up beyond the shell's slack, this step runs for all atoms at once and LAMMPS
     // re-neighbours in it. Otherwise the ghosts' positions are taken from their owners again.
     unsure_ghosts_ = false;
-    if (owned_changed() || !shell_holds()) {
+    if (layout_changed() || !shell_holds()) {
       timer_.start();
       StepTotals t = step_globally(true);
       t.rerun = false;  // not a disagreement
@@ -430,12 +430,17 @@ RankStepper::StepTotals RankStepper::step_globally(bool check) {
 void RankStepper::run_ends() {
   end_atoms_[0] = atom->nlocal, end_atoms_[1] = 0;
   for (int i = 0; i < atom->nlocal; i++) end_atoms_[1] += atom->tag[i];
+  for (int d = 0; d < 3; d++)
+    end_subdomain_[std::size_t(d)] = domain->sublo[d], end_subdomain_[std::size_t(d + 3)] = domain->subhi[d];
 }
 
-bool RankStepper::owned_changed() const {
+bool RankStepper::layout_changed() const {
   bigint sum = 0;
   for (int i = 0; i < atom->nlocal; i++) sum += atom->tag[i];
   int changed = atom->nlocal != end_atoms_[0] || sum != end_atoms_[1] ? 1 : 0;
+  for (int d = 0; d < 3; d++)  // change_box, balance
+    if (domain->sublo[d] != end_subdomain_[std::size_t(d)] || domain->subhi[d] != end_subdomain_[std::size_t(d + 3)])
+      changed = 1;
   MPI_Allreduce(MPI_IN_PLACE, &changed, 1, MPI_INT, MPI_MAX, world);
   return changed != 0;
 }

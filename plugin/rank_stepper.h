@@ -73,8 +73,8 @@ class RankStepper : protected Pointers {
   bool ghosts_agree();
   //! One step for all atoms at once from LAMMPS's rows; `check` refuses an overlapping start.
   StepTotals step_globally(bool check);
-  //! Whether any rank's owned atoms differ from those at the end of the last run.
-  bool owned_changed() const;
+  //! Whether any rank's owned atoms or sub-domain differ from those at the end of the last run.
+  bool layout_changed() const;
   //! Whether the ghost shell still holds every partner of this step (the test step() ends with).
   bool shell_holds() const;
 
@@ -83,7 +83,8 @@ class RankStepper : protected Pointers {
   hardsphere::StepperConfig config_;  //!< for every stepper this path makes
   bool stale_ = true, epoch_ = true, refresh_v_ = false, reneighbor_ = false, check_start_ = true;
   bool unsure_ghosts_ = false;
-  bigint end_atoms_[2] = {-1, -1};  //!< owned atoms and the sum of their tags when the last run ended
+  bigint end_atoms_[2] = {-1, -1};         //!< owned atoms and the sum of their tags when the last run ended
+  std::array<double, 6> end_subdomain_{};  //!< and the sub-domain's bounds
   std::unique_ptr<hardsphere::StepperBase> stepper_;
   hardsphere::OwnedCounters last_;  //!< owned counters after the previous step
   std::int64_t last_unresolved_ = 0;
