@@ -101,8 +101,6 @@ int FixHardSphere::setmask() { return INITIAL_INTEGRATE | POST_FORCE | PRE_NEIGH
 
 void FixHardSphere::init() {
   initialised = true;
-  fixes_at_init.clear();
-  for (int i = 0; i < modify->nfix; i++) fixes_at_init.emplace_back(modify->fix[i]->id);
   serial = comm->nprocs == 1 && !ghost_path_only;
   check_input();  // fix_hardsphere_checks.cpp: styles, box, run style, other fixes, neighbour settings
   dt = update->dt;
@@ -211,17 +209,7 @@ void FixHardSphere::initial_integrate(int) {
                "fix hardsphere was defined after the last run's setup, which 'run ... pre no' skips: "
                "start the first run after 'fix hardsphere' with its setup ('run N' without 'pre no')");
   if (!run_set_up) {  // 'run ... pre no' skips setup(); 'timestep' in between only sets update->dt
-    // The other fixes are checked (and LAMMPS lists them) at setup: none may have come or gone,
-    // and fix gravity (read again: a replaced one leaves a stale pointer) must be as it was.
-    bool same = int(fixes_at_init.size()) == modify->nfix;
-    for (int i = 0; same && i < modify->nfix; i++) same = fixes_at_init[std::size_t(i)] == modify->fix[i]->id;
-    gravity_fixes.clear();
-    for (int i = 0; i < modify->nfix; i++)
-      if (utils::strmatch(modify->fix[i]->style, "^gravity")) gravity_fixes.push_back(modify->fix[i]);
-    if (!same || gravity_changed())
-      error->all(FLERR,
-                 "fix hardsphere: fixes were added, removed or replaced since the last run's setup, which 'run "
-                 "... pre no' skips: start this run with its setup ('run N' without 'pre no')");
+    check_fixes_unchanged();
     skip_reverse_comm();
     dt = update->dt;
     if (!serial) rank->configure(stepper_config());

@@ -50,6 +50,8 @@ class FixHardSphere : public Fix {
   // fix_hardsphere_checks.cpp: what the fix refuses, and the neighbour settings it needs.
   void check_input();
   void check_other_fixes();
+  //! A run without setup: the fixes must be those the last init() checked.
+  void check_fixes_unchanged();
   void check_big_spheres_mpi();
   void apply_neighbor_settings();
   void skip_reverse_comm();
@@ -126,7 +128,7 @@ class FixHardSphere : public Fix {
   double t_integral = 0.0;                 //!< sum over steps of t_now * dt (since the fix was defined)
   bool run_set_up = false;                 //!< setup() ran for this run ('run ... pre no' skips it)
   bool initialised = false;                //!< init() ran (a fix defined just before 'run ... pre no' misses it)
-  std::vector<std::string> fixes_at_init;  //!< IDs of all fixes when init() last ran
+  std::vector<std::string> fixes_at_init;  //!< IDs of all fixes when check_other_fixes() last ran
   bool neigh_noted = false;                //!< the neighbour settings message was printed
   int newton_saved = -1;                   //!< force->newton before this run, while the fix has turned it off
   bool newton_noted = false;               //!< the reverse-communication message was printed

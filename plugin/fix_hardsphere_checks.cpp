@@ -131,6 +131,8 @@ void FixHardSphere::check_input() {
 
 void FixHardSphere::check_other_fixes() {
   gravity_fixes.clear();
+  fixes_at_init.clear();
+  for (int i = 0; i < modify->nfix; i++) fixes_at_init.emplace_back(modify->fix[i]->id);
   // Refused by what each fix tells LAMMPS it does (its mask): acting on forces (pre_force,
   // pre_reverse, post_force, with their rRESPA variants), moving atoms inside the step
   // (initial/post/final_integrate), or changing the atoms between steps (pre_exchange). Fixes
@@ -244,6 +246,21 @@ void FixHardSphere::skip_reverse_comm() {
                    "fix hardsphere: ghost forces are not communicated back during runs (as with 'newton off'): "
                    "hard spheres exert no forces\n");
   newton_noted = true;
+}
+
+void FixHardSphere::check_fixes_unchanged() {
+  // A run without setup ('pre no'): the other fixes were checked (and LAMMPS listed them) at
+  // the last init, so none may have come or gone, and fix gravity (found again: a replaced one
+  // leaves a stale pointer) must be as it was.
+  bool same = int(fixes_at_init.size()) == modify->nfix;
+  for (int i = 0; same && i < modify->nfix; i++) same = fixes_at_init[std::size_t(i)] == modify->fix[i]->id;
+  gravity_fixes.clear();
+  for (int i = 0; i < modify->nfix; i++)
+    if (is_style(modify->fix[i], "gravity")) gravity_fixes.push_back(modify->fix[i]);
+  if (!same || gravity_changed())
+    error->all(FLERR,
+               "fix hardsphere: fixes were added, removed or replaced since the last run's setup, which 'run ... "
+               "pre no' skips: start this run with its setup ('run N' without 'pre no')");
 }
 
 void FixHardSphere::read_gravity() {

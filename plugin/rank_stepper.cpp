@@ -236,7 +236,8 @@ RankStepper::StepTotals RankStepper::step() {
     // sped atoms up beyond the shell's slack, this step runs for all atoms at once and LAMMPS
     // re-neighbours in it. Otherwise the ghosts' positions are taken from their owners again.
     unsure_ghosts_ = false;
-    if (layout_changed() || !shell_holds()) {
+    // A shell LAMMPS has made since (every rank knows) is new and starts a new epoch.
+    if (layout_changed() || (!epoch_ && shell_used_up())) {
       timer_.start();
       StepTotals t = step_globally(true);
       t.rerun = false;  // not a disagreement
@@ -287,7 +288,6 @@ RankStepper::StepTotals RankStepper::step() {
   MPI_Allreduce(MPI_IN_PLACE, &disagree, 1, MPI_INT, MPI_MAX, world);
   timer_.charge(PartTimer::Check);
 
-  const int nlocal = atom->nlocal;
   double **x = atom->x, **v = atom->v;
   if (disagree) {
     t = step_globally(false);
@@ -306,17 +306,7 @@ RankStepper::StepTotals RankStepper::step() {
     last_unresolved_ = unresolved;
   }
 
-  // Largest owned move since the build, for the shell's slack. Before the next step every atom
-  // that can meet an owned atom must be here: re-neighbour when the moves since the build (both
-  // atoms of a pair) and one more step could use up the shell's slack.
-  double disp2 = 0, v2 = 0;
-  for (int i = 0; i < nlocal; i++) {
-    disp2 = std::max(disp2, norm2(Vec3d{x[i][0], x[i][1], x[i][2]} - x_ref_[std::size_t(i)]));
-    v2 = std::max(v2, v[i][0] * v[i][0] + v[i][1] * v[i][1] + v[i][2] * v[i][2]);
-  }
-  double moves[2] = {std::sqrt(disp2), std::sqrt(v2)};
-  MPI_Allreduce(MPI_IN_PLACE, moves, 2, MPI_DOUBLE, MPI_MAX, world);
-  reneighbor_ = 2.0 * (moves[0] + 2.0 * moves[1] * config_.dt) >= reach_;
+  reneighbor_ = shell_used_up();
   timer_.charge(PartTimer::Moves);
   return t;
 }
@@ -383,14 +373,15 @@ RankStepper::StepTotals RankStepper::step_globally(bool check) {
     const double *o = &all[k];
     sys.push_back(std::int64_t(o[0]), int(o[1]), o[2], o[3], {o[4], o[5], o[6]}, {o[7], o[8], o[9]});
   }
-  if (check) {
+  if (check) {  // validates and wraps
     try {
       hardsphere::validate_and_wrap(sys, "fix hardsphere");
     } catch (const std::exception &e) {
       error->all(FLERR, std::string(e.what()) + "; start from a valid non-overlapping state");
     }
+  } else {
+    hardsphere::wrap_periodic(sys);
   }
-  hardsphere::wrap_periodic(sys);
   hardsphere::ParticleSystem out;
   hardsphere::StepCounters c;
   try {
@@ -445,10 +436,10 @@ bool RankStepper::layout_changed() const {
   return changed != 0;
 }
 
-bool RankStepper::shell_holds() const {
-  // The test that ends every step (step()), from LAMMPS's rows as they are now. A shell LAMMPS
-  // has made since (every rank knows) is new and starts a new epoch.
-  if (epoch_) return true;
+bool RankStepper::shell_used_up() const {
+  // Largest owned move since the epoch began, from LAMMPS's rows. Before the next step every
+  // atom that can meet an owned atom must be here: the shell is used up when the moves (both
+  // atoms of a pair) and one more step could exceed its slack.
   double moves[2] = {0, 0};
   double **x = atom->x, **v = atom->v;
   for (int i = 0; i < atom->nlocal; i++) {
@@ -456,7 +447,7 @@ bool RankStepper::shell_holds() const {
     moves[1] = std::max(moves[1], norm2(Vec3d{v[i][0], v[i][1], v[i][2]}));
   }
   MPI_Allreduce(MPI_IN_PLACE, moves, 2, MPI_DOUBLE, MPI_MAX, world);
-  return 2.0 * (std::sqrt(moves[0]) + 2.0 * std::sqrt(moves[1]) * config_.dt) < reach_;
+  return 2.0 * (std::sqrt(moves[0]) + 2.0 * std::sqrt(moves[1]) * config_.dt) >= reach_;
 }
 
 void RankStepper::forward_comm_learning_swaps() {

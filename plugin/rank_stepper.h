@@ -75,8 +75,9 @@ class RankStepper : protected Pointers {
   StepTotals step_globally(bool check);
   //! Whether any rank's owned atoms or sub-domain differ from those at the end of the last run.
   bool layout_changed() const;
-  //! Whether the ghost shell still holds every partner of this step (the test step() ends with).
-  bool shell_holds() const;
+  //! Whether the moves since the epoch began could let an atom that is not held reach an owned
+  //! atom's partners within the next step (all ranks agree).
+  bool shell_used_up() const;
 
   class Fix *fix_;
   PartTimer &timer_;
