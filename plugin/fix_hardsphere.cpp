@@ -146,6 +146,16 @@ void FixHardSphere::pre_neighbor() {
 }
 
 void FixHardSphere::setup(int vflag) {
+  // rerun reads snapshots and takes no step: no stepper, and no overlap check on positions that
+  // the dump rounded. The snapshot's pressure has no collision part.
+  in_rerun = hardsphere_rerun_in_progress(lmp);
+  after_rerun = in_rerun;
+  if (in_rerun) {
+    v_init(vflag);
+    if (vflag_global)
+      for (double &w : virial) w = 0.0;
+    return;
+  }
   check_setup();
   skip_reverse_comm();
   read_gravity();
@@ -192,6 +202,7 @@ void FixHardSphere::check_setup() {
                               " reach contact at " + num(grmax[a] + grmax[b]) + " but pair_coeff gives " +
                               num(pair->contact(a, b)) + "; raise that pair_coeff diameter or use 'pair_coeff * *'");
 
+  check_timestep();
   // Time step against the skin: within one step an atom moves at most ~2 v_max dt.
   const double vmax = std::sqrt(v2max);
   if (4.0 * vmax * dt >= neighbor->skin)
@@ -209,9 +220,14 @@ void FixHardSphere::initial_integrate(int) {
                "fix hardsphere was defined after the last run's setup, which 'run ... pre no' skips: "
                "start the first run after 'fix hardsphere' with its setup ('run N' without 'pre no')");
   if (!run_set_up) {  // 'run ... pre no' skips setup(); 'timestep' in between only sets update->dt
+    if (after_rerun)
+      error->all(FLERR,
+                 "fix hardsphere: 'run ... pre no' right after 'rerun' would start from the last snapshot "
+                 "without checking it; start the run with its setup ('run N' without 'pre no')");
     check_fixes_unchanged();
     skip_reverse_comm();
     dt = update->dt;
+    check_timestep();
     if (!serial) rank->configure(stepper_config());
   } else if (!gravity_fixes.empty() && gravity_changed()) {
     error->all(FLERR,
@@ -249,6 +265,10 @@ void FixHardSphere::ghost_path_step() {
 }
 
 void FixHardSphere::post_run() {
+  if (in_rerun) {
+    in_rerun = false;
+    return;
+  }
   timing.report(lmp, world, long(update->nsteps));
   timing.reset();
   if (serial && stepper && !state_written) serial_write();  // a run cut short (timer timeout)

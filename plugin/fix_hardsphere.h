@@ -45,6 +45,7 @@ class FixHardSphere : public Fix {
  private:
   using V3 = hardsphere::Vec3<double>;
   void check_setup();
+  void check_timestep() const;
   //! The last step's collision virial, as LAMMPS's virial (energy units) when it asks.
   void report_step_virial(int vflag);
   // fix_hardsphere_checks.cpp: what the fix refuses, and the neighbour settings it needs.
@@ -128,6 +129,8 @@ class FixHardSphere : public Fix {
   double t_integral = 0.0;                 //!< sum over steps of t_now * dt (since the fix was defined)
   bool run_set_up = false;                 //!< setup() ran for this run ('run ... pre no' skips it)
   bool initialised = false;                //!< init() ran (a fix defined just before 'run ... pre no' misses it)
+  bool in_rerun = false;                   //!< the setup() of a 'rerun' (no stepper) was the last one
+  bool after_rerun = false;                //!< the last setup() was a rerun's: LAMMPS holds a snapshot
   std::vector<std::string> fixes_at_init;  //!< IDs of all fixes when check_other_fixes() last ran
   bool neigh_noted = false;                //!< the neighbour settings message was printed
   int newton_saved = -1;                   //!< force->newton before this run, while the fix has turned it off

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <cstdio>
 #include <string>
 
 #include "atom.h"
@@ -75,6 +76,13 @@ std::string in_step_stages(int mask) {
 }
 
 }  // namespace
+
+void FixHardSphere::check_timestep() const {
+  if (dt > 0.0 && std::isfinite(dt)) return;
+  char given[64];
+  snprintf(given, sizeof(given), "%.6g", dt);
+  error->all(FLERR, std::string("fix hardsphere: 'timestep ") + given + "': the time step must be positive and finite");
+}
 
 void FixHardSphere::check_input() {
   if (!atom->sphere_flag || !atom->radius_flag || !atom->rmass_flag)

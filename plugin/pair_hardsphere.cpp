@@ -10,8 +10,10 @@
 #include "comm.h"
 #include "error.h"
 #include "force.h"
+#include "input.h"
 #include "memory.h"
 #include "modify.h"
+#include "update.h"
 #include "utils.h"
 
 using namespace LAMMPS_NS;
@@ -78,12 +80,25 @@ void PairHardSphere::coeff(int narg, char **arg) {
 void PairHardSphere::init_style() {
   if (!atom->radius_flag || !atom->rmass_flag)
     error->all(FLERR, "pair_style hardsphere needs per-atom radius and mass: use 'atom_style sphere'");
-  if (modify->find_fix_by_style("^hardsphere$") < 0)
+  if (modify->find_fix_by_style("^hardsphere$") < 0 && !hardsphere_rerun_in_progress(lmp))
     error->all(FLERR,
                "pair_style hardsphere only provides contact distances: add 'fix ID all hardsphere' "
                "to move the atoms (and no other time integrator)");
   // No neighbour list of its own: fix hardsphere requests the one it needs.
   auto_diameter = -1.0;
+}
+
+namespace {
+// Input keeps the current command's name protected; a member pointer formed in a derived class
+// applies to any Input object.
+struct InputCommand : Input {
+  static char *of(Input *in) { return in->*(&InputCommand::command); }
+};
+}  // namespace
+
+bool LAMMPS_NS::hardsphere_rerun_in_progress(LAMMPS *lmp) {
+  const char *command = lmp->input ? InputCommand::of(lmp->input) : nullptr;
+  return lmp->update->whichflag == 1 && command && std::strcmp(command, "rerun") == 0;
 }
 
 double PairHardSphere::auto_cut() {

@@ -41,4 +41,7 @@ class PairHardSphere : public Pair {
   double resolved(int i, int j);
 };
 
+//! The input command being executed is 'rerun': it reads snapshots and integrates nothing.
+bool hardsphere_rerun_in_progress(class LAMMPS *lmp);
+
 }  // namespace LAMMPS_NS

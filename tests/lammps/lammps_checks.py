@@ -70,22 +70,28 @@ def run_lmp(args, script, cwd, np_=1, expect_ok=True):
     return p.returncode, out
 
 
-def thermo(out):
-    """Rows of the last thermo block as dicts of floats."""
-    lines = out.splitlines()
-    rows, head = [], None
-    for line in lines:
+def thermo_blocks(out):
+    """Every thermo block (one per run or rerun): lists of rows as dicts of floats."""
+    blocks, head = [], None
+    for line in out.splitlines():
         s = line.split()
         if s and s[0] == "Step":
-            head, rows = s, []
+            head = s
+            blocks.append([])
         elif head and len(s) == len(head):
             try:
-                rows.append(dict(zip(head, map(float, s))))
+                blocks[-1].append(dict(zip(head, map(float, s))))
             except ValueError:
                 head = None
         elif head and s and s[0] == "Loop":
             head = None
-    return rows
+    return blocks
+
+
+def thermo(out):
+    """Rows of the last thermo block as dicts of floats."""
+    blocks = thermo_blocks(out)
+    return blocks[-1] if blocks else []
 
 
 def standalone(args, cwd, *opts):
@@ -400,6 +406,14 @@ def errors(args):
             "fix added before run pre no": (base + "run 1\nfix t all temp/rescale 10 1.0 1.0 0.1 1.0\nrun 1 pre no\n",
                                             "fix hardsphere: fixes were added, removed or replaced since the last "
                                             "run's setup", True),
+            "timestep 0": (base + "timestep 0\nrun 1\n",
+                           "fix hardsphere: 'timestep 0': the time step must be positive and finite", True),
+            "negative timestep between pieces": (base + "run 10 pre no every 5 'timestep -0.01'\n",
+                                                 "fix hardsphere: 'timestep -0.01': the time step must be positive", True),
+            "run pre no after rerun": (base + "run 10\nwrite_dump all custom s.dump id x y z\n"
+                                       "rerun s.dump dump x y z\nrun 1 pre no\n",
+                                       "fix hardsphere: 'run ... pre no' right after 'rerun' would start from the "
+                                       "last snapshot without checking it", True),
             "neighbour exclusion": (base + "group half id <= 50\nneigh_modify exclude group half all\nrun 1\n",
                                     "fix hardsphere: 'neigh_modify exclude' is not supported (every pair of hard "
                                     "spheres collides); use 'neigh_modify exclude none'", True),
@@ -866,6 +880,38 @@ run 400
         ok &= check(r7[-1]["f_hs[1]"] == ref_half["collisions"] and abs(r7[-1]["KinEng"] / r7[0]["KinEng"] - 1) < 1e-12,
                     f"np={args.np}: atoms in one half of the box (the other rank starts without atoms): "
                     f"{r7[-1]['f_hs[1]']:.0f} collisions == standalone {ref_half['collisions']}, energy kept")
+        # rerun reads snapshots and integrates nothing: a snapshot is not checked for overlaps
+        # (dumps round positions), its pressure has no collision part, the collisions stay as they
+        # were, and pair_style hardsphere works there without the fix.
+        script = HEADER.format(data="init.data", skin=0.5, dt=0.01) + """run 20
+write_dump all custom snap.dump id x y z modify format float %.17g
+"""
+        run_lmp(args, script, d, np_=args.np)
+        with open(os.path.join(d, "snap.dump")) as f:
+            lines = f.read().splitlines()
+        rows = {int(l.split()[0]): i for i, l in enumerate(lines) if i > lines.index("ITEM: ATOMS id x y z")}
+        x2 = [float(t) for t in lines[rows[2]].split()[1:]]
+        lines[rows[1]] = f"1 {x2[0] + 0.5!r} {x2[1]!r} {x2[2]!r}"  # atom 1 overlaps atom 2
+        with open(os.path.join(d, "snap.dump"), "w") as f:
+            f.write("\n".join(lines) + "\n")
+        script = HEADER.format(data="init.data", skin=0.5, dt=0.01) + """compute pk all pressure thermo_temp ke
+thermo_style custom step press c_pk f_hs[1]
+thermo_modify format float %.17g
+run 20
+rerun snap.dump dump x y z
+unfix hs
+thermo_style custom step press c_pk
+rerun snap.dump dump x y z
+"""
+        rc, out8 = run_lmp(args, script, d, np_=args.np, expect_ok=False)
+        b8 = thermo_blocks(out8)
+        good = rc == 0 and len(b8) == 3 and all(len(b) == 1 for b in b8[1:])
+        if good:
+            fixed, alone = b8[1][0], b8[2][0]
+            good = (fixed["f_hs[1]"] == b8[0][-1]["f_hs[1]"] and abs(fixed["Press"] / fixed["c_pk"] - 1) < 1e-12
+                    and abs(alone["Press"] / alone["c_pk"] - 1) < 1e-12)
+        ok &= check(good, f"np={args.np}: rerun of an overlapping snapshot with and without the fix: "
+                          f"{[b[-1] for b in b8] if rc == 0 else out8[-400:]}")
         blocks, cur = [], None
         for line in (out1 + out2).splitlines():
             s = line.split()
