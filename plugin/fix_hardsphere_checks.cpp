@@ -189,6 +189,13 @@ void FixHardSphere::check_other_fixes() {
       error->all(FLERR, "fix hardsphere: " + name(f) +
                             " changes parameters during a run, which fix hardsphere takes only at a run's start: "
                             "remove it and change diameters between runs ('set ... diameter')");
+    // Its end-of-step position correction is for a Verlet integrator's O(dt^3) error; flights are
+    // exact, and the stepper would not take up positions changed between its steps.
+    if (is_style(f, "ehex"))
+      error->all(FLERR, "fix hardsphere: " + name(f) +
+                            " corrects positions at the end of each step (for a Verlet integrator's error; "
+                            "hard-sphere flights are exact): use fix heat, the same heat exchange without that "
+                            "correction");
     if (is_style(f, "dt/reset"))
       error->all(FLERR, "fix hardsphere: " + name(f) +
                             " changes the timestep during a run; hard spheres need a fixed 'timestep' "

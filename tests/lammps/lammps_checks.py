@@ -450,6 +450,8 @@ def errors(args):
             "fix recenter": (base + "fix r all recenter INIT INIT INIT\nrun 1\n",
                              "fix hardsphere: fix r (recenter) moves atoms inside the time step (initial_integrate)",
                              False),
+            "fix ehex": (base + "fix e all ehex 1 0.5\nrun 1\n",
+                         "fix hardsphere: fix e (ehex) corrects positions at the end of each step", True),
             "fix dt/reset": (base + "fix dt all dt/reset 1 NULL NULL 0.1\nrun 1\n",
                              "fix hardsphere: fix dt (dt/reset) changes the timestep during a run", False),
             # Messages that point at the real cause.
