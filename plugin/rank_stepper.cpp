@@ -34,7 +34,29 @@ double distance_outside(const double *p, const double *lo, const double *hi) {
 
 }  // namespace
 
+void RankStepper::check_owned_atoms() const {
+  // The serial path's checks in LAMMPS's box (walls, finite and resolvable numbers, overlaps
+  // among owned atoms), before any of them is wrapped into this rank's box.
+  hardsphere::ParticleSystem sys;
+  for (int d = 0; d < 3; d++) {
+    sys.box.lo[std::size_t(d)] = domain->boxlo[d], sys.box.hi[std::size_t(d)] = domain->boxhi[d];
+    sys.box.periodic[std::size_t(d)] = domain->periodicity[d] != 0;
+  }
+  const int nlocal = atom->nlocal;
+  sys.reserve(std::size_t(nlocal));
+  double **x = atom->x, **v = atom->v;
+  for (int i = 0; i < nlocal; i++)
+    sys.push_back(std::int64_t(atom->tag[i]), atom->type[i], atom->radius[i], atom->rmass[i],
+                  {x[i][0], x[i][1], x[i][2]}, {v[i][0], v[i][1], v[i][2]});
+  try {
+    hardsphere::validate_and_wrap(sys, "fix hardsphere");
+  } catch (const std::exception &e) {
+    error->one(FLERR, std::string(e.what()) + "; start from a valid non-overlapping state");
+  }
+}
+
 void RankStepper::build() {
+  if (check_start_) check_owned_atoms();
   // Ghost velocities come from their owners; LAMMPS refreshed the ghost positions.
   forward_comm_learning_swaps();
 

@@ -63,6 +63,8 @@ class RankStepper : protected Pointers {
 
  private:
   void build();
+  //! A run's start: the owned atoms as the serial path checks them (error->one naming the atom).
+  void check_owned_atoms() const;
   void start_epoch(double shell, double dmax);
   void map_slots();
   void sync_ghosts();

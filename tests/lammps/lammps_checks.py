@@ -392,6 +392,9 @@ def errors(args):
             # Grown diameters (the compression protocol) must be checked at the next run's start too.
             "overlap after set diameter": (base + "run 10\nset group all diameter 1.3\nrun 10\n",
                                            "start from a valid non-overlapping state", True),
+            "atom outside a fixed wall": (WALLS + "set atom 1 z 0.25\nrun 1\n",
+                                          "fix hardsphere: atom 1: z = 0.25 with radius 0.5 is outside the "
+                                          "wall-bounded box [0, 8]; start from a valid non-overlapping state", True),
             "dt too large": (HEADER.format(data="init.data", skin=0.5, dt=0.2) + "run 1\n", "timestep too large", False),
             "diameter too small": (base + "pair_coeff * * 0.5\nrun 1\n", "raise that pair_coeff diameter", False),
             "changing box": (base + "fix d all deform 1 x scale 1.1\nrun 1\n",
@@ -1061,6 +1064,29 @@ run 1000
                         tag + f"units {style}, fix gravity {mvv2e:g}: collisions {coll:.0f} vs standalone "
                         f"{ref_g['collisions']} ({'equal' if args.np == 1 else 'within 1%'}), kinetic + potential "
                         f"energy {e0:.12g} -> {e1:.12g}, kinetic x{rows[-1]['KinEng'] / rows[0]['KinEng']:.1f}")
+        # No length or time scale is built in: the gas scaled to millimetre spheres (SI granular
+        # work), to nanometres and up by 10^6, with the time step scaled alike, collides as the
+        # unscaled one.
+        length = read_data(os.path.join(d, "init.data"))[0][0]
+        for scale in (1e-3, 1e-9, 1e6):
+            script = HEADER.format(data="init.data", skin=0.5 * scale, dt=0.01 * scale).replace(
+                "fix hs all hardsphere\n", "") + f"""
+change_box all x final 0 {length * scale!r} y final 0 {length * scale!r} z final 0 {length * scale!r} remap units box
+set group all diameter {scale!r}
+set group all mass 1.0
+fix hs all hardsphere
+thermo_style custom step f_hs[1] f_hs[9]
+thermo_modify format float %.17g
+thermo 200
+run 200
+"""
+            rc, out = run_lmp(args, script, d, np_=args.np)
+            last = thermo(out)[-1]
+            z = last["f_hs[9]"]
+            # Scaled positions round differently: Z to 1e-9, the collisions exactly.
+            ok &= check(last["f_hs[1]"] == ref["collisions"] and abs(z / ref["compressibility_factor"] - 1) < 1e-9,
+                        tag + f"lengths and time step x {scale:g}: collisions {last['f_hs[1]']:.0f} == "
+                        f"{ref['collisions']}, Z {z!r} vs {ref['compressibility_factor']!r}")
     return ok
 
 
