@@ -244,8 +244,9 @@ void FixHardSphere::initial_integrate(int) {
   else if (others_acted(update->ntimestep - 1))
     rank->velocities_changed();  // by another fix
   run_set_up = true;
-  t_integral += t_now * dt;
   ghost_path_step();
+  if (temperature_varies()) t_now = temperature_now();  // the owned atoms' rows hold this step's result
+  t_integral += t_now * dt;
 }
 
 void FixHardSphere::ghost_path_step() {
@@ -288,6 +289,10 @@ void FixHardSphere::report_step_virial(int vflag) {
   v_init(vflag);
   if (vflag_global)
     for (int k = 0; k < 6; k++) virial[k] = step_virial[k] / dt * force->mvv2e;
+}
+
+bool FixHardSphere::temperature_varies() const {
+  return restitution < 1.0 || gravity[0] != 0.0 || gravity[1] != 0.0 || gravity[2] != 0.0;
 }
 
 double FixHardSphere::temperature_now() const {

@@ -61,6 +61,9 @@ class FixHardSphere : public Fix {
   bool gravity_changed() const;
   //! 2 KE / (3 N) over all atoms (the standalone's temperature: 3N degrees of freedom).
   double temperature_now() const;
+  //! Gravity or inelastic collisions change the temperature inside the steps: it is measured
+  //! after every step, so <T> is the average of the steps' end temperatures, as LAMMPS's press.
+  bool temperature_varies() const;
   //! Whether another fix may have changed velocities at the end of `step`.
   bool others_acted(bigint step) const;
   // Owned + ghost path (rank_stepper.cpp): one stepper per rank.

@@ -260,5 +260,6 @@ void FixHardSphere::serial_step() {
   n_wall += double(after.wall_collisions - before.wall_collisions);
   n_unresolved += double(after.unresolved_steps - before.unresolved_steps);
   sim_time += dt;
+  if (temperature_varies()) t_now = hardsphere::state_exchange(*stepper).mv2_sum() / (3.0 * double(atom->natoms));
   t_integral += t_now * dt;
 }

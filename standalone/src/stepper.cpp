@@ -215,6 +215,11 @@ class Stepper final : public StepperBase, public StateExchange {
       vo[0] = double(vel_[k].x), vo[1] = double(vel_[k].y), vo[2] = double(vel_[k].z);
     }
   }
+  double mv2_sum() const override {
+    double sum = 0;
+    for (std::size_t k = 0; k < vel_.size(); ++k) sum += double(m_[k]) * double(dot(vel_[k], vel_[k]));
+    return sum;
+  }
   void set_velocities(const Vec3d* vel) override {
     for (std::size_t k = 0; k < vel_.size(); ++k) vel_[k] = {Real(vel[k].x), Real(vel[k].y), Real(vel[k].z)};
     refresh_speed_bound();

@@ -935,6 +935,14 @@ rerun snap.dump dump x y z
     return ok
 
 
+def pressure_follows_temperature(tag, last):
+    """Where the temperature changes inside the steps (inelastic collisions, gravity), P
+    (f_hs[10]) averages the temperature at every step's end: LAMMPS's press averaged over the
+    run's steps (f_pav) is the same sum."""
+    p, pav = last["f_hs[10]"], last["f_pav"]
+    return check(abs(p / pav - 1) < 1e-12, tag + f"P {p!r} == LAMMPS's <press> {pav!r}")
+
+
 def restitution(args):
     """`fix hardsphere restitution e` is the standalone's --restitution: in serial the same
     collisions and kinetic energy to round-off; on 2 ranks statistically equal (the runs part by
@@ -947,7 +955,9 @@ def restitution(args):
         ref = standalone(args, d, "--read-data", "init.data", "--steps", "300", "--dt", "0.02", "--restitution", "0.8")
         script = HEADER.format(data="init.data", skin=0.5, dt=0.02).replace(
             "fix hs all hardsphere", "fix hs all hardsphere restitution 0.8") + """
-thermo_style custom step ke f_hs[1]
+compute p all pressure thermo_temp
+fix pav all ave/time 1 300 300 c_p
+thermo_style custom step ke f_hs[1] f_hs[10] f_pav
 thermo_modify format float %.17g
 thermo 300
 run 300
@@ -966,6 +976,7 @@ run 300
                         tag + f"collisions {coll:.0f} vs standalone {ref['collisions']}, kinetic energy {ke1:.6g} vs "
                         f"{ref['kinetic_energy_final']:.6g} (within 1%)")
         ok &= check(ke1 < 0.6 * ke0, tag + f"the gas cooled: {ke0:.6g} -> {ke1:.6g}")
+        ok &= pressure_follows_temperature(tag, rows[-1])
         rc, out = run_lmp(args, script.replace("restitution 0.8", "restitution 1.5"), d, np_=args.np, expect_ok=False)
         ok &= check(rc != 0 and "fix hardsphere: restitution 1.5 must be in (0, 1]" in out, tag + "restitution 1.5 refused")
     return ok
@@ -985,13 +996,16 @@ def gravity(args):
         script = HEADER.format(data="bed.data", skin=0.5, dt=0.005).replace("boundary p p p", "boundary p p f") + """
 fix g all gravity 1.0 vector 0 0 -1
 fix_modify g energy yes
-thermo_style custom step ke pe f_hs[1] f_hs[5]
+compute p all pressure thermo_temp
+fix pav all ave/time 1 1000 1000 c_p
+thermo_style custom step ke pe f_hs[1] f_hs[5] f_hs[10] f_pav
 thermo_modify format float %.17g
 thermo 1000
 run 1000
 """
         rc, out = run_lmp(args, script, d, np_=args.np)
         rows = thermo(out)
+        ok &= pressure_follows_temperature(tag, rows[-1])
         n = 500
         coll, ke1 = rows[-1]["f_hs[1]"], rows[-1]["KinEng"] * n
         e0, e1 = (rows[0]["KinEng"] + rows[0]["PotEng"]) * n, (rows[-1]["KinEng"] + rows[-1]["PotEng"]) * n

@@ -41,6 +41,9 @@ class StateExchange {
   //! goes to row dest[k] (none if kNoRow), its position shifted by shift[k]. One pass, no
   //! intermediate copy.
   virtual void scatter_state(const std::uint32_t* dest, const Vec3d* shift, double* x, double* v) const = 0;
+  //! Sum over all spheres of m v^2 (twice the kinetic energy), e.g. for a temperature that
+  //! gravity or inelastic collisions change inside the steps.
+  virtual double mv2_sum() const = 0;
   //! The velocities of the given slots.
   virtual void copy_velocities(const std::uint32_t* slots, std::size_t count, Vec3d* out) const = 0;
   //! Replaces every velocity (slot order), e.g. after a thermostat changed them.
