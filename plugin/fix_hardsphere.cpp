@@ -159,6 +159,7 @@ void FixHardSphere::setup(int vflag) {
   check_setup();
   skip_reverse_comm();
   read_gravity();
+  positions_kept = false;  // the run's start reads every atom anew
   if (serial) {
     serial_setup();
   } else {
@@ -243,6 +244,11 @@ void FixHardSphere::initial_integrate(int) {
     rank->run_starts_without_setup();  // 'run ... pre no': commands in between may have changed atoms
   else if (others_acted(update->ntimestep - 1))
     rank->velocities_changed();  // by another fix
+  if (positions_kept) {
+    positions_kept = false;
+    if (positions_moved())  // by another fix at the end of the last step
+      rank->atoms_moved("fix hardsphere: after " + movers + " at step " + std::to_string(update->ntimestep - 1));
+  }
   run_set_up = true;
   ghost_path_step();
   if (temperature_varies()) t_now = temperature_now();  // the owned atoms' rows hold this step's result
@@ -282,6 +288,13 @@ void FixHardSphere::post_run() {
 void FixHardSphere::post_force(int vflag) {
   // The step was taken in initial_integrate; report its collision virial.
   report_step_virial(vflag);
+  // LAMMPS has re-neighboured (if it does in this step) and holds this step's positions; keep
+  // them if a fix acting at the end of the step may move atoms (the next step compares).
+  positions_kept = others_may_move(update->ntimestep);
+  if (positions_kept && atom->nlocal > 0)
+    x_kept.assign(atom->x[0], atom->x[0] + 3 * atom->nlocal);
+  else
+    x_kept.clear();
 }
 
 void FixHardSphere::report_step_virial(int vflag) {

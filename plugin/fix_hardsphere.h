@@ -66,10 +66,17 @@ class FixHardSphere : public Fix {
   bool temperature_varies() const;
   //! Whether another fix may have changed velocities at the end of `step`.
   bool others_acted(bigint step) const;
+  //! Whether another fix may also have moved atoms at the end of `step` (a fix not known to
+  //! leave positions alone, e.g. python/invoke): LAMMPS's x is then kept and compared.
+  bool others_may_move(bigint step) const { return !movers.empty() && others_acted(step); }
+  //! After another fix's step-end hooks: atoms it moved (compared with what was kept)?
+  bool positions_moved() const;
   // Owned + ghost path (rank_stepper.cpp): one stepper per rank.
   void ghost_path_step();
   // Serial path (fix_hardsphere_serial.cpp): the standalone stepper on the owned atoms.
-  void serial_setup();
+  //! A fresh stepper from LAMMPS's atoms; `source` names where an invalid state came from.
+  void serial_setup(const std::string &source = "fix hardsphere",
+                    const std::string &hint = "start from a valid non-overlapping state");
   void serial_step();
   void serial_map();
   void serial_map_if_stale();
@@ -114,6 +121,9 @@ class FixHardSphere : public Fix {
   std::vector<double> v_written;               //!< velocities last written, while other fixes may change them
   bool others_every_step = false;              //!< another fix acts inside every step
   std::vector<int> others_every;               //!< nevery of other fixes acting only at end_of_step
+  std::string movers;                          //!< those of them that may move atoms ("fix ID (style)", ...)
+  std::vector<double> x_kept;                  //!< owned x before other fixes' step-end hooks, if they may move atoms
+  bool positions_kept = false;                 //!< x_kept was taken in the last step (on every rank alike)
   std::int64_t slot_rebuilds = -1;             //!< stepper rebuilds when the slots were mapped
   bool slots_dirty = true;                     //!< slot_local/slot_shift need serial_map()
   bool lammps_moved = false;                   //!< LAMMPS re-neighboured: it may have wrapped or sorted atoms

@@ -35,9 +35,21 @@ imageint pack_image(const std::array<int, 3> &f) {
          ((imageint(f[2] + IMGMAX) & IMGMASK) << IMG2BITS);
 }
 
+// Fixes that may act between steps (end_of_step) and are known to leave positions alone:
+// thermostats and velocity exchanges, averages, output and bookkeeping. Any other (python/invoke,
+// say) may move atoms, so the fix compares LAMMPS's x after it acts.
+bool keeps_positions(const Fix *f) {
+  for (const char *prefix : {"^ave/", "^temp/", "^store/"})
+    if (utils::strmatch(f->style, prefix)) return true;
+  for (const char *style : {"heat", "momentum", "momentum/chunk", "print", "halt", "vector", "balance", "setforce",
+                            "gravity", "thermal/conductivity", "viscosity"})
+    if (std::string(f->style) == style) return true;
+  return false;
+}
+
 }  // namespace
 
-void FixHardSphere::serial_setup() {
+void FixHardSphere::serial_setup(const std::string &source, const std::string &hint) {
   // A fresh stepper at every run: velocity, displace_atoms, set or read_restart may have
   // changed anything between runs.
   const int nlocal = atom->nlocal;
@@ -47,10 +59,10 @@ void FixHardSphere::serial_setup() {
     sys.push_back(std::int64_t(atom->tag[i]), atom->type[i], atom->radius[i], atom->rmass[i],
                   {atom->x[i][0], atom->x[i][1], atom->x[i][2]}, {atom->v[i][0], atom->v[i][1], atom->v[i][2]});
   try {
-    hardsphere::validate_and_wrap(sys, "fix hardsphere");  // overlaps, out-of-box atoms
+    hardsphere::validate_and_wrap(sys, source);  // overlaps, out-of-box atoms
     stepper = new_stepper(sys);
   } catch (const std::exception &e) {
-    error->all(FLERR, std::string(e.what()) + "; start from a valid non-overlapping state");
+    error->all(FLERR, std::string(e.what()) + "; " + hint);
   }
   // Both copies hold the same trajectory: LAMMPS's unwrapped position (x + image L) is the
   // stepper's (position + its wrap count L) plus a whole number of box lengths per axis,
@@ -80,6 +92,7 @@ void FixHardSphere::serial_schedule() {
   // them every step; one that only acts at end_of_step does so every nevery steps.
   others_every_step = false;
   others_every.clear();
+  movers.clear();
   const int per_step = INITIAL_INTEGRATE | POST_INTEGRATE | PRE_EXCHANGE | PRE_NEIGHBOR | POST_NEIGHBOR | PRE_FORCE |
                        PRE_REVERSE | POST_FORCE | FINAL_INTEGRATE;
   for (int f = 0; f < modify->nfix; f++) {
@@ -91,7 +104,22 @@ void FixHardSphere::serial_schedule() {
       others_every_step = true;
     else if (modify->fmask[f] & END_OF_STEP)
       others_every.push_back(std::max(1, modify->fix[f]->nevery));
+    else
+      continue;
+    if (!keeps_positions(modify->fix[f]))
+      movers +=
+          (movers.empty() ? "fix " : ", fix ") + std::string(modify->fix[f]->id) + " (" + modify->fix[f]->style + ")";
   }
+}
+
+bool FixHardSphere::positions_moved() const {
+  // x_kept holds the owned rows as they were before the other fixes' step-end hooks (see
+  // post_force); LAMMPS neither re-orders nor wraps atoms between those hooks and this step.
+  const int nlocal = atom->nlocal;
+  int moved = x_kept.size() != std::size_t(3 * nlocal) ||
+              (nlocal > 0 && !std::equal(atom->x[0], atom->x[0] + 3 * nlocal, x_kept.begin()));
+  MPI_Allreduce(MPI_IN_PLACE, &moved, 1, MPI_INT, MPI_MAX, world);
+  return moved != 0;
 }
 
 bool FixHardSphere::others_acted(bigint step) const {
@@ -224,6 +252,17 @@ void FixHardSphere::serial_step() {
     run_set_up = true;
   }
   timing.start();
+  if (positions_kept) {
+    // Another fix may have moved atoms at the end of the last step: if it did, the stepper is
+    // made again from LAMMPS's atoms (checked as at a run's start), velocities included.
+    positions_kept = false;
+    if (positions_moved()) {
+      serial_setup("fix hardsphere: after " + movers + " at step " + std::to_string(update->ntimestep - 1),
+                   "a fix that moves atoms must leave them apart (and inside fixed walls)");
+      t_now = temperature_now();
+      v_written.clear();
+    }
+  }
   if (lammps_moved) serial_follow_lammps();
   const int nlocal = atom->nlocal;
   double *v = nlocal ? atom->v[0] : nullptr;  // LAMMPS's per-atom rows are one contiguous block

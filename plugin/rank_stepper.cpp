@@ -260,14 +260,15 @@ RankStepper::StepTotals RankStepper::step() {
     unsure_ghosts_ = false;
     // A shell LAMMPS has made since (every rank knows) is new and starts a new epoch.
     if (layout_changed() || (!epoch_ && shell_used_up())) {
-      timer_.start();
-      StepTotals t = step_globally(true);
-      t.rerun = false;  // not a disagreement
-      stale_ = reneighbor_ = true;
-      timer_.charge(PartTimer::Rerun);
-      return t;
+      moved_ = false;  // this step reads every atom from LAMMPS's rows anyway
+      return restart_globally("fix hardsphere", "start from a valid non-overlapping state");
     }
     forward_comm(2);
+  }
+  if (moved_) {
+    // LAMMPS's ghosts still hold the positions from before the move.
+    moved_ = false;
+    return restart_globally(moved_source_, "a fix that moves atoms must leave them apart (and inside fixed walls)");
   }
   timer_.start();
   if (stale_) {
@@ -333,6 +334,15 @@ RankStepper::StepTotals RankStepper::step() {
   return t;
 }
 
+RankStepper::StepTotals RankStepper::restart_globally(const std::string &source, const std::string &hint) {
+  timer_.start();
+  StepTotals t = step_globally(true, source, hint);
+  t.rerun = false;  // not a disagreement
+  stale_ = reneighbor_ = true;
+  timer_.charge(PartTimer::Rerun);
+  return t;
+}
+
 bool RankStepper::agree_rebuild(bool due) {
   // Every rank waits for the slowest after each step: one rank's pair-list rebuild would
   // stall all the others, so all rebuild on the steps any of them needs to.
@@ -365,7 +375,7 @@ bool RankStepper::ghosts_agree() {
   return true;
 }
 
-RankStepper::StepTotals RankStepper::step_globally(bool check) {
+RankStepper::StepTotals RankStepper::step_globally(bool check, const std::string &source, const std::string &hint) {
   // Re-run this step for all atoms at once with one standalone stepper (the same algorithm,
   // so the result a complete ghost shell gives), on every rank from the gathered start state;
   // each rank keeps its own atoms. Rare.
@@ -397,9 +407,9 @@ RankStepper::StepTotals RankStepper::step_globally(bool check) {
   }
   if (check) {  // validates and wraps
     try {
-      hardsphere::validate_and_wrap(sys, "fix hardsphere");
+      hardsphere::validate_and_wrap(sys, source);
     } catch (const std::exception &e) {
-      error->all(FLERR, std::string(e.what()) + "; start from a valid non-overlapping state");
+      error->all(FLERR, std::string(e.what()) + "; " + hint);
     }
   } else {
     hardsphere::wrap_periodic(sys);

@@ -10,6 +10,7 @@
 #include <array>
 #include <cstdint>
 #include <memory>
+#include <string>
 #include <vector>
 
 #include "hardsphere/state_exchange.hpp"
@@ -47,6 +48,13 @@ class RankStepper : protected Pointers {
   void run_ends();
   //! Another fix or command may have changed velocities: they are read again before the next step.
   void velocities_changed() { refresh_v_ = true; }
+  //! Another fix moved owned atoms (on some rank) since the last step: the next step runs for
+  //! all atoms at once from LAMMPS's rows, checked as a run's start (`source` names the fix),
+  //! and LAMMPS re-neighbours in it.
+  void atoms_moved(const std::string &source) {
+    moved_ = true;
+    moved_source_ = source;
+  }
   //! Makes the stepper now if it is due (a run's setup), not at the next step.
   void prepare() {
     if (stale_) build();
@@ -73,8 +81,12 @@ class RankStepper : protected Pointers {
   bool skip_swap() const { return comm_mode_ == 1 && swaps_known_ && swap_ < self_swap_.size() && self_swap_[swap_]; }
   bool agree_rebuild(bool due);
   bool ghosts_agree();
-  //! One step for all atoms at once from LAMMPS's rows; `check` refuses an overlapping start.
-  StepTotals step_globally(bool check);
+  //! One step for all atoms at once from LAMMPS's rows; `check` refuses an invalid start
+  //! (overlaps, atoms outside fixed walls), naming `source` and what to do.
+  StepTotals step_globally(bool check, const std::string &source = "fix hardsphere",
+                           const std::string &hint = "start from a valid non-overlapping state");
+  //! This step for all atoms at once, with the start checked, and LAMMPS re-neighbouring in it.
+  StepTotals restart_globally(const std::string &source, const std::string &hint);
   //! Whether any rank's owned atoms or sub-domain differ from those at the end of the last run.
   bool layout_changed() const;
   //! Whether the moves since the epoch began could let an atom that is not held reach an owned
@@ -86,6 +98,8 @@ class RankStepper : protected Pointers {
   hardsphere::StepperConfig config_;  //!< for every stepper this path makes
   bool stale_ = true, epoch_ = true, refresh_v_ = false, reneighbor_ = false, check_start_ = true;
   bool unsure_ghosts_ = false;
+  bool moved_ = false;                     //!< see atoms_moved()
+  std::string moved_source_;               //!< the fix that moved them, for an error message
   bigint end_atoms_[2] = {-1, -1};         //!< owned atoms and the sum of their tags when the last run ended
   std::array<double, 6> end_subdomain_{};  //!< and the sub-domain's bounds
   std::unique_ptr<hardsphere::StepperBase> stepper_;

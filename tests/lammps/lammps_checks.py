@@ -112,6 +112,25 @@ fix hs all hardsphere
 """
 
 
+MOVER = """from lammps import lammps
+
+
+def move(ptr):
+    lmp = lammps(ptr=ptr)
+    x = lmp.numpy.extract_atom("x")
+    n = lmp.extract_global("nlocal")
+    {body}
+"""
+
+
+def python_mover(d, body):
+    """The commands for a fix python/invoke that runs `body` on this rank's atoms' x[:n] every 10
+    steps at the end of the step (a fix that moves atoms and is not known to the fix)."""
+    with open(os.path.join(d, "mover.py"), "w") as f:
+        f.write(MOVER.format(body=body))
+    return "python move source mover.py\nfix p all python/invoke 10 end_of_step move\n"
+
+
 def check(cond, msg):
     print(("ok:   " if cond else "FAIL: ") + msg)
     return bool(cond)
@@ -457,6 +476,9 @@ def errors(args):
                          "fix hardsphere: fix e (ehex) corrects positions at the end of each step", True),
             "fix dt/reset": (base + "fix dt all dt/reset 1 NULL NULL 0.1\nrun 1\n",
                              "fix hardsphere: fix dt (dt/reset) changes the timestep during a run", False),
+            # A fix that moves atoms at the end of a step is taken up, and its result checked.
+            "fix moving atoms into overlaps": (base + python_mover(d, "x[:n] *= 0.5") + "run 20\n",
+                                               "fix hardsphere: after fix p (python/invoke) at step 10: atom", True),
             # Messages that point at the real cause.
             "empty box": ("units lj\natom_style sphere\nregion b block 0 5 0 5 0 5\ncreate_box 1 b\n"
                           "pair_style hardsphere\npair_coeff * *\nfix hs all hardsphere\nrun 1\n",
@@ -827,6 +849,30 @@ run 200
         ok &= check(len(t5) == 8 and max(abs(t - 0.5) for t in t5) < 1e-12 and r5[-1]["f_hs[1]"] > 500,
                     f"np={args.np}: fix temp/rescale every 10 steps: T {r5[0]['Temp']:.3f} -> "
                     f"{min(t5):.15f}..{max(t5):.15f} at every thermo step after (target 0.5, elastic steps keep it)")
+        # A fix that moves atoms at the end of a step (python/invoke, not known to leave positions
+        # alone): LAMMPS's x is compared after it, and moved atoms are taken up. Shifting every atom
+        # is a symmetry of the periodic gas: the centre of mass moves by 10 x 0.05 more than
+        # without the shift, and the collisions are those of the run without it.
+        com = {}
+        for mover in ("", python_mover(d, "x[:n, 0] += 0.05")):
+            script = """read_restart r.restart
+neigh_modify every 1 delay 0 check yes
+fix hs all hardsphere
+{}compute cm all com
+thermo_style custom step ke f_hs[1] f_hs[6] c_cm[1]
+thermo_modify format float %.17g
+thermo 100
+run 100
+""".format(mover)
+            rc, out = run_lmp(args, script, d, np_=args.np)
+            com[bool(mover)] = thermo(out)
+        plain, moved = com[False], com[True]
+        extra = (moved[-1]["c_cm[1]"] - moved[0]["c_cm[1]"]) - (plain[-1]["c_cm[1]"] - plain[0]["c_cm[1]"])
+        ok &= check(abs(extra - 0.5) < 1e-9 and moved[-1]["f_hs[1]"] == plain[-1]["f_hs[1]"] > 0
+                    and abs(moved[-1]["KinEng"] / moved[0]["KinEng"] - 1) < 1e-12 and moved[-1]["f_hs[6]"] == 0,
+                    f"np={args.np}: fix python/invoke shifting every atom by 0.05 every 10 steps: centre of mass "
+                    f"{extra:.12f} further (10 x 0.05), {moved[-1]['f_hs[1]']:.0f} collisions == "
+                    f"{plain[-1]['f_hs[1]']:.0f} without it, energy kept")
         # 'run N pre no every M COMMAND' skips the fix's setup between the pieces: commands that
         # change velocities, delete or move atoms still take effect (the serial path re-reads the
         # atoms; on several ranks LAMMPS's ghosts are taken up again, or one step runs for all
