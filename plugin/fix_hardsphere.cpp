@@ -9,6 +9,7 @@
 
 #include "atom.h"
 #include "comm.h"
+#include "compute.h"
 #include "domain.h"
 #include "error.h"
 #include "force.h"
@@ -93,9 +94,16 @@ FixHardSphere::FixHardSphere(LAMMPS *lmp, int narg, char **arg) : Fix(lmp, narg,
   thermo_virial = 1;
   force_reneighbor = 1;
   next_reneighbor = -1;
+  virial_peratom_flag = 1;  // compute stress/atom: the collision part (centroid stress the same)
+  maxexchange = 6;          // vstep travels with migrating atoms
+  create_attribute = 1;     // atoms created between runs start with no collision virial
+  atom->add_callback(Atom::GROW);
 }
 
-FixHardSphere::~FixHardSphere() = default;
+FixHardSphere::~FixHardSphere() {
+  atom->delete_callback(id, Atom::GROW);
+  memory->destroy(vstep);
+}
 
 int FixHardSphere::setmask() { return INITIAL_INTEGRATE | POST_FORCE | PRE_NEIGHBOR; }
 
@@ -104,7 +112,17 @@ void FixHardSphere::init() {
   serial = comm->nprocs == 1 && !ghost_path_only;
   check_input();  // fix_hardsphere_checks.cpp: styles, box, run style, other fixes, neighbour settings
   dt = update->dt;
-  serial_schedule();   // also tells the owned + ghost path when to re-measure the temperature
+  serial_schedule();  // also tells the owned + ghost path when to re-measure the temperature
+  // Per-atom virials only where a compute asks for them (the same on every rank).
+  atom_virial = false;
+  for (int i = 0; i < modify->ncompute; i++) atom_virial |= modify->compute[i]->pressatomflag != 0;
+  if (atom_virial && !vstep) {
+    grow_arrays(atom->nmax);
+    vstep_at = -1;
+  } else if (!atom_virial) {
+    memory->destroy(vstep);
+    vstep_rows = 0;
+  }
   if (serial) return;  // the stepper needs no ghost shell and no LAMMPS neighbour list
 
   // One shell for every atom: mode multi sizes LAMMPS's shells per type from the neighbour
@@ -215,7 +233,7 @@ void FixHardSphere::check_setup() {
   // Overlapping pairs at the start are refused where the atoms are handed to a stepper.
 }
 
-void FixHardSphere::initial_integrate(int) {
+void FixHardSphere::initial_integrate(int vflag) {
   if (!initialised)
     error->all(FLERR,
                "fix hardsphere was defined after the last run's setup, which 'run ... pre no' skips: "
@@ -236,7 +254,7 @@ void FixHardSphere::initial_integrate(int) {
                "or direction); hard-sphere flights need a constant one");
   }
   if (serial) {
-    serial_step();
+    serial_step(wants_atom_virial(vflag));
     return;
   }
   if (!run_set_up || others_acted(update->ntimestep - 1)) t_now = temperature_now();
@@ -250,13 +268,15 @@ void FixHardSphere::initial_integrate(int) {
       rank->atoms_moved("fix hardsphere: after " + movers + " at step " + std::to_string(update->ntimestep - 1));
   }
   run_set_up = true;
-  ghost_path_step();
+  ghost_path_step(wants_atom_virial(vflag));
   if (temperature_varies()) t_now = temperature_now();  // the owned atoms' rows hold this step's result
   t_integral += t_now * dt;
 }
 
-void FixHardSphere::ghost_path_step() {
+void FixHardSphere::ghost_path_step(bool take_atom_virial) {
+  rank->take_atom_virial(take_atom_virial ? vstep[0] : nullptr, force->mvv2e / dt);
   const RankStepper::StepTotals t = rank->step();
+  if (take_atom_virial) vstep_at = update->ntimestep;
   n_coll_step = t.collisions;
   for (int k = 0; k < 6; k++) step_virial[k] = t.virial[std::size_t(k)];
   n_coll += n_coll_step;
@@ -302,7 +322,45 @@ void FixHardSphere::report_step_virial(int vflag) {
   v_init(vflag);
   if (vflag_global)
     for (int k = 0; k < 6; k++) virial[k] = step_virial[k] / dt * force->mvv2e;
+  // Per atom, the same step's share (already in energy units); zero (v_init) if none was taken.
+  if (vflag_atom && vstep && vstep_at == update->ntimestep)
+    for (int i = 0; i < atom->nlocal; i++)
+      for (int k = 0; k < 6; k++) vatom[i][k] = vstep[i][k];
 }
+
+bool FixHardSphere::wants_atom_virial(int vflag) const {
+  return atom_virial && thermo_virial && (vflag & (VIRIAL_ATOM | VIRIAL_CENTROID)) != 0;
+}
+
+void FixHardSphere::grow_arrays(int nmax) {
+  if (!atom_virial) return;
+  vstep_rows = std::max(nmax, 1);  // one row at least: a rank without atoms still has the array
+  memory->grow(vstep, vstep_rows, 6, "hardsphere:vstep");
+}
+
+void FixHardSphere::set_arrays(int i) {
+  if (atom_virial)
+    for (int k = 0; k < 6; k++) vstep[i][k] = 0.0;
+}
+
+void FixHardSphere::copy_arrays(int i, int j, int) {
+  if (atom_virial)
+    for (int k = 0; k < 6; k++) vstep[j][k] = vstep[i][k];
+}
+
+int FixHardSphere::pack_exchange(int i, double *buf) {
+  if (!atom_virial) return 0;
+  for (int k = 0; k < 6; k++) buf[k] = vstep[i][k];
+  return 6;
+}
+
+int FixHardSphere::unpack_exchange(int nlocal, double *buf) {
+  if (!atom_virial) return 0;
+  for (int k = 0; k < 6; k++) vstep[nlocal][k] = buf[k];
+  return 6;
+}
+
+double FixHardSphere::memory_usage() { return double(vstep_rows) * 6 * sizeof(double); }
 
 bool FixHardSphere::temperature_varies() const {
   return restitution < 1.0 || gravity[0] != 0.0 || gravity[1] != 0.0 || gravity[2] != 0.0;

@@ -41,13 +41,23 @@ class FixHardSphere : public Fix {
 
   int pack_forward_comm(int, int *, double *, int, int *) override;
   void unpack_forward_comm(int, int, double *) override;
+  // The per-atom collision virial of the last step (see vstep) follows LAMMPS's atoms.
+  void grow_arrays(int) override;
+  void copy_arrays(int, int, int) override;
+  void set_arrays(int) override;
+  int pack_exchange(int, double *) override;
+  int unpack_exchange(int, double *) override;
+  double memory_usage() override;
 
  private:
   using V3 = hardsphere::Vec3<double>;
   void check_setup();
   void check_timestep() const;
-  //! The last step's collision virial, as LAMMPS's virial (energy units) when it asks.
+  //! The last step's collision virial, as LAMMPS's virial (energy units) when it asks, global
+  //! and per atom.
   void report_step_virial(int vflag);
+  //! Whether this step's per-atom virial is asked for (compute stress/atom and the like).
+  bool wants_atom_virial(int vflag) const;
   // fix_hardsphere_checks.cpp: what the fix refuses, and the neighbour settings it needs.
   void check_input();
   void check_other_fixes();
@@ -72,12 +82,12 @@ class FixHardSphere : public Fix {
   //! After another fix's step-end hooks: atoms it moved (compared with what was kept)?
   bool positions_moved() const;
   // Owned + ghost path (rank_stepper.cpp): one stepper per rank.
-  void ghost_path_step();
+  void ghost_path_step(bool take_atom_virial);
   // Serial path (fix_hardsphere_serial.cpp): the standalone stepper on the owned atoms.
   //! A fresh stepper from LAMMPS's atoms; `source` names where an invalid state came from.
   void serial_setup(const std::string &source = "fix hardsphere",
                     const std::string &hint = "start from a valid non-overlapping state");
-  void serial_step();
+  void serial_step(bool take_atom_virial);
   void serial_map();
   void serial_map_if_stale();
   void map_tags();
@@ -130,6 +140,14 @@ class FixHardSphere : public Fix {
   bool state_written = true;                   //!< LAMMPS's x and v hold the stepper's current state
 
   std::unique_ptr<RankStepper> rank;  //!< the owned + ghost path's stepper
+
+  // Per-atom collision virial (compute stress/atom): each collision's r_ij (x) dp_i / dt, half to
+  // each atom, taken from the stepper right after a step on which LAMMPS asks for it and kept
+  // in vstep (a per-atom array that LAMMPS sorts and migrates with the atoms) until post_force.
+  bool atom_virial = false;  //!< some compute asks for per-atom virials (set at init)
+  double **vstep = nullptr;  //!< 6 per atom, allocated only while atom_virial
+  int vstep_rows = 0;        //!< rows allocated
+  bigint vstep_at = -1;      //!< the step vstep holds (-1: none)
 
   // Per-step and cumulative tallies (local, weighted by ownership on the owned + ghost path;
   // compute_vector sums over ranks).

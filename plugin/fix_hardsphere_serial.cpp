@@ -12,6 +12,7 @@
 #include "domain.h"
 #include "error.h"
 #include "fix_hardsphere.h"
+#include "force.h"
 #include "hardsphere/errors.hpp"
 #include "hardsphere/particles.hpp"
 #include "hardsphere/state_exchange.hpp"
@@ -245,7 +246,7 @@ void FixHardSphere::serial_write() {
   state_written = true;
 }
 
-void FixHardSphere::serial_step() {
+void FixHardSphere::serial_step(bool take_atom_virial) {
   if (!run_set_up) {  // 'run ... pre no': no setup(), but commands between runs may have changed atoms
     serial_setup();
     t_now = temperature_now();
@@ -282,8 +283,15 @@ void FixHardSphere::serial_step() {
   timing.charge(PartTimer::Follow);
 
   const hardsphere::StepCounters before = stepper->counters();
+  hardsphere::state_exchange(*stepper).set_sphere_virial(take_atom_virial);
   stepper->run(1);
   timing.charge(PartTimer::Steps);
+  if (take_atom_virial) {  // this step's share per atom, into the rows LAMMPS keeps with the atoms
+    serial_map_if_stale();
+    std::fill(vstep[0], vstep[0] + 6 * nlocal, 0.0);
+    hardsphere::state_exchange(*stepper).take_sphere_virial(slot_local.data(), force->mvv2e / dt, vstep[0]);
+    vstep_at = update->ntimestep;
+  }
   const hardsphere::StepCounters &after = stepper->counters();
   state_written = false;
   if (serial_must_write()) {

@@ -295,6 +295,7 @@ RankStepper::StepTotals RankStepper::step() {
   // from them); the owners' new velocities reach the ghosts first.
   StepTotals t;
   if (stepper_) {
+    hardsphere::state_exchange(*stepper_).set_sphere_virial(virial_rows_ != nullptr);
     try {
       stepper_->run(1);
     } catch (const std::exception &e) {
@@ -318,6 +319,10 @@ RankStepper::StepTotals RankStepper::step() {
     timer_.charge(PartTimer::Rerun);
   } else if (stepper_) {
     hardsphere::state_exchange(*stepper_).scatter_state(slot_dest_.data(), slot_shift_.data(), x[0], v[0]);
+    if (virial_rows_) {  // only owned rows: a ghost's share is its owner's
+      std::fill(virial_rows_, virial_rows_ + 6 * atom->nlocal, 0.0);
+      hardsphere::state_exchange(*stepper_).take_sphere_virial(slot_dest_.data(), virial_scale_, virial_rows_);
+    }
     timer_.charge(PartTimer::Write);
     const hardsphere::OwnedCounters &c = hardsphere::state_exchange(*stepper_).owned_counters();
     t.collisions = c.collisions - last_.collisions;
@@ -418,9 +423,12 @@ RankStepper::StepTotals RankStepper::step_globally(bool check, const std::string
   hardsphere::StepCounters c;
   try {
     auto global = hardsphere::make_stepper(sys, config_);
+    auto &exch = hardsphere::state_exchange(*global);
+    exch.set_sphere_virial(virial_rows_ != nullptr);
     global->run(1);
     out = global->state();
     c = global->counters();
+    if (virial_rows_) take_owned_virial(exch);
   } catch (const std::exception &e) {
     error->all(FLERR, std::string("fix hardsphere: re-running a step for all atoms failed: ") + e.what());
   }
@@ -448,6 +456,20 @@ RankStepper::StepTotals RankStepper::step_globally(bool check, const std::string
     for (std::size_t k = 0; k < 6; k++) t.virial[k] = c.pair_virial_tensor[k];
   }
   return t;
+}
+
+void RankStepper::take_owned_virial(hardsphere::StateExchange &exch) {
+  // The engine holds every atom: this rank's shares go to its rows, found by tag.
+  std::vector<std::int64_t> ids(exch.size());
+  exch.copy_ids(ids.data());
+  std::int64_t max_id = 0;
+  for (const std::int64_t id : ids) max_id = std::max(max_id, id);
+  std::vector<std::uint32_t> row_of_id(std::size_t(max_id) + 1, hardsphere::StateExchange::kNoRow);
+  for (int i = 0; i < atom->nlocal; i++) row_of_id[std::size_t(atom->tag[i])] = std::uint32_t(i);
+  std::vector<std::uint32_t> dest(ids.size());
+  for (std::size_t k = 0; k < ids.size(); k++) dest[k] = row_of_id[std::size_t(ids[k])];
+  std::fill(virial_rows_, virial_rows_ + 6 * atom->nlocal, 0.0);
+  exch.take_sphere_virial(dest.data(), virial_scale_, virial_rows_);
 }
 
 void RankStepper::run_ends() {

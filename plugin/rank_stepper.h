@@ -55,6 +55,12 @@ class RankStepper : protected Pointers {
     moved_ = true;
     moved_source_ = source;
   }
+  //! The next step also adds each owned atom's share of its collision virial, times `scale`,
+  //! to `rows` (6 per LAMMPS row, zeroed first); nullptr: not asked for.
+  void take_atom_virial(double *rows, double scale) {
+    virial_rows_ = rows;
+    virial_scale_ = scale;
+  }
   //! Makes the stepper now if it is due (a run's setup), not at the next step.
   void prepare() {
     if (stale_) build();
@@ -87,6 +93,8 @@ class RankStepper : protected Pointers {
                            const std::string &hint = "start from a valid non-overlapping state");
   //! This step for all atoms at once, with the start checked, and LAMMPS re-neighbouring in it.
   StepTotals restart_globally(const std::string &source, const std::string &hint);
+  //! From an engine over all atoms (step_globally): the owned atoms' collision virials.
+  void take_owned_virial(hardsphere::StateExchange &exch);
   //! Whether any rank's owned atoms or sub-domain differ from those at the end of the last run.
   bool layout_changed() const;
   //! Whether the moves since the epoch began could let an atom that is not held reach an owned
@@ -98,7 +106,9 @@ class RankStepper : protected Pointers {
   hardsphere::StepperConfig config_;  //!< for every stepper this path makes
   bool stale_ = true, epoch_ = true, refresh_v_ = false, reneighbor_ = false, check_start_ = true;
   bool unsure_ghosts_ = false;
-  bool moved_ = false;                     //!< see atoms_moved()
+  bool moved_ = false;             //!< see atoms_moved()
+  double *virial_rows_ = nullptr;  //!< see take_atom_virial()
+  double virial_scale_ = 1.0;
   std::string moved_source_;               //!< the fix that moved them, for an error message
   bigint end_atoms_[2] = {-1, -1};         //!< owned atoms and the sum of their tags when the last run ended
   std::array<double, 6> end_subdomain_{};  //!< and the sub-domain's bounds

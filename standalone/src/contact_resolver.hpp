@@ -66,6 +66,9 @@ struct ContactArrays {
   std::uint8_t* met_owned = nullptr;
   //! Optional: each sphere's pair collisions (indexed like pos), incremented for both spheres.
   std::int64_t* pair_collisions = nullptr;
+  //! Optional: 6 per sphere (indexed like pos): each collision adds half its virial tensor
+  //! r_ij (x) dp_i (xx yy zz xy xz yz) to both spheres, so the spheres' sums add up to the tally's.
+  double* sphere_virial = nullptr;
 };
 
 //! Totals of resolved contacts.
@@ -613,6 +616,7 @@ class ContactResolver {
     ++tally.collisions;
     tally.virial += virial;
     if (a_.pair_collisions) ++a_.pair_collisions[i], ++a_.pair_collisions[j];
+    if (a_.sphere_virial) add_sphere_virial(i, j, r, dp);
     if (a_.owned) {
       const double w = 0.5 * (owned(i) + owned(j));
       if (w == 0.5) a_.met_owned[owned(i) != 0.0 ? j : i] = 1;
@@ -626,6 +630,13 @@ class ContactResolver {
       hooks.after_collision(k, back);
     }
     return true;
+  }
+
+  //! Half of a collision's r (x) dp to each of its spheres (ContactArrays::sphere_virial).
+  void add_sphere_virial(std::uint32_t i, std::uint32_t j, const double* r, const double* dp) {
+    const double t[6] = {r[0] * dp[0], r[1] * dp[1], r[2] * dp[2], r[0] * dp[1], r[0] * dp[2], r[1] * dp[2]};
+    for (const std::uint32_t s : {i, j})
+      for (std::size_t k = 0; k < 6; ++k) a_.sphere_virial[6 * std::size_t(s) + k] += 0.5 * t[k];
   }
 
   ContactArrays<Real> a_;

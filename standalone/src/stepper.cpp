@@ -180,6 +180,22 @@ class Stepper final : public StepperBase, public StateExchange {
     met_owned_.assign(owned_.size(), 0);
     bind_resolver();
   }
+  void set_sphere_virial(bool on) override {
+    if (on == !sphere_virial_.empty()) return;
+    if (on)
+      sphere_virial_.assign(6 * pos_.size(), 0.0);
+    else
+      sphere_virial_ = {};
+    bind_resolver();
+  }
+  void take_sphere_virial(const std::uint32_t* dest, double scale, double* out) override {
+    for (std::size_t k = 0; k < slot_.size() && !sphere_virial_.empty(); ++k) {
+      double* w = &sphere_virial_[6 * k];
+      if (dest[k] != kNoRow)
+        for (std::size_t c = 0; c < 6; ++c) out[6 * std::size_t(dest[k]) + c] += scale * w[c];
+      std::fill(w, w + 6, 0.0);
+    }
+  }
   void copy_met_owned(const std::uint32_t* slots, std::size_t count, std::uint8_t* out) const override {
     for (std::size_t i = 0; i < count; ++i) out[i] = met_owned_.empty() ? 0 : met_owned_[slots[i]];
   }
@@ -510,6 +526,8 @@ class Stepper final : public StepperBase, public StateExchange {
   std::vector<double> last_collision_;        // id order: each sphere's last collision time (restitution < 1)
   // Cell order, like pos_, so a collision's two increments hit lines its spheres' neighbours use too.
   std::vector<std::int64_t> pair_collisions_, scratch_i64_;  // since reset_counters() (if counted)
+  // Cell order, 6 per sphere: collision virial since the last take_sphere_virial (if on).
+  std::vector<double> sphere_virial_, scratch_virial_;
   std::vector<std::uint8_t> scratch_u8_;
   mutable std::size_t sampled_at_ = 0;    // sphere()'s last cell-order position: valid until a rebuild
   double clock_ = 0;                      // time since construction, for the collision times
@@ -832,6 +850,12 @@ void Stepper<Real, Mono>::rebuild() {
   }
   permute(slot_, scratch_u32_);
   if (!pair_collisions_.empty()) permute(pair_collisions_, scratch_i64_);
+  if (!sphere_virial_.empty()) {
+    scratch_virial_.resize(6 * n);
+    for (std::size_t k = 0; k < n; ++k)
+      std::copy_n(&sphere_virial_[6 * std::size_t(order_[k])], 6, &scratch_virial_[6 * k]);
+    sphere_virial_.swap(scratch_virial_);
+  }
   if (!owned_.empty()) permute(owned_, scratch_u8_), permute(met_owned_, scratch_u8_);
   resolver_.permute(order_);
   guard_.reset(n);
@@ -860,7 +884,8 @@ void Stepper<Real, Mono>::bind_resolver() {
   resolver_.bind({pos_.data(), vel_.data(), r_.data(), m_.data(), id_.data(), slot_.data(), adj_start_.data(),
                   adj_.data(), image_shift_, speeds_ ? speed_.data() : nullptr, adj_plain_end_.data(),
                   owned_.empty() ? nullptr : owned_.data(), owned_.empty() ? nullptr : met_owned_.data(),
-                  pair_collisions_.empty() ? nullptr : pair_collisions_.data()});
+                  pair_collisions_.empty() ? nullptr : pair_collisions_.data(),
+                  sphere_virial_.empty() ? nullptr : sphere_virial_.data()});
 }
 
 template <class Real, bool Mono>

@@ -673,6 +673,40 @@ def outputs(args):
                           np_=args.np, expect_ok=False)
         ok &= check(rc != 0 and "timing must be 'yes' or 'no', got 'maybe'" in out, tag + "timing maybe is refused")
 
+        # compute stress/atom holds each atom's half of its collisions' virial in the step (as
+        # press holds the step's total): summed, it is LAMMPS's press at every thermo step
+        # (including the first of a second run), through atom sorting every 7 steps and, on 2
+        # ranks, atoms changing ranks; per atom, 2 ranks give the serial values.
+        script = HEADER.format(data="init.data", skin=0.5, dt=0.01) + """atom_modify sort 7 1.0
+compute sa all stress/atom NULL
+compute ss all reduce sum c_sa[1] c_sa[2] c_sa[3]
+variable pa equal -(c_ss[1]+c_ss[2]+c_ss[3])/(3*vol)
+thermo_style custom step press v_pa f_hs[1]
+thermo_modify format float %.17g
+thermo 10
+dump sd all custom 200 stress.dump id c_sa[1] c_sa[2] c_sa[3] c_sa[4] c_sa[5] c_sa[6]
+dump_modify sd sort id format float %.17g
+run 200
+undump sd
+run 20
+"""
+        stress = {}
+        for np_ in sorted({1, args.np}):
+            rc, out = run_lmp(args, script, d, np_=np_)
+            rows = [r for b in thermo_blocks(out) for r in b]
+            worst = max(abs(r["Press"] - r["v_pa"]) / abs(r["Press"]) for r in rows)
+            lines = open(os.path.join(d, "stress.dump")).read().splitlines()
+            start = max(k for k, ln in enumerate(lines) if ln.startswith("ITEM: ATOMS")) + 1  # step 200
+            stress[np_] = np.array([[float(t) for t in ln.split()[1:]] for ln in lines[start:]])
+            mean_press = sum(r["Press"] for r in rows) / len(rows)
+            ok &= check(len(rows) == 24 and worst < 1e-10 and mean_press > 2.0,
+                        f"np={np_}: compute stress/atom summed == press at every thermo step (rel {worst:.1e}, "
+                        f"{len(rows)} rows, <press> {mean_press:.3f}: the collisions' part is in)")
+        if args.np > 1:
+            diff = np.abs(stress[args.np] - stress[1]).max() / np.abs(stress[1]).max()
+            ok &= check(stress[1].shape == stress[args.np].shape and diff < 1e-6,
+                        tag + f"compute stress/atom per atom at step 200 equals the serial run's (rel {diff:.1e})")
+
         # Walls (boundary p p f): V is the box volume, as in the standalone (which reports the
         # wall pressures separately).
         run_lmp(args, WALLS.split("pair_style")[0] + "write_data walls.data\n", d)

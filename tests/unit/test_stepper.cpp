@@ -2,6 +2,8 @@
 // relaxation, invariance under the cell grid, determinism, and the dense initial route.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <array>
 #include <cmath>
 #include <utility>
 
@@ -103,6 +105,82 @@ TEST(StepperAdapterApi, ScatterSkipsNoRowSlotsAndCopiesChosenVelocities) {
   ex.copy_velocities(&other, 1, &u);
   EXPECT_EQ(u.x, 0.0);
   EXPECT_EQ(u.y, -0.25);
+}
+
+TEST(StepperAdapterApi, SphereVirialGivesEachSphereHalfOfItsCollisions) {
+  // The oblique impact above: r (x) dp has 1/(2 sqrt(2)) in xx, yy and xy; each sphere takes half.
+  const double h = 1 / std::sqrt(2.0);
+  const auto s = two({5 - 0.5 * h - 0.05, 5 - 0.5 * h, 5}, {1, 0, 0}, {5 + 0.5 * h, 5 + 0.5 * h, 5}, {0, 0, 0});
+  StepperConfig cfg;
+  cfg.dt = 0.2;
+  auto st = make_stepper(s, cfg);
+  auto& ex = state_exchange(*st);
+  ex.set_sphere_virial(true);
+  st->run(1);
+  ASSERT_EQ(st->counters().collisions, 1);
+  const std::vector<std::uint32_t> dest = {0, 1};
+  std::vector<double> rows(12, 0.0);
+  ex.take_sphere_virial(dest.data(), 2.0, rows.data());  // scaled by 2: the whole tensor per sphere
+  const double q = 0.5 * h;
+  for (std::size_t a = 0; a < 2; ++a) {
+    const double* w = &rows[6 * a];
+    EXPECT_NEAR(w[0], q, 1e-12);
+    EXPECT_NEAR(w[1], q, 1e-12);
+    EXPECT_NEAR(w[3], q, 1e-12);
+    EXPECT_NEAR(w[2], 0.0, 1e-15);
+    EXPECT_NEAR(w[4], 0.0, 1e-15);
+    EXPECT_NEAR(w[5], 0.0, 1e-15);
+  }
+  // Taken sums are cleared; a later step without collisions adds nothing.
+  std::fill(rows.begin(), rows.end(), 0.0);
+  st->run(1);
+  ex.take_sphere_virial(dest.data(), 1.0, rows.data());
+  for (const double w : rows) EXPECT_EQ(w, 0.0);
+}
+
+TEST(StepperAdapterApi, SphereVirialFollowsTheSpheresThroughRebuilds) {
+  // A gas over 210 steps (many cell re-sorts), the sums taken every 7 steps, so the spheres are
+  // re-sorted while they hold them: in each piece a sphere that collided has a positive trace
+  // (r . dp > 0 for every collision), one that did not has nothing, and the spheres add up to
+  // the piece's virial tensor.
+  StepperConfig cfg;
+  cfg.dt = 0.01;
+  cfg.count_per_sphere = true;
+  auto st = make_stepper(gas(500, 0.3, 11), cfg);
+  auto& ex = state_exchange(*st);
+  ex.set_sphere_virial(true);
+  const std::size_t n = ex.size();
+  std::vector<std::int64_t> ids(n);
+  std::vector<std::uint32_t> dest(n);
+  std::vector<double> rows(6 * n);
+  std::int64_t collided_spheres = 0;
+  for (int step = 0; step < 210; step += 7) {
+    const std::vector<std::int64_t> before = st->pair_collisions_per_sphere();
+    const std::array<double, 6> t0 = st->counters().pair_virial_tensor;
+    st->run(7);
+    const std::vector<std::int64_t> after = st->pair_collisions_per_sphere();
+    ex.copy_ids(ids.data());
+    for (std::size_t k = 0; k < n; ++k) dest[k] = std::uint32_t(ids[k] - 1);  // row = id order, like state()
+    std::fill(rows.begin(), rows.end(), 0.0);
+    ex.take_sphere_virial(dest.data(), 1.0, rows.data());
+    for (std::size_t c = 0; c < 6; ++c) {
+      double sum = 0;
+      for (std::size_t a = 0; a < n; ++a) sum += rows[6 * a + c];
+      const double expect = st->counters().pair_virial_tensor[c] - t0[c];
+      EXPECT_NEAR(sum, expect, 1e-9 * (1 + std::abs(expect))) << "step " << step << " component " << c;
+    }
+    for (std::size_t a = 0; a < n; ++a) {
+      const double* w = &rows[6 * a];
+      if (after[a] > before[a]) {
+        ++collided_spheres;
+        EXPECT_GT(w[0] + w[1] + w[2], 0.0) << "step " << step << " sphere " << a;
+      } else {
+        for (std::size_t c = 0; c < 6; ++c) ASSERT_EQ(w[c], 0.0) << "step " << step << " sphere " << a;
+      }
+    }
+  }
+  EXPECT_GT(st->counters().rebuilds, 10);
+  EXPECT_GT(collided_spheres, 1000);
 }
 
 TEST(StepperAdapterApi, Mv2SumIsTwiceTheKineticEnergyAsCollisionsAndGravityChangeIt) {

@@ -54,6 +54,13 @@ class StateExchange {
   //! given slots, e.g. copies of spheres another engine owns; the next step treats a moved
   //! position like any displacement. Positions must not overlap other spheres.
   virtual void set_spheres(const std::uint32_t* slots, std::size_t count, const Vec3d* pos, const Vec3d* vel) = 0;
+  //! Per-sphere collision virial (for a per-atom stress): while on, every collision adds half
+  //! of its r_ij (x) dp_i (xx yy zz xy xz yz, as counters().pair_virial_tensor) to each of its two
+  //! spheres, so the spheres' sums add up to the engine's.
+  virtual void set_sphere_virial(bool on) = 0;
+  //! Adds each slot's sums since the last take, times `scale`, to row dest[k] of `out` (6
+  //! doubles per row; kNoRow skipped) and clears them.
+  virtual void take_sphere_virial(const std::uint32_t* dest, double scale, double* out) = 0;
   //! Marks which spheres (input order, 1 = owned) this engine owns; owned_counters() then
   //! accumulate from the next step on. Without it nothing is accumulated there.
   virtual void set_owned(const std::uint8_t* owned) = 0;
