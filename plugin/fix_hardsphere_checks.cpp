@@ -99,6 +99,21 @@ void FixHardSphere::check_input() {
   if (atom->natoms == 0)
     error->all(FLERR,
                "fix hardsphere: the box has no atoms; create or read them (create_atoms, read_data) before 'run'");
+  // Bonded interactions would act as forces, which the fix never applies, and LAMMPS's
+  // special_bonds would keep bonded pairs out of the pair style, which the steppers do not.
+  const struct {
+    bigint count;
+    const char *what, *command, *style;
+  } topology[] = {{atom->nbonds, "bonds", "bond_style", force->bond_style},
+                  {atom->nangles, "angles", "angle_style", force->angle_style},
+                  {atom->ndihedrals, "dihedrals", "dihedral_style", force->dihedral_style},
+                  {atom->nimpropers, "impropers", "improper_style", force->improper_style}};
+  for (const auto &t : topology)
+    if (t.count > 0)
+      error->all(FLERR, "fix hardsphere: the system has " + std::to_string(t.count) + " " + t.what + " (" + t.command +
+                            " " + (t.style ? t.style : "none") +
+                            "), but hard spheres interact only by collisions: bonded forces would not act and "
+                            "bonded pairs would still collide; use atoms without bonds (e.g. atom_style sphere)");
   if (!force->pair_match("hardsphere", 1))
     error->all(FLERR,
                "fix hardsphere needs 'pair_style hardsphere' and 'pair_coeff * *' (contact distances and the "

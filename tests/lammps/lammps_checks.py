@@ -414,6 +414,13 @@ def errors(args):
             "atom outside a fixed wall": (WALLS + "set atom 1 z 0.25\nrun 1\n",
                                           "fix hardsphere: atom 1: z = 0.25 with radius 0.5 is outside the "
                                           "wall-bounded box [0, 8]; start from a valid non-overlapping state", True),
+            "bonds": ("units lj\natom_style hybrid sphere bond\nlattice sc 0.2\nregion b block 0 5 0 5 0 5\n"
+                      "create_box 1 b bond/types 1 extra/bond/per/atom 6\ncreate_atoms 1 region b\n"
+                      "set type 1 mass 1.0\nset type 1 diameter 1.0\nvelocity all create 1.0 4928 mom yes\n"
+                      "bond_style harmonic\nbond_coeff 1 100.0 1.7\npair_style hardsphere\npair_coeff * *\n"
+                      "neighbor 1.0 bin\nfix hs all hardsphere\ncreate_bonds many all all 1 1.6 1.8\nrun 1\n",
+                      "fix hardsphere: the system has 375 bonds (bond_style harmonic), but hard spheres interact only "
+                      "by collisions: bonded forces would not act and bonded pairs would still collide", True),
             "dt too large": (HEADER.format(data="init.data", skin=0.5, dt=0.2) + "run 1\n", "timestep too large", False),
             "diameter too small": (base + "pair_coeff * * 0.5\nrun 1\n", "raise that pair_coeff diameter", False),
             "changing box": (base + "fix d all deform 1 x scale 1.1\nrun 1\n",
