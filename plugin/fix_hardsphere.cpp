@@ -253,8 +253,11 @@ void FixHardSphere::initial_integrate(int vflag) {
                "fix hardsphere: fix gravity changed its acceleration during the run (a variable magnitude "
                "or direction); hard-sphere flights need a constant one");
   }
+  // Another fix may have moved atoms at the end of the last step (x was kept at post_force).
+  const bool moved = positions_kept && positions_moved();
+  positions_kept = false;
   if (serial) {
-    serial_step(wants_atom_virial(vflag));
+    serial_step(wants_atom_virial(vflag), moved);
     return;
   }
   if (!run_set_up || others_acted(update->ntimestep - 1)) t_now = temperature_now();
@@ -262,11 +265,7 @@ void FixHardSphere::initial_integrate(int vflag) {
     rank->run_starts_without_setup();  // 'run ... pre no': commands in between may have changed atoms
   else if (others_acted(update->ntimestep - 1))
     rank->velocities_changed();  // by another fix
-  if (positions_kept) {
-    positions_kept = false;
-    if (positions_moved())  // by another fix at the end of the last step
-      rank->atoms_moved("fix hardsphere: after " + movers + " at step " + std::to_string(update->ntimestep - 1));
-  }
+  if (moved) rank->atoms_moved(moved_source());
   run_set_up = true;
   ghost_path_step(wants_atom_virial(vflag));
   if (temperature_varies()) t_now = temperature_now();  // the owned atoms' rows hold this step's result
@@ -326,6 +325,10 @@ void FixHardSphere::report_step_virial(int vflag) {
   if (vflag_atom && vstep && vstep_at == update->ntimestep)
     for (int i = 0; i < atom->nlocal; i++)
       for (int k = 0; k < 6; k++) vatom[i][k] = vstep[i][k];
+}
+
+std::string FixHardSphere::moved_source() const {
+  return "fix hardsphere: after " + movers + " at step " + std::to_string(update->ntimestep - 1);
 }
 
 bool FixHardSphere::wants_atom_virial(int vflag) const {

@@ -81,13 +81,15 @@ class FixHardSphere : public Fix {
   bool others_may_move(bigint step) const { return !movers.empty() && others_acted(step); }
   //! After another fix's step-end hooks: atoms it moved (compared with what was kept)?
   bool positions_moved() const;
+  //! Names the fixes that may have moved atoms at the end of the last step, for an error.
+  std::string moved_source() const;
   // Owned + ghost path (rank_stepper.cpp): one stepper per rank.
   void ghost_path_step(bool take_atom_virial);
   // Serial path (fix_hardsphere_serial.cpp): the standalone stepper on the owned atoms.
   //! A fresh stepper from LAMMPS's atoms; `source` names where an invalid state came from.
-  void serial_setup(const std::string &source = "fix hardsphere",
-                    const std::string &hint = "start from a valid non-overlapping state");
-  void serial_step(bool take_atom_virial);
+  void serial_setup(const std::string &source = "fix hardsphere", const std::string &hint = kStartHint);
+  //! One stepper step; `moved`: another fix moved atoms since the last one (make it again).
+  void serial_step(bool take_atom_virial, bool moved);
   void serial_map();
   void serial_map_if_stale();
   void map_tags();

@@ -246,23 +246,17 @@ void FixHardSphere::serial_write() {
   state_written = true;
 }
 
-void FixHardSphere::serial_step(bool take_atom_virial) {
+void FixHardSphere::serial_step(bool take_atom_virial, bool moved) {
   if (!run_set_up) {  // 'run ... pre no': no setup(), but commands between runs may have changed atoms
     serial_setup();
     t_now = temperature_now();
     run_set_up = true;
   }
   timing.start();
-  if (positions_kept) {
-    // Another fix may have moved atoms at the end of the last step: if it did, the stepper is
-    // made again from LAMMPS's atoms (checked as at a run's start), velocities included.
-    positions_kept = false;
-    if (positions_moved()) {
-      serial_setup("fix hardsphere: after " + movers + " at step " + std::to_string(update->ntimestep - 1),
-                   "a fix that moves atoms must leave them apart (and inside fixed walls)");
-      t_now = temperature_now();
-      v_written.clear();
-    }
+  if (moved) {  // made again from LAMMPS's atoms, checked as at a run's start, velocities included
+    serial_setup(moved_source(), kMovedAtomsHint);
+    t_now = temperature_now();
+    v_written.clear();
   }
   if (lammps_moved) serial_follow_lammps();
   const int nlocal = atom->nlocal;

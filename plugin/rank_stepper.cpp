@@ -51,7 +51,7 @@ void RankStepper::check_owned_atoms() const {
   try {
     hardsphere::validate_and_wrap(sys, "fix hardsphere");
   } catch (const std::exception &e) {
-    error->one(FLERR, std::string(e.what()) + "; start from a valid non-overlapping state");
+    error->one(FLERR, std::string(e.what()) + "; " + kStartHint);
   }
 }
 
@@ -152,8 +152,8 @@ void RankStepper::build() {
       std::ostringstream m;
       m.precision(17);
       m << "fix hardsphere: atom " << atom->tag[input_local_[o->i]] << " overlaps atom "
-        << atom->tag[input_local_[o->j]] << ": distance " << o->distance << " < contact distance " << o->contact
-        << "; start from a valid non-overlapping state";
+        << atom->tag[input_local_[o->j]] << ": distance " << o->distance << " < contact distance " << o->contact << "; "
+        << kStartHint;
       error->one(FLERR, m.str());
     }
     check_start_ = false;
@@ -261,14 +261,14 @@ RankStepper::StepTotals RankStepper::step() {
     // A shell LAMMPS has made since (every rank knows) is new and starts a new epoch.
     if (layout_changed() || (!epoch_ && shell_used_up())) {
       moved_ = false;  // this step reads every atom from LAMMPS's rows anyway
-      return restart_globally("fix hardsphere", "start from a valid non-overlapping state");
+      return restart_globally("fix hardsphere", kStartHint);
     }
     forward_comm(2);
   }
   if (moved_) {
     // LAMMPS's ghosts still hold the positions from before the move.
     moved_ = false;
-    return restart_globally(moved_source_, "a fix that moves atoms must leave them apart (and inside fixed walls)");
+    return restart_globally(moved_source_, kMovedAtomsHint);
   }
   timer_.start();
   if (stale_) {

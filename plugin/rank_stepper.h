@@ -20,6 +20,11 @@
 
 namespace LAMMPS_NS {
 
+//! What an error about an invalid state tells the user to do: at a run's start, and after
+//! another fix moved atoms at the end of a step.
+inline constexpr char kStartHint[] = "start from a valid non-overlapping state";
+inline constexpr char kMovedAtomsHint[] = "a fix that moves atoms must leave them apart (and inside fixed walls)";
+
 class RankStepper : protected Pointers {
  public:
   //! What one step did on this rank (ownership-weighted, so sums over ranks are totals).
@@ -90,7 +95,7 @@ class RankStepper : protected Pointers {
   //! One step for all atoms at once from LAMMPS's rows; `check` refuses an invalid start
   //! (overlaps, atoms outside fixed walls), naming `source` and what to do.
   StepTotals step_globally(bool check, const std::string &source = "fix hardsphere",
-                           const std::string &hint = "start from a valid non-overlapping state");
+                           const std::string &hint = kStartHint);
   //! This step for all atoms at once, with the start checked, and LAMMPS re-neighbouring in it.
   StepTotals restart_globally(const std::string &source, const std::string &hint);
   //! From an engine over all atoms (step_globally): the owned atoms' collision virials.
@@ -107,9 +112,9 @@ class RankStepper : protected Pointers {
   bool stale_ = true, epoch_ = true, refresh_v_ = false, reneighbor_ = false, check_start_ = true;
   bool unsure_ghosts_ = false;
   bool moved_ = false;             //!< see atoms_moved()
+  std::string moved_source_;       //!< the fix that moved them, for an error message
   double *virial_rows_ = nullptr;  //!< see take_atom_virial()
   double virial_scale_ = 1.0;
-  std::string moved_source_;               //!< the fix that moved them, for an error message
   bigint end_atoms_[2] = {-1, -1};         //!< owned atoms and the sum of their tags when the last run ended
   std::array<double, 6> end_subdomain_{};  //!< and the sub-domain's bounds
   std::unique_ptr<hardsphere::StepperBase> stepper_;

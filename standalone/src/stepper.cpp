@@ -189,7 +189,8 @@ class Stepper final : public StepperBase, public StateExchange {
     bind_resolver();
   }
   void take_sphere_virial(const std::uint32_t* dest, double scale, double* out) override {
-    for (std::size_t k = 0; k < slot_.size() && !sphere_virial_.empty(); ++k) {
+    if (sphere_virial_.empty()) return;
+    for (std::size_t k = 0; k < slot_.size(); ++k) {
       double* w = &sphere_virial_[6 * k];
       if (dest[k] != kNoRow)
         for (std::size_t c = 0; c < 6; ++c) out[6 * std::size_t(dest[k]) + c] += scale * w[c];
