@@ -17,9 +17,9 @@
 #include "fix_setforce.h"
 #include "force.h"
 #include "group.h"
+#include "hardsphere/particles.hpp"
 #include "modify.h"
 #include "neighbor.h"
-#include "size_classes.hpp"
 #include "update.h"
 #include "utils.h"
 
@@ -324,7 +324,7 @@ bool FixHardSphere::gravity_changed() const {
 }
 
 void FixHardSphere::check_big_spheres_mpi() {
-  // The stepper finds a few big spheres' partners in their own pass (size_classes.hpp), but the
+  // The stepper finds a few big spheres' partners in their own pass (kBigOverMedian), but the
   // MPI path's ghost shell is a few contact distances of the largest sphere, so one big sphere
   // would make most of the box ghosts on every rank. The same rule as the stepper's, from a
   // median found by bisection over global counts (no rank holds every radius).

@@ -12,7 +12,7 @@
 #include "hardsphere/errors.hpp"
 #include "hardsphere/observables.hpp"
 #include "hardsphere/stepper.hpp"
-#include "size_classes.hpp"
+#include "scene/size_classes.hpp"
 
 using namespace hardsphere;
 

@@ -10,7 +10,7 @@
 #include <utility>
 #include <vector>
 
-#include "close_pairs_row.hpp"
+#include "stepper/close_pairs_row.hpp"
 
 namespace {
 

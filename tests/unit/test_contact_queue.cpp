@@ -9,7 +9,7 @@
 #include <random>
 #include <vector>
 
-#include "contact_queue.hpp"
+#include "stepper/contact_queue.hpp"
 
 namespace {
 

@@ -12,7 +12,7 @@
 #include <utility>
 #include <vector>
 
-#include "contact_resolver.hpp"
+#include "stepper/contact_resolver.hpp"
 
 namespace {
 

@@ -12,7 +12,7 @@
 #include <random>
 #include <vector>
 
-#include "distance_filter.hpp"
+#include "stepper/distance_filter.hpp"
 
 namespace {
 

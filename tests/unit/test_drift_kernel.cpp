@@ -12,7 +12,7 @@
 #include <random>
 #include <vector>
 
-#include "drift_kernel.hpp"
+#include "stepper/drift_kernel.hpp"
 
 namespace {
 

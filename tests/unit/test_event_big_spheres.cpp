@@ -12,8 +12,8 @@
 #include "hardsphere/event_engine.hpp"
 #include "hardsphere/observables.hpp"
 #include "hardsphere/rng.hpp"
+#include "scene/size_classes.hpp"
 #include "scenes.hpp"
-#include "size_classes.hpp"
 
 using namespace hardsphere;
 

@@ -7,7 +7,7 @@
 #include <cmath>
 #include <limits>
 
-#include "event_calendar.hpp"
+#include "event/event_calendar.hpp"
 #include "event_reference.hpp"
 #include "hardsphere/collision.hpp"
 #include "hardsphere/errors.hpp"

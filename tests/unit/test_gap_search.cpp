@@ -8,7 +8,7 @@
 #include <random>
 #include <vector>
 
-#include "gap_search.hpp"
+#include "stepper/gap_search.hpp"
 
 using namespace hardsphere;
 

@@ -12,7 +12,7 @@
 #include "hardsphere/init.hpp"
 #include "hardsphere/observables.hpp"
 #include "hardsphere/particles.hpp"
-#include "lattice_sites.hpp"
+#include "init/lattice_sites.hpp"
 #include "scenes.hpp"
 
 using namespace hardsphere;

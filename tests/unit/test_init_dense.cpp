@@ -10,13 +10,13 @@
 #include <string>
 #include <vector>
 
-#include "dense_packing.hpp"
 #include "hardsphere/errors.hpp"
 #include "hardsphere/event_engine.hpp"
 #include "hardsphere/init.hpp"
 #include "hardsphere/observables.hpp"
 #include "hardsphere/particles.hpp"
 #include "hardsphere/stepper.hpp"
+#include "init/dense_packing.hpp"
 #include "scenes.hpp"
 
 using namespace hardsphere;

@@ -9,8 +9,8 @@
 #include "hardsphere/event_engine.hpp"
 #include "hardsphere/observables.hpp"
 #include "hardsphere/stepper.hpp"
-#include "list_guard.hpp"
 #include "scenes.hpp"
+#include "stepper/list_guard.hpp"
 
 using namespace hardsphere;
 using Guard = detail::ListGuard<double>;

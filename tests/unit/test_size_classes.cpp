@@ -1,6 +1,6 @@
 #include <gtest/gtest.h>
 
-#include "size_classes.hpp"
+#include "scene/size_classes.hpp"
 
 using namespace hardsphere;
 

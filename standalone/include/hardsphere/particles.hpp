@@ -2,6 +2,7 @@
 //! The canonical particle state exchanged between engines, initialisers and file I/O.
 //! Engines keep their own reordered, precision-specific copies; this one is ordered as read.
 #include <array>
+#include <cstddef>
 #include <cstdint>
 #include <optional>
 #include <string>
@@ -11,6 +12,12 @@
 #include "hardsphere/vec3.hpp"
 
 namespace hardsphere {
+
+//! Big spheres, whose partners the engines find in a pass of their own instead of sizing the
+//! cell grid by them: a sphere is big when its diameter exceeds this many median diameters ...
+constexpr double kBigOverMedian = 2.0;
+//! ... and it is among the kMaxBigSpheres largest: big against big is an all-pairs pass.
+constexpr std::size_t kMaxBigSpheres = 256;
 
 struct ParticleSystem {
   Box box;

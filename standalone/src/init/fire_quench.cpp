@@ -1,9 +1,9 @@
-#include "fire_quench.hpp"
+#include "init/fire_quench.hpp"
 
 #include <algorithm>
 #include <cmath>
 
-#include "cell_grid.hpp"
+#include "scene/cell_grid.hpp"
 
 namespace hardsphere {
 

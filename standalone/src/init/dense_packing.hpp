@@ -11,10 +11,10 @@
 #include <cstdint>
 #include <vector>
 
-#include "fire_quench.hpp"
 #include "hardsphere/box.hpp"
 #include "hardsphere/rng.hpp"
 #include "hardsphere/vec3.hpp"
+#include "init/fire_quench.hpp"
 
 namespace hardsphere {
 

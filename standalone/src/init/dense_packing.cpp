@@ -1,4 +1,4 @@
-#include "dense_packing.hpp"
+#include "init/dense_packing.hpp"
 
 #include <algorithm>
 #include <cmath>

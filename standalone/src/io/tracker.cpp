@@ -1,4 +1,4 @@
-#include "tracker.hpp"
+#include "io/tracker.hpp"
 
 #include <cmath>
 #include <iomanip>

@@ -1,4 +1,4 @@
-#include "size_classes.hpp"
+#include "scene/size_classes.hpp"
 
 #include <algorithm>
 #include <numeric>

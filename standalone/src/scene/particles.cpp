@@ -6,10 +6,10 @@
 #include <sstream>
 #include <unordered_set>
 
-#include "cell_grid.hpp"
 #include "hardsphere/errors.hpp"
 #include "hardsphere/scene_limits.hpp"
-#include "size_classes.hpp"
+#include "scene/cell_grid.hpp"
+#include "scene/size_classes.hpp"
 
 namespace hardsphere {
 

@@ -1,4 +1,4 @@
-#include "cell_grid.hpp"
+#include "scene/cell_grid.hpp"
 
 #include <algorithm>
 #include <limits>

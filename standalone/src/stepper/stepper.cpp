@@ -10,19 +10,19 @@
 #include <utility>
 #include <vector>
 
-#include "cell_grid.hpp"
-#include "close_pairs_row.hpp"
-#include "contact_resolver.hpp"
-#include "default_init_allocator.hpp"
-#include "distance_filter.hpp"
-#include "drift_kernel.hpp"
-#include "gap_search.hpp"
+#include "common/default_init_allocator.hpp"
 #include "hardsphere/collision.hpp"
 #include "hardsphere/errors.hpp"
 #include "hardsphere/scene_limits.hpp"
 #include "hardsphere/state_exchange.hpp"
-#include "list_guard.hpp"
-#include "size_classes.hpp"
+#include "scene/cell_grid.hpp"
+#include "scene/size_classes.hpp"
+#include "stepper/close_pairs_row.hpp"
+#include "stepper/contact_resolver.hpp"
+#include "stepper/distance_filter.hpp"
+#include "stepper/drift_kernel.hpp"
+#include "stepper/gap_search.hpp"
+#include "stepper/list_guard.hpp"
 
 namespace hardsphere {
 

@@ -5,12 +5,12 @@
 #include <limits>
 #include <sstream>
 
-#include "event_calendar.hpp"
+#include "common/neighbour_entry.hpp"
+#include "event/event_calendar.hpp"
 #include "hardsphere/collision.hpp"
 #include "hardsphere/errors.hpp"
 #include "hardsphere/scene_limits.hpp"
-#include "neighbour_entry.hpp"
-#include "size_classes.hpp"
+#include "scene/size_classes.hpp"
 
 namespace hardsphere {
 

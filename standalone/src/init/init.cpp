@@ -4,13 +4,13 @@
 #include <cmath>
 #include <sstream>
 
-#include "cell_grid.hpp"
-#include "dense_packing.hpp"
+#include "common/neighbour_entry.hpp"
 #include "hardsphere/errors.hpp"
 #include "hardsphere/observables.hpp"
 #include "hardsphere/stepper.hpp"
-#include "lattice_sites.hpp"
-#include "neighbour_entry.hpp"
+#include "init/dense_packing.hpp"
+#include "init/lattice_sites.hpp"
+#include "scene/cell_grid.hpp"
 
 namespace hardsphere {
 

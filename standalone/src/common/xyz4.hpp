@@ -2,7 +2,7 @@
 //! Four xyz triples as one vector per coordinate, for the vector filters of the list scan and
 //! of the neighbour sweeps (AVX-512VL only: each triple is one masked three-lane load, which
 //! reads nothing past the triple). HS_XYZ4 tells whether these exist.
-#include "always_inline.hpp"
+#include "common/always_inline.hpp"
 
 #if defined(__AVX512VL__)
 #include <immintrin.h>

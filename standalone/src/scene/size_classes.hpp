@@ -10,17 +10,13 @@
 
 namespace hardsphere {
 
-//! A sphere is big when its diameter exceeds this many median diameters ...
-constexpr double kBigOverMedian = 2.0;
-//! ... and it is among the kMaxBigSpheres largest: big against big is an all-pairs pass.
-constexpr std::size_t kMaxBigSpheres = 256;
-
 struct SizeSplit {
   double grid_diameter = 0;        //!< largest diameter of the spheres that are not big
   std::vector<std::uint32_t> big;  //!< input indices of the big spheres, largest first
 };
 
-//! The split for these spheres; no big spheres when none exceeds kBigOverMedian medians.
+//! The split for these spheres (kBigOverMedian, kMaxBigSpheres in particles.hpp); no big spheres
+//! when none exceeds kBigOverMedian medians.
 SizeSplit split_by_size(const ParticleSystem& sys);
 
 }  // namespace hardsphere

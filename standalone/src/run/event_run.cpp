@@ -15,7 +15,7 @@
 #include "hardsphere/run_summary.hpp"
 #include "hardsphere/scene_limits.hpp"
 #include "hardsphere/simulation.hpp"
-#include "tracker.hpp"
+#include "io/tracker.hpp"
 
 namespace hardsphere {
 

@@ -21,12 +21,12 @@
 #include <utility>
 #include <vector>
 
-#include "always_inline.hpp"
-#include "contact_queue.hpp"
+#include "common/always_inline.hpp"
+#include "common/neighbour_entry.hpp"
+#include "common/xyz4.hpp"
 #include "hardsphere/collision.hpp"
 #include "hardsphere/vec3.hpp"
-#include "neighbour_entry.hpp"
-#include "xyz4.hpp"
+#include "stepper/contact_queue.hpp"
 
 namespace hardsphere {
 

@@ -1,4 +1,4 @@
-#include "lattice_sites.hpp"
+#include "init/lattice_sites.hpp"
 
 #include <algorithm>
 #include <array>

@@ -18,7 +18,7 @@
 #include <limits>
 #include <vector>
 
-#include "always_inline.hpp"
+#include "common/always_inline.hpp"
 
 #if defined(__AVX__)
 #include <immintrin.h>

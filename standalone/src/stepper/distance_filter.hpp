@@ -8,9 +8,9 @@
 #include <cstddef>
 #include <cstdint>
 
-#include "always_inline.hpp"
+#include "common/always_inline.hpp"
+#include "common/xyz4.hpp"
 #include "hardsphere/vec3.hpp"
-#include "xyz4.hpp"
 
 #ifdef HS_XYZ4
 #define HS_DISTANCE_FILTER_SIMD 1

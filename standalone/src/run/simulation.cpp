@@ -12,7 +12,7 @@
 #include "hardsphere/observables.hpp"
 #include "hardsphere/run_summary.hpp"
 #include "hardsphere/scene_limits.hpp"
-#include "tracker.hpp"
+#include "io/tracker.hpp"
 
 namespace hardsphere {
 

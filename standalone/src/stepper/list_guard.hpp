@@ -21,7 +21,7 @@
 #include <limits>
 #include <vector>
 
-#include "always_inline.hpp"
+#include "common/always_inline.hpp"
 
 namespace hardsphere::detail {
 
