@@ -33,7 +33,7 @@ const ParticleSystem& state(std::int64_t n, double phi) {
 }
 
 void time_steps(benchmark::State& st, const ParticleSystem& sys, StepperConfig cfg, Precision p = Precision::Double) {
-  auto stepper = make_stepper(sys, cfg, p);
+  auto stepper = make_stepper(sys, Physics{}, cfg, p);
   // ~1e6 particle-steps per iteration keeps the timer resolution irrelevant.
   const std::int64_t steps = std::max<std::int64_t>(1, 1000000 / std::int64_t(sys.size()));
   stepper->run(steps);  // warm caches and the pair list

@@ -14,6 +14,7 @@
 #include "error.h"
 #include "force.h"
 #include "hardsphere/errors.hpp"
+#include "hardsphere/format.hpp"
 #include "hardsphere/stepper.hpp"
 #include "memory.h"
 #include "modify.h"
@@ -24,14 +25,10 @@
 
 using namespace LAMMPS_NS;
 using namespace FixConst;
+using hardsphere::format_number;
 
 namespace {
 constexpr int kVectorSize = 10;
-std::string num(double x) {
-  char b[64];
-  snprintf(b, sizeof(b), "%.6g", x);
-  return b;
-}
 }  // namespace
 
 FixHardSphere::FixHardSphere(LAMMPS *lmp, int narg, char **arg) : Fix(lmp, narg, arg) {
@@ -50,13 +47,9 @@ FixHardSphere::FixHardSphere(LAMMPS *lmp, int narg, char **arg) : Fix(lmp, narg,
       max_events = utils::bnumeric(FLERR, arg[a + 1], false, lmp);
       if (max_events < 1) error->all(FLERR, "fix hardsphere: max_events must be >= 1");
     } else if (key == "restitution") {
-      restitution = utils::numeric(FLERR, arg[a + 1], false, lmp);
-      if (!(restitution > 0.0 && restitution <= 1.0))
-        error->all(FLERR, "fix hardsphere: restitution " + val + " must be in (0, 1] (1: elastic)");
+      physics.restitution = utils::numeric(FLERR, arg[a + 1], false, lmp);
     } else if (key == "contact_time") {
-      contact_time = utils::numeric(FLERR, arg[a + 1], false, lmp);
-      if (!(contact_time >= 0.0 && std::isfinite(contact_time)))
-        error->all(FLERR, "fix hardsphere: contact_time " + val + " must be finite and >= 0");
+      physics.contact_time = utils::numeric(FLERR, arg[a + 1], false, lmp);
     } else if (key == "ghost") {
       if (val == "auto")
         ghost_auto = true;
@@ -80,10 +73,11 @@ FixHardSphere::FixHardSphere(LAMMPS *lmp, int narg, char **arg) : Fix(lmp, narg,
                             "' (known: detect, max_events, restitution, contact_time, ghost, path, timing)");
     }
   }
-  if (restitution < 1.0 && contact_time == 0.0)
-    error->all(FLERR,
-               "fix hardsphere: contact_time 0 with restitution below 1: an inelastic collapse would never "
-               "end; give contact_time > 0");
+  try {  // gravity comes from fix gravity at setup, checked there against the boundaries
+    physics = hardsphere::validated(physics, {false, false, false}, physics_names());
+  } catch (const std::exception &e) {
+    error->all(FLERR, std::string("fix hardsphere: ") + e.what());
+  }
   time_integrate = 1;
   vector_flag = 1;
   size_vector = kVectorSize;
@@ -140,7 +134,7 @@ void FixHardSphere::init() {
       comm->cutghostuser = need;
       if (comm->me == 0)
         utils::logmesg(
-            lmp, "fix hardsphere: ghost cutoff raised to " + num(need) +
+            lmp, "fix hardsphere: ghost cutoff raised to " + format_number(need) +
                      " (3 x contact distance + 2 x skin) so the ghosts an owned atom meets see all their partners\n");
     }
   }
@@ -181,7 +175,7 @@ void FixHardSphere::setup(int vflag) {
   if (serial) {
     serial_setup();
   } else {
-    rank->configure(stepper_config());
+    rank->configure(stepper_config(), physics);
     rank->neighbours_changed();
     rank->run_starts();
     // Made here, outside the run's loop, as the serial path's stepper is; the first step still
@@ -203,8 +197,9 @@ void FixHardSphere::check_setup() {
   for (int i = 0; i < nlocal; i++) {
     v2max = std::max(v2max, v[i][0] * v[i][0] + v[i][1] * v[i][1] + v[i][2] * v[i][2]);
     if (!(radius[i] > 0.0) || !(rmass[i] > 0.0))
-      error->one(FLERR, "fix hardsphere: atom " + std::to_string(atom->tag[i]) + " has radius " + num(radius[i]) +
-                            " and mass " + num(rmass[i]) + "; both must be positive (set them in the data file)");
+      error->one(FLERR, "fix hardsphere: atom " + std::to_string(atom->tag[i]) + " has radius " +
+                            format_number(radius[i]) + " and mass " + format_number(rmass[i]) +
+                            "; both must be positive (set them in the data file)");
   }
   MPI_Allreduce(MPI_IN_PLACE, &v2max, 1, MPI_DOUBLE, MPI_MAX, world);
 
@@ -218,16 +213,17 @@ void FixHardSphere::check_setup() {
     for (int b = a; b <= nt; b++)
       if (grmax[a] > 0 && grmax[b] > 0 && grmax[a] + grmax[b] > pair->contact(a, b) * (1 + 1e-12))
         error->all(FLERR, "fix hardsphere: atoms of types " + std::to_string(a) + " and " + std::to_string(b) +
-                              " reach contact at " + num(grmax[a] + grmax[b]) + " but pair_coeff gives " +
-                              num(pair->contact(a, b)) + "; raise that pair_coeff diameter or use 'pair_coeff * *'");
+                              " reach contact at " + format_number(grmax[a] + grmax[b]) + " but pair_coeff gives " +
+                              format_number(pair->contact(a, b)) +
+                              "; raise that pair_coeff diameter or use 'pair_coeff * *'");
 
   check_timestep();
   // Time step against the skin: within one step an atom moves at most ~2 v_max dt.
   const double vmax = std::sqrt(v2max);
   if (4.0 * vmax * dt >= neighbor->skin)
-    error->all(FLERR,
-               "fix hardsphere: timestep too large for the neighbour skin: 4 * v_max * dt = " + num(4.0 * vmax * dt) +
-                   " >= skin " + num(neighbor->skin) + "; reduce 'timestep' or raise the skin ('neighbor <skin> bin')");
+    error->all(FLERR, "fix hardsphere: timestep too large for the neighbour skin: 4 * v_max * dt = " +
+                          format_number(4.0 * vmax * dt) + " >= skin " + format_number(neighbor->skin) +
+                          "; reduce 'timestep' or raise the skin ('neighbor <skin> bin')");
 
   if (!serial) check_big_spheres_mpi();
   // Overlapping pairs at the start are refused where the atoms are handed to a stepper.
@@ -247,7 +243,7 @@ void FixHardSphere::initial_integrate(int vflag) {
     skip_reverse_comm();
     dt = update->dt;
     check_timestep();
-    if (!serial) rank->configure(stepper_config());
+    if (!serial) rank->configure(stepper_config(), physics);
   } else if (!gravity_fixes.empty() && gravity_changed()) {
     error->all(FLERR,
                "fix hardsphere: fix gravity changed its acceleration during the run (a variable magnitude "
@@ -365,9 +361,7 @@ int FixHardSphere::unpack_exchange(int nlocal, double *buf) {
 
 double FixHardSphere::memory_usage() { return double(vstep_rows) * 6 * sizeof(double); }
 
-bool FixHardSphere::temperature_varies() const {
-  return restitution < 1.0 || gravity[0] != 0.0 || gravity[1] != 0.0 || gravity[2] != 0.0;
-}
+bool FixHardSphere::temperature_varies() const { return !physics.elastic() || physics.has_gravity(); }
 
 double FixHardSphere::temperature_now() const {
   double mv2 = 0.0, all = 0.0;

@@ -69,6 +69,10 @@ class FixHardSphere : public Fix {
   //! The summed acceleration of the fix gravity commands (refused along periodic axes).
   void read_gravity();
   bool gravity_changed() const;
+  //! How the fix's messages name the physics settings.
+  static hardsphere::PhysicsNames physics_names() {
+    return {"restitution", "contact_time", "fix gravity", "'boundary f' on that axis"};
+  }
   //! 2 KE / (3 N) over all atoms (the standalone's temperature: 3N degrees of freedom).
   double temperature_now() const;
   //! Gravity or inelastic collisions change the temperature inside the steps: it is measured
@@ -101,17 +105,17 @@ class FixHardSphere : public Fix {
   hardsphere::ParticleSystem empty_system() const;
   //! The stepper settings of this fix's keywords, dt and gravity (both paths use them).
   hardsphere::StepperConfig stepper_config() const;
-  //! A standalone stepper for `sys` with stepper_config().
+  //! A standalone stepper for `sys` with stepper_config() and physics.
   std::unique_ptr<hardsphere::StepperBase> new_stepper(const hardsphere::ParticleSystem &sys) const;
 
   double dt = 0.0;
   bool sweep = false;
   bool ghost_auto = true;
   std::int64_t max_events = 100000000;
-  std::vector<Fix *> gravity_fixes;                       //!< fix gravity commands, acting through the stepper
-  std::array<double, 3> gravity{0, 0, 0};                 //!< their acceleration, read at setup
-  double restitution = 1.0;                               //!< normal restitution of collisions
-  double contact_time = hardsphere::kDefaultContactTime;  //!< TC model (used when restitution < 1)
+  std::vector<Fix *> gravity_fixes;  //!< fix gravity commands, acting through the stepper
+  //! Restitution and contact time from the keywords, gravity from the fix gravity commands (read
+  //! at setup); validated at setup.
+  hardsphere::Physics physics{1.0, hardsphere::kDefaultContactTime, {0, 0, 0}};
 
   // Serial runs (one rank) hand the owned atoms to the standalone stepper, which handles
   // periodic images itself: no ghosts, no neighbour list, the standalone result by construction.

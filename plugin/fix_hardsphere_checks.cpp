@@ -296,7 +296,7 @@ void FixHardSphere::check_fixes_unchanged() {
 void FixHardSphere::read_gravity() {
   // The acceleration of every fix gravity (LAMMPS has set it in the fixes' init); flights are
   // parabolas along wall axes, and a periodic axis would accelerate the atoms without end.
-  gravity = {0.0, 0.0, 0.0};
+  std::array<double, 3> gravity{0.0, 0.0, 0.0};
   for (Fix *f : gravity_fixes) {
     int dim = 0;
     const auto *g = static_cast<const double *>(f->extract("gvec", dim));
@@ -305,11 +305,14 @@ void FixHardSphere::read_gravity() {
     // ftm2v, as in LAMMPS's integrators (1 in lj, si and cgs units).
     for (int d = 0; d < 3; d++) gravity[std::size_t(d)] += g[d] * force->ftm2v;
   }
-  static const char *axis = "xyz";
-  for (int d = 0; d < 3; d++)
-    if (gravity[std::size_t(d)] != 0.0 && domain->periodicity[d])
-      error->all(FLERR, std::string("fix hardsphere: fix gravity has a component along the periodic axis ") + axis[d] +
-                            ", which would accelerate the atoms without end: use 'boundary f' on that axis");
+  physics.gravity = gravity;
+  try {
+    physics = hardsphere::validated(
+        physics, {domain->periodicity[0] != 0, domain->periodicity[1] != 0, domain->periodicity[2] != 0},
+        physics_names());
+  } catch (const std::exception &e) {
+    error->all(FLERR, std::string("fix hardsphere: ") + e.what());
+  }
 }
 
 bool FixHardSphere::gravity_changed() const {
@@ -320,7 +323,7 @@ bool FixHardSphere::gravity_changed() const {
     const auto *g = static_cast<const double *>(f->extract("gvec", dim));
     for (int d = 0; d < 3; d++) now[std::size_t(d)] += g[d] * force->ftm2v;
   }
-  return now != gravity;
+  return hardsphere::without_rounding(now) != physics.gravity;  // as validated() reads it
 }
 
 void FixHardSphere::check_big_spheres_mpi() {

@@ -149,14 +149,11 @@ hardsphere::StepperConfig FixHardSphere::stepper_config() const {
   cfg.dt = dt;
   cfg.detect = sweep ? hardsphere::Detect::Sweep : hardsphere::Detect::Overlap;
   cfg.max_events_per_step = max_events;
-  cfg.restitution = restitution;
-  cfg.contact_time = contact_time;
-  cfg.gravity = gravity;
   return cfg;
 }
 
 std::unique_ptr<hardsphere::StepperBase> FixHardSphere::new_stepper(const hardsphere::ParticleSystem &sys) const {
-  return hardsphere::make_stepper(sys, stepper_config());
+  return hardsphere::make_stepper(sys, physics, stepper_config());
 }
 
 void FixHardSphere::map_tags() {

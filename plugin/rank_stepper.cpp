@@ -167,7 +167,7 @@ void RankStepper::build() {
     return;
   }
   try {
-    stepper_ = hardsphere::make_stepper(sys, config);
+    stepper_ = hardsphere::make_stepper(sys, physics_, config);
   } catch (const std::exception &e) {
     error->one(FLERR, std::string("fix hardsphere: ") + e.what());
   }
@@ -422,7 +422,7 @@ RankStepper::StepTotals RankStepper::step_globally(bool check, const std::string
   hardsphere::ParticleSystem out;
   hardsphere::StepCounters c;
   try {
-    auto global = hardsphere::make_stepper(sys, config_);
+    auto global = hardsphere::make_stepper(sys, physics_, config_);
     auto &exch = hardsphere::state_exchange(*global);
     exch.set_sphere_virial(virial_rows_ != nullptr);
     global->run(1);

@@ -35,7 +35,10 @@ class RankStepper : protected Pointers {
   };
 
   RankStepper(LAMMPS *lmp, class Fix *fix, PartTimer &timer) : Pointers(lmp), fix_(fix), timer_(timer) {}
-  void configure(const hardsphere::StepperConfig &c) { config_ = c; }
+  void configure(const hardsphere::StepperConfig &c, const hardsphere::Physics &p) {
+    config_ = c;
+    physics_ = p;
+  }
   //! The ghost shell for contact distance `contact` and LAMMPS's skin: a ghost an owned atom
   //! meets must see all its own partners (two contact distances), and the skin twice over plus
   //! one more contact distance is what atoms may move before LAMMPS re-neighbours.
@@ -109,6 +112,7 @@ class RankStepper : protected Pointers {
   class Fix *fix_;
   PartTimer &timer_;
   hardsphere::StepperConfig config_;  //!< for every stepper this path makes
+  hardsphere::Physics physics_;
   bool stale_ = true, epoch_ = true, refresh_v_ = false, reneighbor_ = false, check_start_ = true;
   bool unsure_ghosts_ = false;
   bool moved_ = false;             //!< see atoms_moved()

@@ -14,6 +14,7 @@
 
 #include "hardsphere/atomic_file.hpp"
 #include "hardsphere/errors.hpp"
+#include "hardsphere/format.hpp"
 #include "hardsphere/limits.hpp"
 #include "hardsphere/stepper.hpp"
 
@@ -23,12 +24,6 @@ namespace {
 
 constexpr std::int64_t kMaxBins = 1000000;    // speed histogram bins: more is a JSON of megabytes
 constexpr std::int64_t kMaxBlocks = 1000000;  // event-engine blocks: one vector entry and one advance each
-
-std::string fmt(double v) {
-  std::ostringstream s;
-  s << v;
-  return s.str();
-}
 
 //! A whole number written in decimal ("-?[0-9]+") within [lo, hi].
 std::int64_t whole(const std::string& option, const std::string& s, std::int64_t lo, std::int64_t hi,
@@ -232,23 +227,17 @@ CommandLine parse_command_line(int argc, const char* const* argv) {
   if (o_dump_every->count()) spec.dump_every = whole("--dump-every", dump_every_s, 1, LLONG_MAX);
   if (o_bins->count()) spec.histogram_bins = int(whole("--histogram-bins", bins_s, 1, kMaxBins));
   if (o_restitution->count()) {
-    const double e = real("--restitution", restitution_s);
-    const double tc = o_contact_time->count() ? real("--contact-time", contact_time_s) : kDefaultContactTime;
-    if (!(e > 0 && e <= 1)) throw InputError("--restitution " + restitution_s + " must be in (0, 1] (1: elastic)");
-    if (!(tc >= 0 && std::isfinite(tc)))
-      throw InputError("--contact-time " + contact_time_s + " must be finite and >= 0");
-    if (e < 1 && tc == 0)
-      throw InputError("--contact-time 0 with --restitution " + restitution_s +
-                       ": an inelastic collapse would never end; give a contact time > 0");
-    spec.stepper.restitution = spec.event.restitution = e;
-    spec.stepper.contact_time = spec.event.contact_time = tc;
+    spec.physics.restitution = real("--restitution", restitution_s);
+    spec.physics.contact_time = o_contact_time->count() ? real("--contact-time", contact_time_s) : kDefaultContactTime;
   }
   if (o_gravity->count()) {
     if (std::count(gravity_s.begin(), gravity_s.end(), ',') != 2)
       throw InputError("--gravity '" + gravity_s + "' needs three values gx,gy,gz");
     const auto g = parse_list(gravity_s, "--gravity");
-    spec.stepper.gravity = spec.event.gravity = {g[0], g[1], g[2]};
+    spec.physics.gravity = {g[0], g[1], g[2]};
   }
+  spec.physics = validated(spec.physics, spec.periodic,
+                           {"--restitution", "--contact-time", "--gravity", "walls on that axis (--boundary ...,w)"});
   const double time = o_time->count() ? real("--time", time_s) : 0.0;
   const double etime = o_etime->count() ? real("--equilibrate-time", etime_s) : 0.0;
 
@@ -328,8 +317,8 @@ CommandLine parse_command_line(int argc, const char* const* argv) {
     if (!(phi > 0)) throw InputError("--phi " + phi_s + " must be positive");
     const double l = std::cbrt(double(n) * 4.0 / 3.0 * M_PI * r * r * r / phi);
     if (!(std::isfinite(l) && l > 0))
-      throw InputError("--phi " + phi_s + " with --radius " + fmt(r) + " and --n " + n_s + " gives a box length " +
-                       fmt(l) + " that is not a positive finite number");
+      throw InputError("--phi " + phi_s + " with --radius " + format_number(r) + " and --n " + n_s +
+                       " gives a box length " + format_number(l) + " that is not a positive finite number");
     len = {l, l, l};
   }
   spec.init.box = Box::from_lengths(len, spec.periodic);

@@ -106,7 +106,7 @@ struct ReferenceEdmd {
 inline void expect_same_as_reference(const ParticleSystem& init, const EventConfig& cfg, double t_end, int checkpoints,
                                      std::int64_t min_collisions) {
   ReferenceEdmd ref(init);
-  EventEngine e(init, cfg);
+  EventEngine e(init, {}, cfg);
   for (int k = 1; k <= checkpoints; ++k) {
     const double tk = t_end * k / checkpoints;
     ref.run_until(tk);

@@ -70,7 +70,7 @@ std::array<int, 3> expect_same_as_all_pairs(const ParticleSystem& s, std::int64_
   grid.detect = one.detect = Detect::Sweep;  // exact contacts: sub-steps change nothing
   grid.cells = cells;
   one.cells = {1, 1, 1};
-  auto a = make_stepper(s, grid), b = make_stepper(s, one);
+  auto a = make_stepper(s, {}, grid), b = make_stepper(s, {}, one);
   a->run(steps);
   b->run(steps);
   EXPECT_GT(a->counters().collisions, 100);
@@ -148,7 +148,7 @@ TEST(StepperBigSpheres, PeriodicBoxTooShortForTheBigSphereIsRefused) {
   // through the minimum image would reach past half the box.
   const auto s = scene(cube(22, {true, true, true}), {{19, 1e3, {11, 11, 11}}}, 200, unit, 7);
   try {
-    make_stepper(s, StepperConfig{});
+    make_stepper(s, {}, StepperConfig{});
     FAIL() << "not refused";
   } catch (const InputError& e) {
     const std::string what = e.what();
@@ -162,7 +162,7 @@ TEST(StepperBigSpheres, EnergyAndMomentumConservedOverALongRun) {
   // conserves momentum and energy to round-off.
   const auto s = scene(cube(24, {true, true, true}), {{12, 1e4, {12, 12, 12}}, {6, 1e3, {3, 3, 3}}}, 2500, unit, 8);
   StepperConfig cfg;
-  auto st = make_stepper(s, cfg);
+  auto st = make_stepper(s, {}, cfg);
   st->run(3000);
   const auto out = st->state();
   EXPECT_GT(st->counters().collisions, 50000);
@@ -188,7 +188,7 @@ TEST(StepperBigSpheres, ListGuardWatchesUnlistedBigSpheres) {
     StepperConfig grid, one;
     grid.cells = {12, 12, 12};
     one.cells = {1, 1, 1};
-    auto a = make_stepper(s, grid), b = make_stepper(s, one);
+    auto a = make_stepper(s, {}, grid), b = make_stepper(s, {}, one);
     ASSERT_DOUBLE_EQ(a->skin(), 1.0);
     a->run(100);
     b->run(100);
@@ -246,7 +246,7 @@ TEST(StepperBigSpheres, SinglePrecisionRunsThePassToo) {
   // totals within their statistical spread of the double run's.
   const auto s = scene(cube(22, {true, true, true}), {{10, 1e3, {11, 11, 11}}}, 2500, unit, 10);
   StepperConfig cfg;
-  auto d = make_stepper(s, cfg, Precision::Double), f = make_stepper(s, cfg, Precision::Float);
+  auto d = make_stepper(s, {}, cfg, Precision::Double), f = make_stepper(s, {}, cfg, Precision::Float);
   d->run(500);
   f->run(500);
   EXPECT_EQ(f->cells_per_dim(), d->cells_per_dim());

@@ -19,7 +19,7 @@ StepCounters run_stepper(const ParticleSystem& sys, double dt, std::int64_t step
   StepperConfig cfg;
   cfg.dt = dt;
   cfg.detect = detect;
-  auto st = make_stepper(sys, cfg, p);
+  auto st = make_stepper(sys, {}, cfg, p);
   st->run(steps);
   if (out) *out = st->state();
   return st->counters();
@@ -133,12 +133,12 @@ TEST(Arithmetic, EnginesRefuseWhatTheirPrecisionCannotCarry) {
   const auto s = test::gas(100, 0.2, 1);
   StepperConfig cfg;
   cfg.dt = 1e-10;  // moves a sphere by less than 100 roundings of a float coordinate
-  EXPECT_NE(refusal([&] { make_stepper(s, cfg, Precision::Float); }).find("dt = 1e-10"), std::string::npos);
-  EXPECT_EQ(refusal([&] { make_stepper(s, cfg, Precision::Double); }), "");
+  EXPECT_NE(refusal([&] { make_stepper(s, {}, cfg, Precision::Float); }).find("dt = 1e-10"), std::string::npos);
+  EXPECT_EQ(refusal([&] { make_stepper(s, {}, cfg, Precision::Double); }), "");
   auto fast = s;
   fast.vel[0].x = 1e12;  // beyond what float squares and multiplies safely
   cfg.dt = 0.01;
-  EXPECT_NE(refusal([&] { make_stepper(fast, cfg, Precision::Float); }).find("speed 1e+12"), std::string::npos);
+  EXPECT_NE(refusal([&] { make_stepper(fast, {}, cfg, Precision::Float); }).find("speed 1e+12"), std::string::npos);
   fast.vel[0].x = 1e101;
   EXPECT_NE(refusal([&] { EventEngine e(fast); }).find("speed 1e+101"), std::string::npos);
 }
@@ -147,11 +147,11 @@ TEST(WorkLimits, EnginesStopWhenARunOutgrowsItsLimit) {
   const auto s = test::gas(200, 0.2, 5);
   StepperConfig cfg;
   cfg.max_particle_steps = 200 * 50;
-  auto st = make_stepper(s, cfg);
+  auto st = make_stepper(s, {}, cfg);
   st->run(50);  // exactly the limit
   EXPECT_NE(refusal([&] { st->run(1); }).find("particle-steps"), std::string::npos);
   EventConfig ec;
   ec.max_events = 1000;
-  EventEngine e(s, ec);
+  EventEngine e(s, {}, ec);
   EXPECT_NE(refusal([&] { e.advance(1e6); }).find("more than 1000 events"), std::string::npos);
 }

@@ -131,6 +131,7 @@ TEST(EventBigSpheres, FiveMixedBigSpheresAgreeWithAllPairsReference) {
   ASSERT_EQ(split_by_size(s).big.size(), 5u);
   for (double shell : {0.05, 0.6}) {
     EventConfig cfg;
+    Physics cfg_physics;
     cfg.shell = shell;
     if (shell < 0.1) cfg.rebase_events_per_sphere = 1;
     test::expect_same_as_reference(s, cfg, 0.8, 10, 1500);
@@ -198,14 +199,15 @@ TEST(EventBigSpheres, UnderGravityKeepTheirEnergy) {
   const std::array<double, 3> len{16, 16, 20};
   const auto s = scene(len, {true, true, false}, sp, 9, {{8, 8, 14}});
   EventConfig cfg;
-  cfg.gravity = {0, 0, -0.5};
-  const double e0 = kinetic_energy(s) + potential_energy(s, cfg.gravity);
-  EventEngine e(s, cfg);
+  Physics cfg_physics;
+  cfg_physics.gravity = {0, 0, -0.5};
+  const double e0 = kinetic_energy(s) + potential_energy(s, cfg_physics.gravity);
+  EventEngine e(s, cfg_physics, cfg);
   e.advance(20.0);
   const auto out = e.state();
   EXPECT_GT(e.counters().collisions, 50000);
   EXPECT_LT(out.pos[0].z, 10.0);  // the big sphere has sunk
-  EXPECT_LT(std::abs(kinetic_energy(out) + potential_energy(out, cfg.gravity) - e0) / e0, 1e-9);
+  EXPECT_LT(std::abs(kinetic_energy(out) + potential_energy(out, cfg_physics.gravity) - e0) / e0, 1e-9);
   EXPECT_LT(max_overlap(out), 1e-10);
 }
 

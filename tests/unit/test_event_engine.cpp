@@ -15,6 +15,7 @@
 #include "hardsphere/init.hpp"
 #include "hardsphere/observables.hpp"
 #include "hardsphere/rng.hpp"
+#include "hardsphere/simulation.hpp"
 #include "hardsphere/stepper.hpp"
 #include "scenes.hpp"
 
@@ -161,7 +162,7 @@ TEST(EventConservation, PolydisperseMixtureWithWalls) {
   for (int reach = 1; reach <= 2; ++reach) {
     EventConfig cfg;
     cfg.reach = reach;
-    EventEngine e(s, cfg);
+    EventEngine e(s, {}, cfg);
     EXPECT_EQ(e.scene_kernel(), "walls,poly");
     e.advance(60);
     const auto out = e.state();
@@ -188,7 +189,7 @@ TEST(EventCells, CoarseAndFineGridsGiveTheSameTrajectory) {
   EventConfig coarse, fine;
   coarse.cells = {3, 3, 3};
   fine.reach = 2;
-  EventEngine a(s), b(s, coarse), f(s, fine);
+  EventEngine a(s), b(s, {}, coarse), f(s, {}, fine);
   a.advance(0.5);
   b.advance(0.5);
   f.advance(0.5);
@@ -292,7 +293,7 @@ TEST(EventCells, AgreesWithTheStepperCollisionForCollision) {
   StepperConfig cfg;
   cfg.dt = 0.001;
   cfg.detect = Detect::Sweep;
-  auto st = make_stepper(s, cfg);
+  auto st = make_stepper(s, {}, cfg);
   st->run(1000);
   EXPECT_GT(e.counters().collisions, 100);
   EXPECT_EQ(e.counters().collisions, st->counters().collisions);
@@ -361,7 +362,7 @@ TEST(EventPressure, StepperAtSmallTimeStepAgreesWithTheEventEngine) {
   StepperConfig cfg;
   cfg.dt = 0.002;
   cfg.detect = Detect::Sweep;
-  auto st = make_stepper(s, cfg);
+  auto st = make_stepper(s, {}, cfg);
   st->run(5000);
   const auto& cs = st->counters();
   const double z_st = compressibility_factor(cs.pair_virial, cs.sim_time, s.size(), t);

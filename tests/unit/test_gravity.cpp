@@ -16,11 +16,16 @@ using namespace hardsphere;
 
 namespace {
 
-StepperConfig with_gravity(double g, double dt) {
+StepperConfig steps_of(double dt) {
   StepperConfig cfg;
   cfg.dt = dt;
-  cfg.gravity = {0.0, 0.0, -g};
   return cfg;
+}
+
+Physics falling(double g) {
+  Physics p;
+  p.gravity = {0.0, 0.0, -g};
+  return p;
 }
 
 ParticleSystem gas_between_floor_and_ceiling(std::int64_t n, double side, double height, std::uint64_t seed) {
@@ -38,7 +43,7 @@ TEST(Gravity, DroppedSphereBouncesOnAnExactParabola) {
   // with speed sqrt(10) and rises again; at t = 5 it is at 0.5 + sqrt(10) (t - t1) - (t - t1)^2 / 2.
   ParticleSystem s =
       test::two({2.0, 2.0, 5.5}, {0, 0, 0}, {7.0, 7.0, 0.82}, {0, 0, 0}, 0.5, 0.5, 1, 1, 10.0, {true, true, false});
-  auto st = make_stepper(s, with_gravity(1.0, 0.01));
+  auto st = make_stepper(s, falling(1.0), steps_of(0.01));
   st->run(500);
   const ParticleSystem out = st->state();
   const double t1 = std::sqrt(10.0), u = 5.0 - t1;
@@ -56,7 +61,7 @@ TEST(Gravity, ElasticGasSettlesIntoTheBarometricProfileAndKeepsItsEnergy) {
   // measured temperature; kinetic + potential energy is kept to 1e-9.
   const double g = 0.05, height = 100.0;
   ParticleSystem s = gas_between_floor_and_ceiling(300, 30.0, height, 4);
-  auto st = make_stepper(s, with_gravity(g, 0.05));
+  auto st = make_stepper(s, falling(g), steps_of(0.05));
   const double e0 = kinetic_energy(s) + potential_energy(s, {0, 0, -g});
   st->run(8000);  // equilibrate: ~400 time units, several sound crossings
   double sum_z = 0, sum_t = 0;
@@ -79,10 +84,11 @@ TEST(Gravity, InelasticSpheresSettleIntoABedThatTheFloorCarries) {
   // e = 0.5, g = 1: the gas collapses onto the floor into a packed bed (TC model keeps it
   // running); no pair overlaps, and once settled the floor takes the bed's weight N m g.
   ParticleSystem s = gas_between_floor_and_ceiling(300, 8.0, 30.0, 6);
-  StepperConfig cfg = with_gravity(1.0, 0.005);
-  cfg.restitution = 0.5;
-  cfg.contact_time = kDefaultContactTime;
-  auto st = make_stepper(s, cfg);
+  const StepperConfig cfg = steps_of(0.005);
+  Physics cfg_physics = falling(1.0);
+  cfg_physics.restitution = 0.5;
+  cfg_physics.contact_time = kDefaultContactTime;
+  auto st = make_stepper(s, cfg_physics, cfg);
   st->run(3000);  // 15 time units: settled
   const double before = st->counters().wall_impulse[2];
   st->run(1000);
@@ -98,8 +104,9 @@ TEST(Gravity, EventEngineFliesTheSameParabolas) {
   ParticleSystem s =
       test::two({2.0, 2.0, 5.5}, {0, 0, 0}, {7.0, 7.0, 0.82}, {0, 0, 0}, 0.5, 0.5, 1, 1, 10.0, {true, true, false});
   EventConfig cfg;
-  cfg.gravity = {0, 0, -1};
-  EventEngine e(s, cfg);
+  Physics cfg_physics;
+  cfg_physics.gravity = {0, 0, -1};
+  EventEngine e(s, cfg_physics, cfg);
   e.advance(5.0);
   const ParticleSystem out = e.state();
   const double t1 = std::sqrt(10.0), u = 5.0 - t1;
@@ -115,20 +122,22 @@ TEST(Gravity, EventEngineGasKeepsItsEnergyAndItsBedLoadsTheFloor) {
   {
     const ParticleSystem s = gas_between_floor_and_ceiling(300, 10.0, 30.0, 8);
     EventConfig cfg;
-    cfg.gravity = {0, 0, -1};
-    EventEngine e(s, cfg);
+    Physics cfg_physics;
+    cfg_physics.gravity = {0, 0, -1};
+    EventEngine e(s, cfg_physics, cfg);
     e.advance(20.0);
     const ParticleSystem fin = e.state();
-    const double e0 = kinetic_energy(s) + potential_energy(s, cfg.gravity);
-    EXPECT_LT(std::abs(kinetic_energy(fin) + potential_energy(fin, cfg.gravity) - e0) / e0, 1e-9);
+    const double e0 = kinetic_energy(s) + potential_energy(s, cfg_physics.gravity);
+    EXPECT_LT(std::abs(kinetic_energy(fin) + potential_energy(fin, cfg_physics.gravity) - e0) / e0, 1e-9);
     EXPECT_LT(max_overlap(fin), 1e-9);
   }
   const ParticleSystem s = gas_between_floor_and_ceiling(150, 6.0, 20.0, 9);
   EventConfig cfg;
-  cfg.gravity = {0, 0, -1};
-  cfg.restitution = 0.5;
-  cfg.contact_time = kDefaultContactTime;
-  EventEngine e(s, cfg);
+  Physics cfg_physics;
+  cfg_physics.gravity = {0, 0, -1};
+  cfg_physics.restitution = 0.5;
+  cfg_physics.contact_time = kDefaultContactTime;
+  EventEngine e(s, cfg_physics, cfg);
   e.advance(10.0);
   const double before = e.counters().wall_impulse[2];
   e.advance(5.0);
@@ -140,9 +149,11 @@ TEST(Gravity, EventEngineGasKeepsItsEnergyAndItsBedLoadsTheFloor) {
 TEST(Gravity, RefusedAlongPeriodicAxes) {
   const ParticleSystem s = test::gas(100, 0.1, 1);
   StepperConfig cfg;
-  cfg.gravity = {0, 0, -1};
-  EXPECT_THROW(make_stepper(s, cfg), InputError);
+  Physics cfg_physics;
+  cfg_physics.gravity = {0, 0, -1};
+  EXPECT_THROW(make_stepper(s, cfg_physics, cfg), InputError);
   EventConfig ecfg;
-  ecfg.gravity = {0, 0, -1};
-  EXPECT_THROW(EventEngine(s, ecfg), InputError);
+  Physics ecfg_physics;
+  ecfg_physics.gravity = {0, 0, -1};
+  EXPECT_THROW(EventEngine(s, ecfg_physics, ecfg), InputError);
 }

@@ -51,7 +51,7 @@ TEST(ImageFlags, StepperKeepsUnwrappedPositionsContinuous) {
   const ParticleSystem s = test::gas(500, 0.3, 7);  // total momentum zero
   StepperConfig cfg;
   cfg.dt = 0.01;
-  auto st = make_stepper(s, cfg);
+  auto st = make_stepper(s, {}, cfg);
   expect_centre_fixed(s, [&] {
     st->run(400);
     return st->state();
@@ -75,7 +75,7 @@ TEST(ImageFlags, StartFromTheFileAndTravelThroughDataFiles) {
   const double x0 = unwrapped(s, 0).x;
   StepperConfig cfg;
   cfg.dt = 0.1;
-  auto st = make_stepper(s, cfg);
+  auto st = make_stepper(s, {}, cfg);
   st->run(370);
   EventEngine e(s);
   e.advance(37.0);

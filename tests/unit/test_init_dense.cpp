@@ -258,7 +258,7 @@ TEST(DenseEngines, BothEnginesRunFromDenseStates) {
     StepperConfig cfg;
     cfg.dt = 0.001;
     cfg.detect = Detect::Sweep;
-    auto st = make_stepper(s, cfg);
+    auto st = make_stepper(s, {}, cfg);
     st->run(500);
     const auto out_st = st->state();
     const auto& cs = st->counters();
@@ -273,7 +273,7 @@ TEST(DenseEngines, BothEnginesRunFromDenseStates) {
     EXPECT_NEAR(rate_st / rate_ev, 1.0, 0.04) << what << " stepper " << rate_st << " event " << rate_ev;
     EXPECT_NEAR(z_st / z_ev, 1.0, 0.04) << what << " stepper " << z_st << " event " << z_ev;
 
-    auto fl = make_stepper(s, StepperConfig{}, Precision::Float);
+    auto fl = make_stepper(s, {}, StepperConfig{}, Precision::Float);
     fl->run(50);  // dt 0.01: ~50 collisions per sphere as well
     const auto out_fl = fl->state();
     expect_conserved(s, out_fl, 1e-4, 1e-3, what + " float");

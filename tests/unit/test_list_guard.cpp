@@ -146,7 +146,7 @@ void expect_exact_with_fewer_rebuilds(const ParticleSystem& s, double dt, std::i
   pairwise.dt = classic.dt = dt;
   pairwise.detect = classic.detect = Detect::Sweep;  // grazes too, as the event engine
   classic.pairwise_list_check = false;
-  auto a = make_stepper(s, pairwise), b = make_stepper(s, classic);
+  auto a = make_stepper(s, {}, pairwise), b = make_stepper(s, {}, classic);
   a->run(steps);
   b->run(steps);
   EXPECT_GT(e.counters().collisions, std::int64_t(2 * s.size()));
@@ -178,7 +178,7 @@ TEST(StepperListGuard, NoUnlistedPairEverOverlaps) {
   const auto s = test::gas(3000, 0.3, 21);
   StepperConfig cfg;
   cfg.dt = 0.02;
-  auto st = make_stepper(s, cfg);
+  auto st = make_stepper(s, {}, cfg);
   double worst = 0;
   for (int step = 0; step < 600; ++step) {
     st->run(1);
@@ -196,7 +196,7 @@ TEST(StepperListGuard, LongStepsKeepTheListForWholeSteps) {
   const auto s = test::gas(3000, 0.3, 5);
   StepperConfig cfg;
   cfg.dt = 0.12;
-  auto st = make_stepper(s, cfg);
+  auto st = make_stepper(s, {}, cfg);
   const double e0 = kinetic_energy(s);
   const std::int64_t steps = 20;
   st->run(steps);

@@ -52,14 +52,16 @@ TEST(Restitution, DiluteGasCoolsByHaffsLawInBothEngines) {
   for (const double e : {0.9, 0.7}) {
     const ParticleSystem s = test::gas(4000, phi, 11);
     StepperConfig cfg;
+    Physics cfg_physics;
     cfg.dt = 0.02;
-    cfg.restitution = e;
-    cfg.contact_time = kDefaultContactTime;
-    auto st = make_stepper(s, cfg);
+    cfg_physics.restitution = e;
+    cfg_physics.contact_time = kDefaultContactTime;
+    auto st = make_stepper(s, cfg_physics, cfg);
     EventConfig ecfg;
-    ecfg.restitution = e;
-    ecfg.contact_time = kDefaultContactTime;
-    EventEngine ev(s, ecfg);
+    Physics ecfg_physics;
+    ecfg_physics.restitution = e;
+    ecfg_physics.contact_time = kDefaultContactTime;
+    EventEngine ev(s, ecfg_physics, ecfg);
     // Up to T ~ T0 / 2.2, where T(t) has fallen well below its start and clusters have not formed.
     const double t_end = 3.0 / ((1.0 - e * e) * enskog_rate(phi));
     for (const double t : {0.25 * t_end, 0.5 * t_end, t_end}) {
@@ -80,15 +82,17 @@ TEST(Restitution, StronglyInelasticGasRunsWithoutOverlapInBothEngines) {
   // on, cool, and keep every pair apart.
   const ParticleSystem s = test::gas(1000, 0.25, 5);
   StepperConfig cfg;
+  Physics cfg_physics;
   cfg.dt = 0.01;
-  cfg.restitution = 0.3;
-  cfg.contact_time = kDefaultContactTime;
-  auto st = make_stepper(s, cfg);
+  cfg_physics.restitution = 0.3;
+  cfg_physics.contact_time = kDefaultContactTime;
+  auto st = make_stepper(s, cfg_physics, cfg);
   st->run(500);
   EventConfig ecfg;
-  ecfg.restitution = 0.3;
-  ecfg.contact_time = kDefaultContactTime;
-  EventEngine ev(s, ecfg);
+  Physics ecfg_physics;
+  ecfg_physics.restitution = 0.3;
+  ecfg_physics.contact_time = kDefaultContactTime;
+  EventEngine ev(s, ecfg_physics, ecfg);
   ev.advance(5.0);
   for (const ParticleSystem& out : {st->state(), ev.state()}) {
     EXPECT_LT(temperature(out), 0.2);  // cooled well below T0 = 1
@@ -100,9 +104,10 @@ TEST(Restitution, StronglyInelasticGasRunsWithoutOverlapInBothEngines) {
 TEST(Restitution, ElasticDefaultIsTheElasticRunAndBadValuesAreRefused) {
   const ParticleSystem s = test::gas(500, 0.3, 2);
   StepperConfig a, b;
-  b.restitution = 1.0;
-  b.contact_time = 0.5;  // ignored when elastic
-  auto sa = make_stepper(s, a), sb = make_stepper(s, b);
+  Physics b_physics;
+  b_physics.restitution = 1.0;
+  b_physics.contact_time = 0.5;  // ignored when elastic
+  auto sa = make_stepper(s, {}, a), sb = make_stepper(s, b_physics, b);
   sa->run(200), sb->run(200);
   EXPECT_EQ(sa->counters().collisions, sb->counters().collisions);
   const ParticleSystem pa = sa->state(), pb = sb->state();
@@ -111,12 +116,14 @@ TEST(Restitution, ElasticDefaultIsTheElasticRunAndBadValuesAreRefused) {
     EXPECT_EQ(pa.vel[i].z, pb.vel[i].z);
   }
   StepperConfig bad;
-  bad.restitution = 0.0;
-  EXPECT_THROW(make_stepper(s, bad), InputError);
-  bad.restitution = 1.5;
-  EXPECT_THROW(make_stepper(s, bad), InputError);
+  Physics bad_physics;
+  bad_physics.restitution = 0.0;
+  EXPECT_THROW(make_stepper(s, bad_physics, bad), InputError);
+  bad_physics.restitution = 1.5;
+  EXPECT_THROW(make_stepper(s, bad_physics, bad), InputError);
   EventConfig ebad;
-  ebad.restitution = 0.9;
-  ebad.contact_time = -1;
-  EXPECT_THROW(EventEngine(s, ebad), InputError);
+  Physics ebad_physics;
+  ebad_physics.restitution = 0.9;
+  ebad_physics.contact_time = -1;
+  EXPECT_THROW(EventEngine(s, ebad_physics, ebad), InputError);
 }

@@ -43,7 +43,7 @@ TEST(SphereSample, StepperCountsAddUpAndSampleMatchesState) {
   StepperConfig cfg;
   cfg.dt = 0.02;
   cfg.count_per_sphere = true;
-  auto engine = make_stepper(sys, cfg);
+  auto engine = make_stepper(sys, {}, cfg);
   engine->run(50);
   engine->reset_counters();
   engine->run(300);
@@ -66,9 +66,9 @@ TEST(SphereSample, StepperWithoutCountsRunsTheSameCollisions) {
   const ParticleSystem sys = big_in_gas();
   StepperConfig cfg;
   cfg.dt = 0.02;
-  auto plain = make_stepper(sys, cfg);
+  auto plain = make_stepper(sys, {}, cfg);
   cfg.count_per_sphere = true;
-  auto counted = make_stepper(sys, cfg);
+  auto counted = make_stepper(sys, {}, cfg);
   plain->run(200);
   counted->run(200);
   EXPECT_EQ(plain->counters().collisions, counted->counters().collisions);
@@ -104,7 +104,7 @@ TEST(SphereSample, EnginesAgreeOnTheTrackedSphere) {
   StepperConfig cfg;
   cfg.dt = 0.01;
   cfg.count_per_sphere = true;
-  auto stepper = make_stepper(sys, cfg);
+  auto stepper = make_stepper(sys, {}, cfg);
   EventEngine event(sys);
   stepper->run(100);
   event.advance(1.0);

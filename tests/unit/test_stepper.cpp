@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <tuple>
 #include <utility>
 
 #include "hardsphere/errors.hpp"
@@ -26,7 +27,7 @@ using test::two;
 ParticleSystem run(const ParticleSystem& sys, double dt, std::int64_t steps, StepperConfig cfg = {},
                    Precision p = Precision::Double, StepCounters* counters = nullptr) {
   cfg.dt = dt;
-  auto st = make_stepper(sys, cfg, p);
+  auto st = make_stepper(sys, {}, cfg, p);
   st->run(steps);
   if (counters) *counters = st->counters();
   return st->state();
@@ -86,7 +87,7 @@ TEST(StepperAdapterApi, ScatterSkipsNoRowSlotsAndCopiesChosenVelocities) {
   const auto s = two({1, 2, 3}, {0.5, 0, 0}, {5, 6, 7}, {0, -0.25, 0});
   StepperConfig cfg;
   cfg.dt = 0.01;
-  auto st = make_stepper(s, cfg);
+  auto st = make_stepper(s, {}, cfg);
   st->run(10);
   auto& ex = hardsphere::state_exchange(*st);
   std::vector<std::int64_t> ids(2);
@@ -113,7 +114,7 @@ TEST(StepperAdapterApi, SphereVirialGivesEachSphereHalfOfItsCollisions) {
   const auto s = two({5 - 0.5 * h - 0.05, 5 - 0.5 * h, 5}, {1, 0, 0}, {5 + 0.5 * h, 5 + 0.5 * h, 5}, {0, 0, 0});
   StepperConfig cfg;
   cfg.dt = 0.2;
-  auto st = make_stepper(s, cfg);
+  auto st = make_stepper(s, {}, cfg);
   auto& ex = state_exchange(*st);
   ex.set_sphere_virial(true);
   st->run(1);
@@ -146,7 +147,7 @@ TEST(StepperAdapterApi, SphereVirialFollowsTheSpheresThroughRebuilds) {
   StepperConfig cfg;
   cfg.dt = 0.01;
   cfg.count_per_sphere = true;
-  auto st = make_stepper(gas(500, 0.3, 11), cfg);
+  auto st = make_stepper(gas(500, 0.3, 11), {}, cfg);
   auto& ex = state_exchange(*st);
   ex.set_sphere_virial(true);
   const std::size_t n = ex.size();
@@ -189,12 +190,14 @@ TEST(StepperAdapterApi, Mv2SumIsTwiceTheKineticEnergyAsCollisionsAndGravityChang
   auto cooling = gas(500, 0.2, 7);
   auto mixture = binary_mixture_with_walls(400);
   StepperConfig inelastic, falling;
+  Physics inelastic_physics, falling_physics;
   inelastic.dt = falling.dt = 0.01;
-  inelastic.restitution = 0.8;
-  inelastic.contact_time = 1e-4;
-  falling.gravity = {0, 0, -1};
-  for (auto [sys, cfg] : {std::pair{cooling, inelastic}, std::pair{mixture, falling}}) {
-    auto st = make_stepper(sys, cfg);
+  inelastic_physics.restitution = 0.8;
+  inelastic_physics.contact_time = 1e-4;
+  falling_physics.gravity = {0, 0, -1};
+  for (auto [sys, physics, cfg] :
+       {std::tuple{cooling, inelastic_physics, inelastic}, std::tuple{mixture, falling_physics, falling}}) {
+    auto st = make_stepper(sys, physics, cfg);
     const double before = 2 * kinetic_energy(st->state());
     st->run(50);
     const double after = 2 * kinetic_energy(st->state());
@@ -212,7 +215,7 @@ TEST(StepperAdapterApi, WrapCountsKeepTheUnwrappedTrajectoryContinuous) {
   const auto s = two(x1, v1, x2, v2);
   StepperConfig cfg;
   cfg.dt = 0.01;
-  auto st = make_stepper(s, cfg);
+  auto st = make_stepper(s, {}, cfg);
   st->run(1000);  // t = 10: 37, 23 and 41 box lengths of 10 travelled
   const std::size_t n = hardsphere::state_exchange(*st).size();
   std::vector<std::int64_t> ids(n);
@@ -242,7 +245,7 @@ TEST(StepperAdapterApi, SetSpheresTakesEffectAtTheNextStepHoweverFast) {
   const auto s = two({5, 10, 10}, {0, 0, 0}, {15, 10, 10}, {0, 0.1, 0}, 0.5, 0.5, 1, 1, 20);
   StepperConfig cfg;
   cfg.dt = 0.01;
-  auto st = make_stepper(s, cfg);
+  auto st = make_stepper(s, {}, cfg);
   st->run(1);
   auto& ex = state_exchange(*st);
   std::vector<std::int64_t> ids(2);
@@ -271,7 +274,7 @@ TEST(StepperAdapterApi, RebuildAgreementIsAskedOncePerStepAndCanOnlyAddRebuilds)
     StepperConfig cfg;
     cfg.dt = dt;
     const std::int64_t steps = dt < 0.1 ? 100 : 2;
-    auto alone = make_stepper(s, cfg), never = make_stepper(s, cfg), always = make_stepper(s, cfg);
+    auto alone = make_stepper(s, {}, cfg), never = make_stepper(s, {}, cfg), always = make_stepper(s, {}, cfg);
     std::int64_t asked_never = 0, asked_always = 0, due_told = 0;
     state_exchange(*never).set_rebuild_agreement([&](bool due) {
       ++asked_never;
@@ -485,7 +488,7 @@ TEST(StepperPressure, CompressibilityFactorNearCarnahanStarling) {
   auto s = gas(2000, phi, 21);
   StepperConfig cfg;
   cfg.dt = 0.005;
-  auto st = make_stepper(s, cfg);
+  auto st = make_stepper(s, {}, cfg);
   st->run(200);  // forget the initial state
   st->reset_counters();
   st->run(2000);
@@ -499,12 +502,12 @@ TEST(StepperInput, RejectsBadTimeStepAndCells) {
   const auto s = gas(100, 0.1, 1);
   StepperConfig cfg;
   cfg.dt = 0;
-  EXPECT_THROW(make_stepper(s, cfg), InputError);
+  EXPECT_THROW(make_stepper(s, {}, cfg), InputError);
   cfg.dt = std::nan("");
-  EXPECT_THROW(make_stepper(s, cfg), InputError);
+  EXPECT_THROW(make_stepper(s, {}, cfg), InputError);
   cfg.dt = 0.01;
   cfg.cells = {50, 50, 50};  // cells narrower than a diameter
-  EXPECT_THROW(make_stepper(s, cfg), InputError);
+  EXPECT_THROW(make_stepper(s, {}, cfg), InputError);
 }
 
 TEST(DenseInit, LatticeRouteBetweenWalls) {
@@ -567,15 +570,15 @@ TEST(StepperConfigHint, GasPackingFractionSetsTheAutoSkinOfAPaddedBox) {
   padded.box.periodic[0] = false;
   StepperConfig cfg;
   cfg.dt = 0.01;
-  const double whole = make_stepper(dense, cfg)->skin(), box = make_stepper(padded, cfg)->skin();
+  const double whole = make_stepper(dense, {}, cfg)->skin(), box = make_stepper(padded, {}, cfg)->skin();
   cfg.packing_fraction = dense.packing_fraction();
-  const double told = make_stepper(padded, cfg)->skin();
+  const double told = make_stepper(padded, {}, cfg)->skin();
   // Auto skins are 0.4 diameters at phi 0.3 and 0.6 at 0.15, widened to whole cells.
   EXPECT_GT(box, 0.55);
   EXPECT_LT(whole, 0.5);
   EXPECT_LT(told, 0.5);
   cfg.packing_fraction = 1.0;
-  EXPECT_THROW(make_stepper(padded, cfg), InputError);
+  EXPECT_THROW(make_stepper(padded, {}, cfg), InputError);
   cfg.packing_fraction = -0.1;
-  EXPECT_THROW(make_stepper(padded, cfg), InputError);
+  EXPECT_THROW(make_stepper(padded, {}, cfg), InputError);
 }

@@ -28,12 +28,9 @@
 #include <vector>
 
 #include "hardsphere/particles.hpp"
+#include "hardsphere/physics.hpp"
 
 namespace hardsphere {
-
-//! Which engine a run uses.
-enum class Engine { Stepper, Event };
-Engine parse_engine(const std::string& s);  //!< "stepper" or "event"; throws InputError
 
 //! Neighbour-list shell in largest diameters for a gas at packing fraction phi: about 1.6 mean
 //! free paths, within [0.6, 2].
@@ -64,12 +61,6 @@ struct EventConfig {
   //! The most events the engine may process since construction before it refuses to go on
   //! (InputError); a guard against runs that would not end.
   double max_events = std::numeric_limits<double>::infinity();
-  //! Normal restitution of sphere-sphere collisions and the TC model's contact time, as in
-  //! StepperConfig.
-  double restitution = 1.0;
-  double contact_time = 0.0;
-  //! Uniform acceleration along wall axes (flights are parabolas), as in StepperConfig.
-  std::array<double, 3> gravity{0, 0, 0};
 };
 
 struct EventCounters {
@@ -89,7 +80,7 @@ class EventEngine {
  public:
   //! Validates (throws InputError: overlaps, periodic axes shorter than 3 largest diameters of
   //! the spheres that are not big, or not longer than twice the two largest radii plus a shell).
-  explicit EventEngine(const ParticleSystem& sys, const EventConfig& cfg = {});
+  explicit EventEngine(const ParticleSystem& sys, const Physics& physics = {}, const EventConfig& cfg = {});
   ~EventEngine();
   EventEngine(const EventEngine&) = delete;
   EventEngine& operator=(const EventEngine&) = delete;
@@ -99,13 +90,13 @@ class EventEngine {
   //! Runs until the next `count` events have been processed (or nothing is left to happen).
   void advance_events(std::int64_t count);
 
-  //! The state at the current time, in input order, periodic coordinates wrapped.
+  //! The state at the current time, ordered by id (as the stepper's), periodic coordinates wrapped.
   ParticleSystem state() const;
   const EventCounters& counters() const;
-  //! The sphere at position `index` of state() (input order) at the current time, without
+  //! The sphere at position `index` of state() (id order) at the current time, without
   //! advancing the others. Throws InputError for an index out of range.
   SphereSample sphere(std::size_t index) const;
-  //! Each sphere's pair collisions since the last reset_counters(), in input order; they add
+  //! Each sphere's pair collisions since the last reset_counters(), in id order; they add
   //! up to twice counters().collisions.
   std::vector<std::int64_t> pair_collisions_per_sphere() const;
   void reset_counters();

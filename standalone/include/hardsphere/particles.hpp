@@ -42,6 +42,10 @@ struct ParticleSystem {
   double packing_fraction() const;  //!< sum of sphere volumes / box volume
 };
 
+//! Indices that put the ids in ascending order, stable for equal ids (atom tags that span a
+//! few times their number are counted into place in O(n)).
+std::vector<std::size_t> order_by_id(const std::vector<std::int64_t>& id);
+
 //! One sphere observed at an engine's current time without building the whole state.
 struct SphereSample {
   Vec3d unwrapped;  //!< pos + image * box length: continuous in time across periodic faces

@@ -9,6 +9,7 @@
 
 #include "hardsphere/lammps_io.hpp"
 #include "hardsphere/particles.hpp"
+#include "hardsphere/physics.hpp"
 
 namespace hardsphere {
 
@@ -34,8 +35,8 @@ nlohmann::json physics_summary(const ParticleSystem& final_state, const RunTotal
 //! Adds the run's restitution, contact time and gravity, the potential energies before and after
 //! (-sum m g.(x - lo)), and replaces energy_rel_drift by that of kinetic + potential energy; the
 //! energy inelastic collisions took is dissipated_energy.
-void add_energy_summary(nlohmann::json& j, double kinetic0, double potential0, double potential1, double restitution,
-                        double contact_time, const std::array<double, 3>& gravity);
+void add_energy_summary(nlohmann::json& j, double kinetic0, double potential0, double potential1,
+                        const Physics& physics);
 
 //! Writes the JSON file and the final data file, and commits them with the dump and `track`
 //! (a tracker's file, may be null): only after success, and all together (commit_together), so

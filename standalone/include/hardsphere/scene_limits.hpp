@@ -28,13 +28,6 @@ void check_scene_numbers(const ParticleSystem& sys, const std::string& source,
 //! a coordinate. `what` names the engine and precision in messages.
 void check_engine_numbers(const ParticleSystem& sys, double eps, double largest, double dt, const std::string& what);
 
-//! Normal restitution in (0, 1] and a TC-model contact time >= 0, both finite, and > 0 when the
-//! restitution is below 1, so no collapse can stop a run (InputError).
-void check_restitution(double restitution, double contact_time);
-
-//! Refuses (InputError) a gravity that is not finite or has a component along a periodic axis.
-void check_gravity(const std::array<double, 3>& g, const std::array<bool, 3>& periodic);
-
 //! Wall bounces per unit time the spheres' straight flights between opposite walls imply,
 //! sum over spheres and wall axes of |v_d| / (L_d - 2 r): in a gap barely wider than a sphere
 //! they are endless, and both engines count them into the work a run will take.

@@ -13,12 +13,18 @@
 
 namespace hardsphere {
 
+//! Which engine a run uses.
+enum class Engine { Stepper, Event };
+Engine parse_engine(const std::string& s);  //!< "stepper" or "event"; throws InputError
+
 struct RunSpec {
   // Initial state: generated from `init`, or read from a LAMMPS data file.
   InitSpec init;
   std::optional<std::string> read_data;
   std::array<bool, 3> periodic{true, true, true};  //!< boundaries (data files carry none)
 
+  //! Collision law and gravity, for either engine.
+  Physics physics;
   StepperConfig stepper;
   Precision precision = Precision::Double;
   std::int64_t steps = 1000;
@@ -49,11 +55,9 @@ struct RunSpec {
   std::function<void(double fraction, double sim_time)> progress;
 };
 
-//! Runs the job and returns the JSON summary (keys documented in docs/cli.md). Throws InputError.
+//! Runs the job with spec.engine and returns the JSON summary (keys documented in docs/cli.md).
+//! Throws InputError.
 nlohmann::json run_simulation(const RunSpec& spec);
-
-//! The same for spec.engine == Engine::Event (run_simulation dispatches to it).
-nlohmann::json run_event_simulation(const RunSpec& spec);
 
 //! Refuses (InputError) output paths that collide or cannot be written (see check_output_paths).
 void check_outputs(const RunSpec& spec);

@@ -21,6 +21,7 @@
 #include <vector>
 
 #include "hardsphere/particles.hpp"
+#include "hardsphere/physics.hpp"
 
 namespace hardsphere {
 
@@ -39,10 +40,6 @@ constexpr double kOverlapDetectionLimit = 0.1;
 Detect parse_detect(const std::string& s);
 //! Whether mode d detects by sweeping for this system and step (Auto decided from its speeds).
 bool detects_by_sweep(Detect d, const ParticleSystem& sys, double dt);
-
-//! The command line's TC-model contact time when --restitution is below 1 and --contact-time
-//! is not given: short against a mean free time (~0.1-10 in reduced units for phi 0.45-0.01).
-constexpr double kDefaultContactTime = 1e-4;
 
 struct StepperConfig {
   double dt = 0.01;
@@ -67,14 +64,6 @@ struct StepperConfig {
   //! The most particle-steps (sub-steps included) the engine may take before it refuses to go
   //! on (InputError); a guard against runs that would not end.
   double max_particle_steps = std::numeric_limits<double>::infinity();
-  //! Normal restitution coefficient of sphere-sphere collisions, in (0, 1]; walls stay elastic.
-  double restitution = 1.0;
-  //! TC model of inelastic collapse (Luding and McNamara 1998): a collision within this time of
-  //! either sphere's previous collision is elastic, so no finite time holds infinitely many.
-  double contact_time = 0.0;
-  //! Uniform acceleration (gravity), allowed along wall axes only: flights are parabolas,
-  //! relative motion of pairs stays straight. Potential energy -m g.(x - lo).
-  std::array<double, 3> gravity{0, 0, 0};
   //! Packing fraction of the gas for the auto skin and the kernel choice; 0: the box's. An
   //! adapter whose box has empty margins (one MPI rank's spheres and ghosts) passes the whole
   //! gas's, so its stepper is tuned like one over the whole gas.
@@ -125,8 +114,9 @@ class StepperBase {
   virtual std::vector<std::int64_t> pair_collisions_per_sphere() const = 0;
 };
 
-//! Validates the configuration against the system (throws InputError) and builds the engine.
-std::unique_ptr<StepperBase> make_stepper(const ParticleSystem& sys, const StepperConfig& cfg,
+//! Validates the physics and the configuration against the system (throws InputError) and builds
+//! the engine.
+std::unique_ptr<StepperBase> make_stepper(const ParticleSystem& sys, const Physics& physics, const StepperConfig& cfg,
                                           Precision precision = Precision::Double);
 
 //! The skin (extra list radius beyond the contact distance) chosen by cells = auto, scaled by

@@ -9,6 +9,13 @@
 
 namespace hardsphere {
 
+//! Image code of a periodic shift (kx, ky, kz) in {-1, 0, 1}^3; 13 means no shift and the
+//! mirrored shift of code c is 26 - c.
+constexpr std::uint8_t image_code(int kx, int ky, int kz) {
+  return std::uint8_t((kx + 1) * 9 + (ky + 1) * 3 + (kz + 1));
+}
+constexpr std::uint8_t kNoImage = 13;
+
 constexpr int kAdjImageBits = 5;
 constexpr std::uint32_t kMaxAdjIndex = (std::uint32_t(1) << (32 - kAdjImageBits)) - 1;  //!< largest partner index
 static_assert(std::int64_t(kMaxAdjIndex) + 1 == kMaxSpheres, "kMaxSpheres must match the index bits");

@@ -9,26 +9,15 @@
 #include "event/event_calendar.hpp"
 #include "hardsphere/collision.hpp"
 #include "hardsphere/errors.hpp"
+#include "hardsphere/format.hpp"
 #include "hardsphere/scene_limits.hpp"
 #include "scene/size_classes.hpp"
 
 namespace hardsphere {
 
-Engine parse_engine(const std::string& s) {
-  if (s == "stepper") return Engine::Stepper;
-  if (s == "event") return Engine::Event;
-  throw InputError("engine '" + s + "' is not one of: stepper, event");
-}
-
 namespace {
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
-
-std::string number(double x) {
-  std::ostringstream o;
-  o << x;
-  return o.str();
-}
 
 //! Everything a pair prediction reads about a sphere, in one cache line.
 struct alignas(64) Body {
@@ -900,8 +889,31 @@ double auto_shell(double phi) {
   return std::clamp(1.6 * lambda, 0.6, 2.0);
 }
 
-EventEngine::EventEngine(const ParticleSystem& sys, const EventConfig& cfg) : impl_(std::make_unique<Impl>()) {
+namespace {
+//! The spheres in id order: the engine's "input" order, so that state() comes out as the
+//! stepper's does and the same spheres give the same run in whatever order they are handed over.
+ParticleSystem sorted_by_id(const ParticleSystem& sys) {
+  const std::vector<std::size_t> order = order_by_id(sys.id);
+  bool sorted = true;
+  for (std::size_t k = 0; k < order.size() && sorted; ++k) sorted = order[k] == k;
+  if (sorted) return sys;
+  ParticleSystem out;
+  out.box = sys.box;
+  out.reserve(sys.size());
+  for (const std::size_t i : order)
+    out.push_back(sys.id[i], sys.type[i], sys.radius[i], sys.mass[i], sys.pos[i], sys.vel[i],
+                  i < sys.image.size() ? sys.image[i] : std::array<std::int32_t, 3>{0, 0, 0});
+  return out;
+}
+}  // namespace
+
+EventEngine::EventEngine(const ParticleSystem& sys_in, const Physics& physics_in, const EventConfig& cfg)
+    : impl_(std::make_unique<Impl>()) {
   Impl& m = *impl_;
+  if (sys_in.radius.size() != sys_in.size() || sys_in.mass.size() != sys_in.size() ||
+      sys_in.vel.size() != sys_in.size() || sys_in.id.size() != sys_in.size() || sys_in.type.size() != sys_in.size())
+    throw InputError("event engine: inconsistent particle arrays");
+  const ParticleSystem sys = sorted_by_id(sys_in);
   const std::size_t n = sys.size();
   if (n > std::size_t(kMaxAdjIndex) + 1)  // indices 0 .. kMaxAdjIndex fit a list entry
     throw InputError("too many spheres for the event engine: " + std::to_string(n) + " (at most " +
@@ -916,13 +928,12 @@ EventEngine::EventEngine(const ParticleSystem& sys, const EventConfig& cfg) : im
     throw InputError("event engine: shell " + std::to_string(cfg.shell) + " must be positive (or 0 for auto)");
   m.proto = sys;
   m.proto.image.resize(sys.size(), {0, 0, 0});
-  check_restitution(cfg.restitution, cfg.contact_time);
-  check_gravity(cfg.gravity, sys.box.periodic);
-  m.g = cfg.gravity;
-  m.has_g = cfg.gravity != std::array<double, 3>{0, 0, 0};
-  m.restitution = cfg.restitution;
-  m.contact_time = cfg.contact_time;
-  if (cfg.restitution != 1.0) m.last_collision.assign(sys.size(), -std::numeric_limits<double>::infinity());
+  const Physics physics = validated(physics_in, sys.box.periodic);
+  m.g = physics.gravity;
+  m.has_g = physics.has_gravity();
+  m.restitution = physics.restitution;
+  m.contact_time = physics.contact_time;
+  if (!physics.elastic()) m.last_collision.assign(sys.size(), -std::numeric_limits<double>::infinity());
   m.mono = sys.monodisperse();
   m.mass0 = n ? sys.mass[0] : 1.0;
   if (cfg.reach < 1 || cfg.reach > 2)
@@ -957,7 +968,7 @@ EventEngine::EventEngine(const ParticleSystem& sys, const EventConfig& cfg) : im
       throw InputError(
           "event engine: periodic axis " + axis + " of length " + std::to_string(l) + " needs at least " +
           std::to_string(min_cells) + " cells of width >= the largest diameter / reach " +
-          std::to_string(dmax / m.reach) + " (spheres over " + number(kBigOverMedian) +
+          std::to_string(dmax / m.reach) + " (spheres over " + format_number(kBigOverMedian) +
           " median diameters are searched apart and do not count; a sphere's partners are searched in the cells " +
           "around its own, which must be distinct periodic images); use --engine stepper, " +
           "which takes any periodic box longer than 2 largest diameters, or a box of at least " +

@@ -6,6 +6,7 @@
 
 #include "hardsphere/errors.hpp"
 #include "hardsphere/event_engine.hpp"
+#include "hardsphere/format.hpp"
 #include "hardsphere/init.hpp"
 #include "hardsphere/particles.hpp"
 
@@ -16,12 +17,6 @@ namespace {
 // How far below anneal_start a failed first quench is retried, and how often.
 constexpr double kRetryStep = 0.02;
 constexpr int kRetries = 5;
-
-std::string fmt(double v) {
-  std::ostringstream s;
-  s << v;
-  return s.str();
-}
 
 double packing_fraction(const Box& box, std::int64_t n, double r) {
   return double(n) * 4.0 / 3.0 * M_PI * r * r * r / box.volume();
@@ -68,9 +63,9 @@ std::vector<Vec3d> dense_packing(const Box& box, std::int64_t n, double radius, 
     }
   auto radius_for = [&](double phi) { return phi >= target ? radius : radius_at(box, n, phi); };
   auto fail = [&](const std::string& why) {
-    return InputError("dense packing could not reach packing fraction " + fmt(target) + ": " + why +
-                      " (the generator reaches " + fmt(kDenseLimit) + " in a periodic box of a few thousand spheres, " +
-                      "less between walls)");
+    return InputError("dense packing could not reach packing fraction " + format_number(target) + ": " + why +
+                      " (the generator reaches " + format_number(kDenseLimit) +
+                      " in a periodic box of a few thousand spheres, " + "less between walls)");
   };
 
   // First quench: straight to the target when it is low enough, else (or when that jams, as
@@ -79,7 +74,7 @@ std::vector<Vec3d> dense_packing(const Box& box, std::int64_t n, double radius, 
   double phi = target <= cfg.direct_limit * (1 + 1e-12) ? target : std::min(target, cfg.anneal_start);
   for (int retry = 0;; ++retry) {
     if (separate_spheres(box, x, radius_for(phi), cfg.quench, &st.quench)) break;
-    if (retry == kRetries) throw fail("even the first quench at " + fmt(phi) + " failed");
+    if (retry == kRetries) throw fail("even the first quench at " + format_number(phi) + " failed");
     phi = phi > cfg.anneal_start ? cfg.anneal_start : phi - kRetryStep;
   }
   st.densest = phi;
@@ -101,7 +96,7 @@ std::vector<Vec3d> dense_packing(const Box& box, std::int64_t n, double radius, 
       step *= 0.5;  // retry from the relaxed packing (relaxed once more) with a smaller step
     }
   }
-  if (phi < target) throw fail("the densest packing reached was " + fmt(st.densest));
+  if (phi < target) throw fail("the densest packing reached was " + format_number(st.densest));
 
   // A quench ends at the edge of jamming, with a pressure far above the hard-sphere fluid's or
   // glass's at this density: let the packing relax, then separate the pairs the dynamics left in

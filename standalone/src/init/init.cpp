@@ -6,6 +6,7 @@
 
 #include "common/neighbour_entry.hpp"
 #include "hardsphere/errors.hpp"
+#include "hardsphere/format.hpp"
 #include "hardsphere/observables.hpp"
 #include "hardsphere/stepper.hpp"
 #include "init/dense_packing.hpp"
@@ -27,12 +28,6 @@ namespace {
 // Lowest and highest allowed centre coordinate along axis d for a sphere of radius r.
 double lower(const Box& b, int d, double r) { return b.periodic[d] ? b.lo[d] : b.lo[d] + r; }
 double span(const Box& b, int d, double r) { return b.periodic[d] ? b.length(d) : b.length(d) - 2 * r; }
-
-std::string fmt(double v) {
-  std::ostringstream s;
-  s << v;
-  return s.str();
-}
 
 // A box made from a packing fraction (as the CLI's --phi does) gives it back with round-off.
 bool above(double phi, double limit) { return phi > limit * (1 + 1e-12); }
@@ -84,7 +79,7 @@ bool run_dynamics(ParticleSystem& sys, double dt, std::int64_t steps, std::int64
   StepperConfig cfg;
   cfg.dt = dt;
   cfg.max_events_per_step = std::max<std::int64_t>(1, budget / steps);
-  auto engine = make_stepper(sys, cfg);
+  auto engine = make_stepper(sys, Physics{}, cfg);
   engine->run(steps);
   budget -= engine->counters().collisions + engine->counters().wall_collisions;
   sys = engine->state();
@@ -102,8 +97,8 @@ void lattice_route(ParticleSystem& sys, const InitSpec& spec, Rng& rng) {
   // Sites this close only come from a box too narrow for n spheres of this size; growing from
   // them would take unboundedly many steps.
   if (!(r0 >= 1e-3 * target_r))
-    throw InputError("the box is too narrow for " + std::to_string(spec.n) + " spheres of radius " + fmt(target_r) +
-                     " on a lattice (sites " + fmt(lattice.spacing) + " apart)");
+    throw InputError("the box is too narrow for " + std::to_string(spec.n) + " spheres of radius " +
+                     format_number(target_r) + " on a lattice (sites " + format_number(lattice.spacing) + " apart)");
   // Choose which sites to fill (a partial Fisher-Yates shuffle) so vacancies are random.
   for (std::int64_t i = 0; i < spec.n; ++i)
     std::swap(sites[std::size_t(i)], sites[std::size_t(i + std::int64_t(rng.below(sites.size() - std::size_t(i))))]);
@@ -115,9 +110,9 @@ void lattice_route(ParticleSystem& sys, const InitSpec& spec, Rng& rng) {
   const double dt = 0.02 * 2 * target_r / v_rms;
   std::int64_t budget = kLatticeEventsPerSphere * spec.n;
   auto jammed = [&] {
-    return InputError("lattice route could not reach packing fraction " + fmt(phi) + ": the spheres jammed near " +
-                      fmt(sys.packing_fraction()) + " (" + std::to_string(kLatticeEventsPerSphere) +
-                      " collisions per sphere spent; walls lower the reach)");
+    return InputError("lattice route could not reach packing fraction " + format_number(phi) +
+                      ": the spheres jammed near " + format_number(sys.packing_fraction()) + " (" +
+                      std::to_string(kLatticeEventsPerSphere) + " collisions per sphere spent; walls lower the reach)");
   };
   // Melt: about 40 collisions per sphere at the starting density.
   if (!run_dynamics(sys, dt, 300, budget)) throw jammed();
@@ -134,9 +129,9 @@ void lattice_route(ParticleSystem& sys, const InitSpec& spec, Rng& rng) {
     if (!run_dynamics(sys, dt, 5, budget)) throw jammed();
   const double left = max_violation(sys);
   if (left > 0) {
-    throw InputError(
-        "lattice route could not reach packing fraction " + fmt(phi) + ": overlap " + fmt(left) +
-        " remains after compression (too dense for a fluid; the route is for <= " + fmt(kLatticeRouteLimit) + ")");
+    throw InputError("lattice route could not reach packing fraction " + format_number(phi) + ": overlap " +
+                     format_number(left) + " remains after compression (too dense for a fluid; the route is for <= " +
+                     format_number(kLatticeRouteLimit) + ")");
   }
   // Forget the compression: equilibrate briefly at the final density.
   if (!run_dynamics(sys, dt, 100, budget)) throw jammed();
@@ -184,9 +179,9 @@ void place_random(ParticleSystem& sys, std::int64_t n, double radius, double mas
     if (!ok) {
       const double phi = double(n) * 4.0 / 3.0 * M_PI * radius * radius * radius / box.volume();
       throw InputError("random insertion placed only " + std::to_string(placed) + " of " + std::to_string(n) +
-                       " spheres (packing fraction " + fmt(phi) +
-                       " is too dense for it; use --init lattice, which reaches " + fmt(kLatticeRouteLimit) +
-                       ", or --init dense, which reaches " + fmt(kDenseLimit) + ")");
+                       " spheres (packing fraction " + format_number(phi) +
+                       " is too dense for it; use --init lattice, which reaches " + format_number(kLatticeRouteLimit) +
+                       ", or --init dense, which reaches " + format_number(kDenseLimit) + ")");
     }
   }
 }
@@ -237,36 +232,38 @@ ParticleSystem make_initial_state(const InitSpec& spec) {
     throw InputError("number of particles n = " + std::to_string(spec.n) + " is more than the engines hold (" +
                      std::to_string(std::int64_t(kMaxAdjIndex) + 1) + ")");
   if (!(std::isfinite(spec.radius) && spec.radius > 0))
-    throw InputError("radius " + fmt(spec.radius) + " must be positive and finite");
+    throw InputError("radius " + format_number(spec.radius) + " must be positive and finite");
   if (!(std::isfinite(spec.mass) && spec.mass > 0))
-    throw InputError("mass " + fmt(spec.mass) + " must be positive and finite");
+    throw InputError("mass " + format_number(spec.mass) + " must be positive and finite");
   if (!(std::isfinite(spec.temperature) && spec.temperature > 0))
-    throw InputError("temperature " + fmt(spec.temperature) + " must be positive and finite");
+    throw InputError("temperature " + format_number(spec.temperature) + " must be positive and finite");
   if (spec.speed && !(std::isfinite(*spec.speed) && *spec.speed > 0))
-    throw InputError("init speed " + fmt(*spec.speed) + " must be positive and finite");
+    throw InputError("init speed " + format_number(*spec.speed) + " must be positive and finite");
   // The kinetic energy, sum m v^2 = 3 N T, must stay finite (rescaling to T divides by it).
   const double mv2 =
       spec.speed ? double(spec.n) * spec.mass * *spec.speed * *spec.speed : 3.0 * double(spec.n) * spec.temperature;
   if (!(mv2 <= 1e300))
-    throw InputError((spec.speed ? "init speed " + fmt(*spec.speed) : "temperature " + fmt(spec.temperature)) +
-                     " with " + std::to_string(spec.n) + " spheres of mass " + fmt(spec.mass) +
-                     " gives a kinetic energy (sum m v^2 = " + fmt(mv2) + ") that overflows double precision");
+    throw InputError(
+        (spec.speed ? "init speed " + format_number(*spec.speed) : "temperature " + format_number(spec.temperature)) +
+        " with " + std::to_string(spec.n) + " spheres of mass " + format_number(spec.mass) +
+        " gives a kinetic energy (sum m v^2 = " + format_number(mv2) + ") that overflows double precision");
   for (int d = 0; d < 3; ++d) {
     if (spec.box.periodic[d] && spec.box.length(d) < 4 * spec.radius)
-      throw InputError("periodic box length " + fmt(spec.box.length(d)) + " is less than two diameters (" +
-                       fmt(4 * spec.radius) + ")");
+      throw InputError("periodic box length " + format_number(spec.box.length(d)) + " is less than two diameters (" +
+                       format_number(4 * spec.radius) + ")");
     // A sphere pinched between two walls would bounce between them infinitely often.
     if (!spec.box.periodic[d] && spec.box.length(d) <= 2 * spec.radius)
-      throw InputError("box length " + fmt(spec.box.length(d)) + " between walls is not more than one diameter (" +
-                       fmt(2 * spec.radius) + ")");
+      throw InputError("box length " + format_number(spec.box.length(d)) +
+                       " between walls is not more than one diameter (" + format_number(2 * spec.radius) + ")");
   }
   const double phi = double(spec.n) * 4.0 / 3.0 * M_PI * std::pow(spec.radius, 3) / spec.box.volume();
   if (above(phi, kClosePacking))
-    throw InputError("packing fraction " + fmt(phi) + " is impossible: above close packing " + fmt(kClosePacking));
+    throw InputError("packing fraction " + format_number(phi) + " is impossible: above close packing " +
+                     format_number(kClosePacking));
   if (spec.method == InitMethod::Auto && above(phi, kDenseLimit))
-    throw InputError("packing fraction " + fmt(phi) + " is above " + fmt(kDenseLimit) +
+    throw InputError("packing fraction " + format_number(phi) + " is above " + format_number(kDenseLimit) +
                      ", the densest state the initialiser promises (random close packing is near 0.64, close packing " +
-                     fmt(kClosePacking) + "); --init dense tries denser ones");
+                     format_number(kClosePacking) + "); --init dense tries denser ones");
   InitMethod method = spec.method;
   if (method == InitMethod::Auto) {
     method = phi <= kRandomInsertionLimit      ? InitMethod::Random
@@ -274,9 +271,9 @@ ParticleSystem make_initial_state(const InitSpec& spec) {
                                                : InitMethod::Dense;
   }
   if (method == InitMethod::Lattice && above(phi, kLatticeRouteLimit))
-    throw InputError("packing fraction " + fmt(phi) + " is above " + fmt(kLatticeRouteLimit) +
+    throw InputError("packing fraction " + format_number(phi) + " is above " + format_number(kLatticeRouteLimit) +
                      ", the densest fluid the lattice route makes (freezing is at 0.494); --init dense reaches " +
-                     fmt(kDenseLimit));
+                     format_number(kDenseLimit));
   Rng rng(spec.seed);
   ParticleSystem sys;
   sys.box = spec.box;

@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "hardsphere/errors.hpp"
+#include "hardsphere/format.hpp"
 #include "hardsphere/lammps_io.hpp"
 #include "hardsphere/limits.hpp"
 
@@ -51,13 +52,6 @@ std::string join(const Words& w) {
   std::string all;
   for (const auto& x : w) all += (all.empty() ? "" : " ") + x;
   return shown(all);
-}
-
-std::string fmt(double v) {
-  std::ostringstream s;
-  s.precision(17);
-  s << v;
-  return s.str();
 }
 
 //! Control characters escaped: a NUL from the file would cut the message short.
@@ -333,10 +327,10 @@ class DataFile {
     for (int d = 0; d < 3; ++d) {
       if (!sys_.box.periodic[d] || !(sys_.box.length(d) < 4 * max_radius_)) continue;
       throw FormatError(r_.name(), h_.box_line[d],
-                        std::string("periodic box length ") + fmt(sys_.box.length(d)) + " along " + axis[d] +
-                            " is less than twice the largest diameter " + fmt(2 * max_radius_) + " (atom " +
-                            std::to_string(sys_.id[widest_]) + ", line " + std::to_string(atom_line_[widest_]) +
-                            "): the minimum image would be ambiguous");
+                        std::string("periodic box length ") + format_number(sys_.box.length(d), 17) + " along " +
+                            axis[d] + " is less than twice the largest diameter " + format_number(2 * max_radius_, 17) +
+                            " (atom " + std::to_string(sys_.id[widest_]) + ", line " +
+                            std::to_string(atom_line_[widest_]) + "): the minimum image would be ambiguous");
     }
   }
 
@@ -370,13 +364,14 @@ class DataFile {
     // Same operation order as LAMMPS AtomVecSphere, so masses agree to the last bit.
     const double mass = density * (4.0 * M_PI / 3.0 * radius * radius * radius);
     if (!(radius > 0 && std::isfinite(mass) && mass > 0))
-      r_.fail("atom " + id_s + " with diameter " + w[2] + " and density " + w[3] + " has mass " + fmt(mass) +
-              ", not a positive finite number");
+      r_.fail("atom " + id_s + " with diameter " + w[2] + " and density " + w[3] + " has mass " +
+              format_number(mass, 17) + ", not a positive finite number");
     static const char* axis = "xyz";
     for (int d = 0; d < 3; ++d)
       if (!sys_.box.periodic[d] && (p[d] - radius < sys_.box.lo[d] || p[d] + radius > sys_.box.hi[d]))
-        r_.fail(std::string(1, axis[d]) + " = " + w[4 + d] + " of atom " + id_s + " with radius " + fmt(radius) +
-                " is outside the wall-bounded box [" + fmt(sys_.box.lo[d]) + ", " + fmt(sys_.box.hi[d]) + "]");
+        r_.fail(std::string(1, axis[d]) + " = " + w[4 + d] + " of atom " + id_s + " with radius " +
+                format_number(radius, 17) + " is outside the wall-bounded box [" + format_number(sys_.box.lo[d], 17) +
+                ", " + format_number(sys_.box.hi[d], 17) + "]");
     if (radius > max_radius_) {
       max_radius_ = radius;
       widest_ = sys_.size();

@@ -84,12 +84,12 @@ void commit_outputs(const nlohmann::json& summary, const ParticleSystem& fin,
       {data_file ? &*data_file : nullptr, dump ? &dump->file() : nullptr, json_file ? &*json_file : nullptr, track});
 }
 
-void add_energy_summary(nlohmann::json& j, double kinetic0, double potential0, double potential1, double restitution,
-                        double contact_time, const std::array<double, 3>& gravity) {
+void add_energy_summary(nlohmann::json& j, double kinetic0, double potential0, double potential1,
+                        const Physics& physics) {
   const double e0 = kinetic0 + potential0, e1 = j["kinetic_energy_final"].get<double>() + potential1;
-  j["restitution"] = restitution;
-  j["contact_time"] = contact_time;
-  j["gravity"] = gravity;
+  j["restitution"] = physics.restitution;
+  j["contact_time"] = physics.contact_time;
+  j["gravity"] = physics.gravity;
   j["potential_energy_initial"] = potential0;
   j["potential_energy_final"] = potential1;
   j["dissipated_energy"] = e0 - e1;

@@ -1,21 +1,15 @@
-// One complete run of the event-driven engine as the CLI performs it (run_simulation with
-// engine = event): initial state, equilibration in simulated time, a measured run split into
-// blocks (for the error bar of Z and the collision rate), summary with the stepper's JSON keys
-// where they mean the same thing.
+// The event engine in the run driver: equilibration and the measured run in simulated time, the
+// latter split into blocks for the error bars of Z and of the collision rate.
 #include <algorithm>
 #include <cmath>
 #include <limits>
-#include <optional>
 #include <sstream>
 
 #include "hardsphere/errors.hpp"
 #include "hardsphere/event_engine.hpp"
-#include "hardsphere/lammps_io.hpp"
 #include "hardsphere/observables.hpp"
-#include "hardsphere/run_summary.hpp"
 #include "hardsphere/scene_limits.hpp"
-#include "hardsphere/simulation.hpp"
-#include "io/tracker.hpp"
+#include "run/engine_run.hpp"
 
 namespace hardsphere {
 
@@ -62,114 +56,121 @@ void refuse_too_many_events(const ParticleSystem& sys, double shell, double time
   }
 }
 
-}  // namespace
-
-nlohmann::json run_event_simulation(const RunSpec& spec) {
-  check_outputs(spec);
-  if (!(spec.time > 0) || !std::isfinite(spec.time))
-    throw InputError("time = " + std::to_string(spec.time) +
-                     " must be positive and finite (event engine runs for a simulated time)");
-  if (!(spec.equilibrate_time >= 0) || !std::isfinite(spec.equilibrate_time))
-    throw InputError("equilibrate time = " + std::to_string(spec.equilibrate_time) + " must be >= 0");
-  if (spec.blocks < 1) throw InputError("blocks = " + std::to_string(spec.blocks) + " must be >= 1");
-  if (spec.histogram_bins < 1)
-    throw InputError("--histogram-bins " + std::to_string(spec.histogram_bins) + " must be >= 1");
-
-  ParticleSystem sys = initial_state(spec);
-  EventConfig cfg = spec.event;
-  cfg.max_events = spec.work_limit;
-  EventEngine engine(sys, cfg);
-  refuse_too_many_events(sys, engine.shell(), spec.time + spec.equilibrate_time, spec.work_limit, spec.event.gravity);
-  std::optional<Tracker> tracker;  // the engine's state() is in input order, like sys
-  if (spec.track_id) tracker.emplace(*spec.track_file, sys, *spec.track_id, spec.track_every, spec.time, "event");
-  std::optional<DumpWriter> dump;
-  if (spec.dump) dump.emplace(*spec.dump);
-  std::optional<AtomicFile> json_file;
-  if (spec.json && *spec.json != "-") json_file.emplace(*spec.json);
-
-  if (spec.equilibrate_time > 0) {
-    engine.advance(spec.equilibrate_time);
-    sys = engine.state();
+class EventRun final : public EngineRun {
+ public:
+  explicit EventRun(const RunSpec& spec) : spec_(spec) {
+    if (!(spec.time > 0) || !std::isfinite(spec.time))
+      throw InputError("time = " + std::to_string(spec.time) +
+                       " must be positive and finite (event engine runs for a simulated time)");
+    if (!(spec.equilibrate_time >= 0) || !std::isfinite(spec.equilibrate_time))
+      throw InputError("equilibrate time = " + std::to_string(spec.equilibrate_time) + " must be >= 0");
+    if (spec.blocks < 1) throw InputError("blocks = " + std::to_string(spec.blocks) + " must be >= 1");
   }
-  engine.reset_counters();
-  const double e0 = kinetic_energy(sys);
-  const double u0 = potential_energy(sys, spec.event.gravity);
-  const Vec3d p0 = total_momentum(sys);
-  const std::size_t n = sys.size();
-  const double t0_temp = n ? 2 * e0 / (3.0 * double(n)) : 0.0;
 
-  // Measured run in blocks; a dump frame (if asked for) after each block.
+  void start(const ParticleSystem& sys) override {
+    EventConfig cfg = spec_.event;
+    cfg.max_events = spec_.work_limit;
+    engine_ = std::make_unique<EventEngine>(sys, spec_.physics, cfg);
+    refuse_too_many_events(sys, engine_->shell(), spec_.time + spec_.equilibrate_time, spec_.work_limit,
+                           spec_.physics.gravity);
+    n_ = sys.size();
+  }
+  const char* name() const override { return "event"; }
+  double measured_time() const override { return spec_.time; }
+  void check_track_every(double) const override {}  // the state is exact at any time
+  ParticleSystem state() const override { return engine_->state(); }
+  bool equilibrate() override {
+    if (!(spec_.equilibrate_time > 0)) return false;
+    engine_->advance(spec_.equilibrate_time);
+    return true;
+  }
+  void reset_counters() override { engine_->reset_counters(); }
+  double measure(const RunOutputs& out) override;
+  RunTotals totals(double kinetic0, const Vec3d& momentum0) const override {
+    const EventCounters& c = engine_->counters();
+    return {kinetic0, momentum0, c.sim_time, c.collisions, c.wall_collisions, c.pair_virial, c.wall_impulse};
+  }
+  double rounding_epsilon() const override { return std::numeric_limits<double>::epsilon(); }
+  void add_summary(nlohmann::json& j, const ParticleSystem& fin, double cpu) const override;
+  std::string final_title() const override {
+    return "hardsphere state after event-driven time " + std::to_string(engine_->counters().sim_time);
+  }
+
+ private:
+  //! Runs `duration` further, stopping at each tracker row's time on the way (samples change
+  //! nothing). A row due within rounding of the end is taken there.
+  void advance(double duration, Tracker* tracker);
+
+  const RunSpec& spec_;
+  std::unique_ptr<EventEngine> engine_;
+  std::size_t n_ = 0;
+  double t_measure_ = 0;
+  double z_error_ = 0, rate_error_ = 0;
+};
+
+void EventRun::advance(double duration, Tracker* tracker) {
+  const double end = engine_->time() + duration;
+  if (tracker) {
+    for (double t = tracker->next_time(); t_measure_ + t <= end + 1e-9 * tracker->every(); t = tracker->next_time()) {
+      engine_->advance(std::max(0.0, std::min(t_measure_ + t, end) - engine_->time()));
+      tracker->write(t, engine_->sphere(tracker->index()));
+    }
+  }
+  engine_->advance(std::max(0.0, end - engine_->time()));
+}
+
+double EventRun::measure(const RunOutputs& out) {
+  // T in each block's Z is the initial temperature; a dump frame (if asked for) after each block.
+  const double t0_temp = n_ ? 2 * kinetic_energy(engine_->state()) / (3.0 * double(n_)) : 0.0;
   double cpu = 0;
   std::vector<double> z_block, rate_block;
-  if (dump) dump->write_frame(0, sys);
-  // Runs `duration` further, stopping at each tracker sample time on the way (the engine's
-  // state is exact at any time, so samples change nothing). A sample due within rounding of
-  // the end is taken there.
-  const double t_measure = engine.time();
-  const auto advance = [&](double duration) {
-    const double end = engine.time() + duration;
-    if (tracker) {
-      for (double t = tracker->next_time(); t_measure + t <= end + 1e-9 * tracker->every(); t = tracker->next_time()) {
-        engine.advance(std::max(0.0, std::min(t_measure + t, end) - engine.time()));
-        tracker->write(t, engine.sphere(tracker->index()));
-      }
-    }
-    engine.advance(std::max(0.0, end - engine.time()));
-  };
-  const double block = spec.time / spec.blocks;
+  t_measure_ = engine_->time();
+  const double block = spec_.time / spec_.blocks;
   double w_prev = 0;
   std::int64_t coll_prev = 0;
-  for (int b = 0; b < spec.blocks; ++b) {
-    const double t_start = engine.time();
-    const double target = b + 1 == spec.blocks ? spec.time - engine.counters().sim_time : block;
+  for (int b = 0; b < spec_.blocks; ++b) {
+    const double t_start = engine_->time();
+    const double target = b + 1 == spec_.blocks ? spec_.time - engine_->counters().sim_time : block;
     const double c0 = process_cpu_seconds();
-    advance(target);
+    advance(target, out.tracker);
     cpu += process_cpu_seconds() - c0;
-    const EventCounters& c = engine.counters();
-    const double dt = engine.time() - t_start;
-    z_block.push_back(compressibility_factor(c.pair_virial - w_prev, dt, n, t0_temp));
-    rate_block.push_back(dt > 0 && n ? 2.0 * double(c.collisions - coll_prev) / (double(n) * dt) : 0.0);
+    const EventCounters& c = engine_->counters();
+    const double dt = engine_->time() - t_start;
+    z_block.push_back(compressibility_factor(c.pair_virial - w_prev, dt, n_, t0_temp));
+    rate_block.push_back(dt > 0 && n_ ? 2.0 * double(c.collisions - coll_prev) / (double(n_) * dt) : 0.0);
     w_prev = c.pair_virial;
     coll_prev = c.collisions;
-    if (dump) dump->write_frame(c.events, engine.state());
-    if (spec.progress) spec.progress(double(b + 1) / spec.blocks, c.sim_time);
+    if (out.dump) out.dump->write_frame(c.events, engine_->state());
+    if (out.progress) (*out.progress)(double(b + 1) / spec_.blocks, c.sim_time);
   }
-  const ParticleSystem fin = engine.state();
-  const EventCounters& c = engine.counters();
+  z_error_ = mean_error(z_block).second;
+  rate_error_ = mean_error(rate_block).second;
+  return cpu;
+}
 
-  const auto [z_mean, z_err] = mean_error(z_block);
-  const auto [rate_mean, rate_err] = mean_error(rate_block);
-  (void)z_mean;
-  (void)rate_mean;
-
-  RunTotals totals{e0, p0, c.sim_time, c.collisions, c.wall_collisions, c.pair_virial, c.wall_impulse};
-  nlohmann::json j = physics_summary(fin, totals, !spec.read_data.has_value(), spec.init.seed, spec.histogram_bins,
-                                     overlap_tolerance(fin, std::numeric_limits<double>::epsilon()));
-  j["engine"] = "event";
-  add_energy_summary(j, e0, u0, potential_energy(fin, spec.event.gravity), spec.event.restitution,
-                     spec.event.contact_time, spec.event.gravity);
+void EventRun::add_summary(nlohmann::json& j, const ParticleSystem&, double cpu) const {
+  const EventCounters& c = engine_->counters();
   j["sim_time"] = c.sim_time;
-  j["equilibrate_time"] = spec.equilibrate_time;
-  j["blocks"] = spec.blocks;
-  j["cells_per_dim"] = engine.cells_per_dim();
-  j["scene_kernel"] = engine.scene_kernel();
+  j["equilibrate_time"] = spec_.equilibrate_time;
+  j["blocks"] = spec_.blocks;
+  j["cells_per_dim"] = engine_->cells_per_dim();
+  j["scene_kernel"] = engine_->scene_kernel();
   j["precision"] = "double";
-  j["loop_cpu_seconds"] = cpu;
   j["cell_crossings"] = c.cell_crossings;
   j["neighbour_list_rebuilds"] = c.neighbour_list_rebuilds;
-  j["neighbour_shell"] = engine.shell();
+  j["neighbour_shell"] = engine_->shell();
   j["stale_events"] = c.stale_events;
   j["events"] = c.events;
   j["full_predictions"] = c.full_predictions;
   j["collisions_per_second"] = cpu > 0 ? double(c.collisions) / cpu : 0.0;
   j["events_per_second"] = cpu > 0 ? double(c.events) / cpu : 0.0;
   j["cpu_seconds_per_unit_time"] = c.sim_time > 0 ? cpu / c.sim_time : 0.0;
-  j["collision_rate_error"] = rate_err;
-  j["compressibility_factor_error"] = z_err;
-  if (tracker) j["track"] = tracker->summary();
-  commit_outputs(j, fin, spec.write_data, "hardsphere state after event-driven time " + std::to_string(c.sim_time),
-                 dump, json_file, tracker ? &tracker->file() : nullptr);
-  return j;
+  j["collision_rate_error"] = rate_error_;
+  j["compressibility_factor_error"] = z_error_;
 }
+
+}  // namespace
+
+std::unique_ptr<EngineRun> make_event_run(const RunSpec& spec) { return std::make_unique<EventRun>(spec); }
 
 }  // namespace hardsphere

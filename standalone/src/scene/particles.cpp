@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <numeric>
 #include <sstream>
 #include <unordered_set>
 
@@ -232,6 +233,24 @@ void validate_and_wrap(ParticleSystem& sys, const std::string& source, const std
     m << ": distance " << o->distance << " < contact distance " << o->contact;
     throw InputError(m.str());
   }
+}
+
+std::vector<std::size_t> order_by_id(const std::vector<std::int64_t>& id) {
+  const std::size_t n = id.size();
+  std::vector<std::size_t> order(n);
+  std::iota(order.begin(), order.end(), std::size_t(0));
+  if (std::is_sorted(id.begin(), id.end())) return order;
+  const auto [lo, hi] = std::minmax_element(id.begin(), id.end());
+  const std::uint64_t span = std::uint64_t(*hi) - std::uint64_t(*lo);
+  if (span >= 4 * std::uint64_t(n) + 1024) {
+    std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return id[a] < id[b]; });
+    return order;
+  }
+  std::vector<std::size_t> start(std::size_t(span) + 2, 0);
+  for (const std::int64_t v : id) ++start[std::size_t(std::uint64_t(v) - std::uint64_t(*lo)) + 1];
+  std::partial_sum(start.begin(), start.end(), start.begin());
+  for (std::size_t i = 0; i < n; ++i) order[start[std::size_t(std::uint64_t(id[i]) - std::uint64_t(*lo))]++] = i;
+  return order;
 }
 
 }  // namespace hardsphere

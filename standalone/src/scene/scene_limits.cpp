@@ -176,39 +176,4 @@ void check_engine_numbers(const ParticleSystem& sys, double dt, const std::strin
 template void check_engine_numbers<float>(const ParticleSystem&, double, const std::string&);
 template void check_engine_numbers<double>(const ParticleSystem&, double, const std::string&);
 
-void check_restitution(double restitution, double contact_time) {
-  if (!(restitution > 0 && restitution <= 1)) {
-    std::ostringstream m;
-    m << "restitution " << restitution << " must be in (0, 1] (1: elastic)";
-    throw InputError(m.str());
-  }
-  if (!(contact_time >= 0 && std::isfinite(contact_time))) {
-    std::ostringstream m;
-    m << "contact time " << contact_time << " must be finite and >= 0";
-    throw InputError(m.str());
-  }
-  if (restitution < 1 && contact_time == 0)
-    throw InputError(
-        "contact time 0 with restitution below 1: an inelastic collapse (infinitely many collisions in "
-        "finite time) would never end; give the TC model a contact time > 0");
-}
-
-void check_gravity(const std::array<double, 3>& g, const std::array<bool, 3>& periodic) {
-  for (int d = 0; d < 3; ++d) {
-    if (!std::isfinite(g[std::size_t(d)])) {
-      std::ostringstream m;
-      m << "gravity component "
-        << "xyz"[d] << " = " << g[std::size_t(d)] << " must be finite";
-      throw InputError(m.str());
-    }
-    if (g[std::size_t(d)] != 0 && periodic[std::size_t(d)]) {
-      std::ostringstream m;
-      m << "gravity along periodic axis "
-        << "xyz"[d] << " (" << g[std::size_t(d)]
-        << ") would accelerate the spheres without end; put walls on that axis (--boundary ...,w)";
-      throw InputError(m.str());
-    }
-  }
-}
-
 }  // namespace hardsphere

@@ -30,13 +30,6 @@
 
 namespace hardsphere {
 
-//! Image code of a periodic shift (kx, ky, kz) in {-1, 0, 1}^3; 13 means no shift and the
-//! mirrored shift of code c is 26 - c.
-constexpr std::uint8_t image_code(int kx, int ky, int kz) {
-  return std::uint8_t((kx + 1) * 9 + (ky + 1) * 3 + (kz + 1));
-}
-constexpr std::uint8_t kNoImage = 13;
-
 //! Views of an engine's per-sphere arrays and of its neighbour lists (CSR, both directions).
 //! For entry e = adj[k] of sphere s the separation is
 //! pos[s] - pos[adj_partner(e)] - image_shift[adj_image(e)]; indices are at most kMaxAdjIndex.

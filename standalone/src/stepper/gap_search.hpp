@@ -7,11 +7,11 @@
 #include <cstdint>
 #include <vector>
 
+#include "common/neighbour_entry.hpp"
 #include "hardsphere/box.hpp"
 #include "hardsphere/vec3.hpp"
 #include "scene/cell_grid.hpp"
 #include "stepper/close_pairs_row.hpp"
-#include "stepper/contact_resolver.hpp"
 
 namespace hardsphere::detail {
 

@@ -23,6 +23,7 @@
 #include "stepper/drift_kernel.hpp"
 #include "stepper/gap_search.hpp"
 #include "stepper/list_guard.hpp"
+#include "stepper/pair_list.hpp"
 
 namespace hardsphere {
 
@@ -54,26 +55,6 @@ bool detects_by_sweep(Detect d, const ParticleSystem& sys, double dt) {
   double smallest = std::numeric_limits<double>::infinity();
   for (const double r : sys.radius) smallest = std::min(smallest, 2 * r);
   return rms_speed(sys) * dt > kOverlapDetectionLimit * smallest;
-}
-
-//! Indices that put the ids in ascending order, stable for equal ids. Ids that span a range
-//! of a few times their number (atom tags) are counted into place in O(n).
-std::vector<std::size_t> order_by_id(const std::vector<std::int64_t>& id) {
-  const std::size_t n = id.size();
-  std::vector<std::size_t> order(n);
-  std::iota(order.begin(), order.end(), std::size_t(0));
-  if (std::is_sorted(id.begin(), id.end())) return order;
-  const auto [lo, hi] = std::minmax_element(id.begin(), id.end());
-  const std::uint64_t span = std::uint64_t(*hi) - std::uint64_t(*lo);
-  if (span >= 4 * std::uint64_t(n) + 1024) {
-    std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return id[a] < id[b]; });
-    return order;
-  }
-  std::vector<std::size_t> start(std::size_t(span) + 2, 0);
-  for (const std::int64_t v : id) ++start[std::size_t(std::uint64_t(v) - std::uint64_t(*lo)) + 1];
-  std::partial_sum(start.begin(), start.end(), start.begin());
-  for (std::size_t i = 0; i < n; ++i) order[start[std::size_t(std::uint64_t(id[i]) - std::uint64_t(*lo))]++] = i;
-  return order;
 }
 
 double auto_skin(const ParticleSystem& sys, double dt, double phi_gas) {
@@ -122,7 +103,8 @@ bool big_pass_fits(const ParticleSystem& sys, const SizeSplit& split, double ski
 template <class Real, bool Mono>
 class Stepper final : public StepperBase, public StateExchange {
  public:
-  Stepper(const ParticleSystem& sys, const StepperConfig& cfg);
+  //! `physics` as validated() returns it.
+  Stepper(const ParticleSystem& sys, const Physics& physics, const StepperConfig& cfg);
 
   void run(std::int64_t steps) override {
     std::fill(met_owned_.begin(), met_owned_.end(), std::uint8_t(0));
@@ -399,42 +381,6 @@ class Stepper final : public StepperBase, public StateExchange {
   void scan_pair_list();
   void rebuild();
   void bind_resolver();
-  struct CellRun;
-  int stencil_runs(std::int64_t c, const std::array<int, 3>& at, CellRun* out) const;
-  void build_pairs_half_stencil();
-  void build_pairs_any_grid();
-  void build_adjacency();
-  void build_big_pairs();
-  //! Calls push(b, gap) for each big sphere b != i with gap_lo <= gap_ib < gap_hi (minimum image).
-  template <class Push>
-  void for_each_big_gap(std::uint32_t i, Real gap_lo, Real gap_hi, Push&& push) const;
-  //! Adds a pair found outside the block kernel (which counts its own) and counts it.
-  void push_pair(std::uint32_t i, std::uint32_t j, std::uint8_t image) {
-    ++adj_start_[i + 1], ++adj_start_[j + 1];
-    if (image == kNoImage)
-      near_.push_back({i, j});
-    else {
-      wrap_.push_back({i, j});
-      wrap_image_.push_back(image);
-    }
-  }
-  //! Lists i and j if their nearest images are within the list's reach (pair builds that do not
-  //! go by the half stencil: any grid, big spheres among themselves).
-  void push_if_near(std::uint32_t i, std::uint32_t j) {
-    V3<Real> d = pos_[i] - pos_[j];
-    int k[3] = {0, 0, 0};
-    for (int a = 0; a < 3; ++a)
-      if (box_.periodic[a]) {
-        k[a] = int(std::nearbyint(d[a] / length_[a]));
-        d[a] -= Real(k[a]) * length_[a];
-      }
-    const Real cut = list_cut(r_[i] + r_[j]);
-    if (dot(d, d) < cut * cut) push_pair(i, j, image_code(k[0], k[1], k[2]));
-  }
-  //! Candidate cut-off of a pair: contact distance plus skin (an infinite skin takes all).
-  Real list_cut(Real contact) const {
-    return std::isinf(skin_) ? std::numeric_limits<Real>::max() / 4 : contact + skin_;
-  }
   void note_displacement(std::uint32_t i) {
     const V3<Real> d = pos_[i] - pos0_[i];
     guard_.note(i, dot(d, d), threats_of());
@@ -442,10 +388,8 @@ class Stepper final : public StepperBase, public StateExchange {
   bool list_expired() const { return guard_.expired(); }
   //! For the guard: the spheres j with skin <= gap_ij < 2 kMaxMove skin of sphere i at the last rebuild.
   auto threats_of() {
-    return [this](std::uint32_t i, auto&& push) { for_each_threat(i, push); };
+    return [this](std::uint32_t i, auto&& push) { pairs_.for_each_threat(i, detail::ListGuard<Real>::kMaxMove, push); };
   }
-  template <class Push>
-  void for_each_threat(std::uint32_t i, Push& push) const;
 
   // The engine works in coordinates relative to the box's lower corner (box_ runs from 0 to
   // L), so single precision resolves a box far from the origin as well as one at it; user_box_
@@ -489,32 +433,11 @@ class Stepper final : public StepperBase, public StateExchange {
   std::vector<std::array<std::int32_t, 3>> image0_;  // id order: the input's image flags
   std::vector<int> type_, cell_;
   std::vector<std::uint32_t> cell_start_, order_;
-  // Candidate pairs within r_i + r_j + skin at the last rebuild: those inside the box (most)
-  // need no image shift; pairs across a periodic face carry their image code.
-  struct Pair {
-    std::uint32_t i, j;
-  };
-  std::vector<Pair, detail::DefaultInitAllocator<Pair>> near_;  // grown and cut back at every rebuild
-  std::vector<Pair> wrap_;
-  std::vector<std::uint8_t> wrap_image_;
-  std::vector<Real> soa_x_, soa_y_, soa_z_;  // pos_ as coordinate arrays (filled at rebuild) for the pair build
-  std::vector<std::uint32_t> wrap_row_;      // one row's pairs across a periodic face
-  mutable std::vector<std::uint32_t> threat_scratch_;  // for_each_threat(): one row's spheres within reach
-  // Half stencil as runs of consecutive cells: the 13 forward neighbours of a cell are one
-  // cell and four rows of three along x, contiguous in cell order (so in memory) unless a row
-  // wraps through a periodic x face. Up to kMaxRuns runs [begin, end) + image per cell, made
-  // when the pair list is built: a table of them would be larger than the spheres' own data.
-  struct CellRun {
-    int begin, end;
-    std::uint8_t image;
-  };
-  static constexpr int kMaxRuns = 10;
+  // Candidate pairs within r_i + r_j + skin at the last rebuild, and their adjacency.
+  detail::PairList<Real, Mono> pairs_;
   std::vector<V3<Real>> scratch_v3_;
   std::vector<Real> scratch_real_;
   std::vector<std::uint32_t> scratch_u32_;
-  // For each sphere s, its list partners q and the image of r_s - r_q (CSR), for local sweeps.
-  std::vector<std::uint32_t> adj_start_, adj_, adj_cursor_;  // adj_: adj_entry(partner, image)
-  std::vector<std::uint32_t> adj_plain_end_;                 // per row, the end of its entries without an image
   ContactResolver<Real, Mono> resolver_;
   ContactTally tally_;
   mutable StepCounters counters_;
@@ -537,7 +460,7 @@ class Stepper final : public StepperBase, public StateExchange {
 };
 
 template <class Real, bool Mono>
-Stepper<Real, Mono>::Stepper(const ParticleSystem& sys, const StepperConfig& cfg)
+Stepper<Real, Mono>::Stepper(const ParticleSystem& sys, const Physics& physics, const StepperConfig& cfg)
     : box_(relative_box(sys.box)),
       user_box_(sys.box),
       origin_(sys.box.lo),
@@ -550,8 +473,6 @@ Stepper<Real, Mono>::Stepper(const ParticleSystem& sys, const StepperConfig& cfg
     throw InputError(m.str());
   }
   if (cfg.max_events_per_step < 1) throw InputError("max events per step must be >= 1");
-  check_restitution(cfg.restitution, cfg.contact_time);
-  check_gravity(cfg.gravity, sys.box.periodic);
   check_scene_numbers(sys, "stepper");
   check_engine_numbers<Real>(sys, cfg.dt, sizeof(Real) == sizeof(float) ? "stepper in single precision" : "stepper");
   const std::size_t n = sys.size();
@@ -658,16 +579,17 @@ Stepper<Real, Mono>::Stepper(const ParticleSystem& sys, const StepperConfig& cfg
   resolver_.reset(n, dt_);
   resolver_.set_uniform(sigma_, n ? m_[0] : Real(0));
   resolver_.set_event_limit(cfg.max_events_per_step);
-  if (cfg.restitution != 1.0) {
+  if (!physics.elastic()) {
     last_collision_.assign(n, -std::numeric_limits<double>::infinity());
-    resolver_.set_restitution(Real(cfg.restitution), cfg.contact_time, last_collision_.data());
+    resolver_.set_restitution(Real(physics.restitution), physics.contact_time, last_collision_.data());
   }
   std::array<Real, 3> wall_lo{}, wall_hi{};
   for (std::size_t d = 0; d < 3; ++d) wall_lo[d] = Real(box_.lo[d]), wall_hi[d] = Real(box_.hi[d]);
   resolver_.set_walls(box_.periodic, wall_lo, wall_hi);
-  gravity_ = {Real(cfg.gravity[0]), Real(cfg.gravity[1]), Real(cfg.gravity[2])};
-  has_gravity_ = cfg.gravity != std::array<double, 3>{0, 0, 0};
+  gravity_ = {Real(physics.gravity[0]), Real(physics.gravity[1]), Real(physics.gravity[2])};
+  has_gravity_ = physics.has_gravity();
   resolver_.set_gravity(gravity_);
+  pairs_.configure({&grid_, &box_, length_, image_shift_, skin_, sigma_, cell_radius_, max_radius_});
   // Threats are enumerated from the cells within two of a sphere's: every periodic axis needs
   // 3 cells (so a cell is at least sigma + skin wide).
   guard_.configure(skin_, cfg.pairwise_list_check && grid_.half_stencil_ok(), std::max<std::size_t>(n / 32, 16));
@@ -678,132 +600,6 @@ Stepper<Real, Mono>::Stepper(const ParticleSystem& sys, const StepperConfig& cfg
   rebuild();
   counters_.rebuilds = 0;
   refresh_speed_bound();
-}
-
-template <class Real, bool Mono>
-int Stepper<Real, Mono>::stencil_runs(std::int64_t c, const std::array<int, 3>& at, CellRun* const first) const {
-  // Every periodic axis has >= 3 cells: the 13 forward neighbours of a cell are distinct, and
-  // wrapping a neighbour's cell coordinate gives exactly the pair's minimum image, so each
-  // unordered pair of neighbouring cells is met once and no pair needs a division.
-  // Forward rows (dy, dz) whose x range is [dx_lo, 1]: the cell's own row only ahead of it.
-  static const int rows[5][3] = {{1, 0, 0}, {-1, 1, 0}, {-1, -1, 1}, {-1, 0, 1}, {-1, 1, 1}};
-  const auto k = grid_.counts();
-  const int cx = at[0], cy = at[1], cz = at[2];  // cell c's coordinates
-  if (cx >= 1 && cx + 1 < k[0] && k[0] >= 4 && cy >= 1 && cy + 1 < k[1] && cz + 1 < k[2]) {
-    // Inside the grid the five runs are offsets (with 4 or more cells along x none of them
-    // touch, so none merge).
-    const int row = k[0], layer = k[0] * k[1], ci = int(c);
-    for (int r = 0; r < 5; ++r) {
-      const int begin = ci + rows[r][0] + rows[r][1] * row + rows[r][2] * layer;
-      first[r] = {begin, ci + 2 + rows[r][1] * row + rows[r][2] * layer, kNoImage};
-    }
-    return 5;
-  }
-  CellRun* out = first;
-  for (const auto& row : rows) {
-    int ny = cy + row[1], nz = cz + row[2], iy = 0, iz = 0;
-    if (ny < 0 || ny >= k[1]) {
-      if (!box_.periodic[1]) continue;
-      iy = ny < 0 ? -1 : 1;  // across the lower face j's nearest image is one box down
-      ny = (ny + k[1]) % k[1];
-    }
-    if (nz < 0 || nz >= k[2]) {
-      if (!box_.periodic[2]) continue;
-      iz = nz < 0 ? -1 : 1;
-      nz = (nz + k[2]) % k[2];
-    }
-    // Split the x range [cx + dx_lo, cx + 1] where it leaves the box.
-    for (int x = cx + row[0]; x <= cx + 1; ++x) {
-      int nx = x, ix = 0;
-      if (nx < 0 || nx >= k[0]) {
-        if (!box_.periodic[0]) continue;
-        ix = nx < 0 ? -1 : 1;
-        nx = (nx + k[0]) % k[0];
-      }
-      const int cell = grid_.index(nx, ny, nz);
-      const std::uint8_t image = image_code(ix, iy, iz);
-      if (out != first && out[-1].end == cell && out[-1].image == image)
-        ++out[-1].end;  // extends the previous run
-      else
-        *out++ = {cell, cell + 1, image};
-    }
-  }
-  return int(out - first);
-}
-
-template <class Real, bool Mono>
-void Stepper<Real, Mono>::build_pairs_half_stencil() {
-  const Real mono_cut = list_cut(sigma_), mono_cut2 = mono_cut * mono_cut;
-  const std::int64_t ncell = grid_.size();
-  // A cell's spheres against each run of consecutive spheres go to append_close_block
-  // (vectorised where the CPU allows); pairs across a periodic face (rare) take push_pair.
-  static_assert(sizeof(Pair) == 2 * sizeof(std::uint32_t) && offsetof(Pair, j) == sizeof(std::uint32_t));
-  std::size_t n_near = 0;
-  near_.resize(std::max<std::size_t>(near_.size(), 1024));
-  std::uint32_t* degree = adj_start_.data() + 1;  // list lengths, see rebuild()
-  const detail::RowSoA<Real> soa{soa_x_.data(), soa_y_.data(), soa_z_.data(), r_.data()};
-  const auto counts = grid_.counts();
-  std::array<int, 3> at{-1, 0, 0};  // cell c's coordinates, x fastest
-  for (std::int64_t c = 0; c < ncell; ++c) {
-    if (++at[0] == counts[0]) {
-      at[0] = 0;
-      if (++at[1] == counts[1]) at[1] = 0, ++at[2];
-    }
-    const std::uint32_t b0 = cell_start_[c], b1 = cell_start_[c + 1];
-    if (b0 == b1) continue;
-    CellRun runs[kMaxRuns];
-    const int nruns = stencil_runs(c, at, runs);
-    std::size_t reach = b1 - b0;  // an upper bound of the pairs this cell can add
-    for (int r = 0; r < nruns; ++r) reach += cell_start_[runs[r].end] - cell_start_[runs[r].begin];
-    const std::size_t need = n_near + (b1 - b0) * reach + detail::kRowSlack;
-    if (need > near_.size()) near_.resize(2 * need);
-    // The cell's own row (after i) and a first run that starts at the next cell without an
-    // image (the +x neighbour, unless x wraps) are contiguous: one row.
-    int first = 0;
-    std::uint32_t own_end = b1;
-    if (nruns > 0 && runs[0].begin == c + 1 && runs[0].image == kNoImage) {
-      own_end = cell_start_[runs[0].end];
-      first = 1;
-    }
-    auto* out = reinterpret_cast<std::uint32_t*>(near_.data());
-    n_near = detail::append_close_block<Real, Mono>(soa, b0, b1, b0 + 1, own_end, true, skin_, mono_cut2, out, n_near,
-                                                    degree);
-    for (int r = first; r < nruns; ++r) {
-      const std::uint32_t e0 = cell_start_[runs[r].begin], e1 = cell_start_[runs[r].end];
-      if (runs[r].image == kNoImage) {
-        n_near =
-            detail::append_close_block<Real, Mono>(soa, b0, b1, e0, e1, false, skin_, mono_cut2, out, n_near, degree);
-        continue;
-      }
-      // Across a periodic face (rare): the row test with i's image, into a scratch buffer.
-      for (std::uint32_t i = b0; i < b1; ++i) {
-        const V3<Real> pis = pos_[i] - image_shift_[runs[r].image];
-        wrap_row_.resize(2 * (e1 - e0 + detail::kRowSlack));
-        const std::size_t hits = detail::append_close_row<Real, Mono>(
-            soa, i, pis.x, pis.y, pis.z, Mono ? Real(0) : r_[i], skin_, mono_cut2, e0, e1, wrap_row_.data(), 0);
-        for (std::size_t k = 0; k < hits; ++k) push_pair(i, wrap_row_[2 * k + 1], runs[r].image);
-      }
-    }
-  }
-  near_.resize(n_near);
-}
-
-template <class Real, bool Mono>
-void Stepper<Real, Mono>::build_pairs_any_grid() {
-  // General grids (an axis with 1 or 2 periodic cells): neighbour cells may repeat, so take
-  // each unordered cell pair once by index and the minimum image per pair.
-  const std::int64_t ncell = grid_.size();
-  for (std::int64_t c = 0; c < ncell; ++c) {
-    const std::uint32_t b0 = cell_start_[c], b1 = cell_start_[c + 1];
-    if (b0 == b1) continue;
-    grid_.for_each_neighbour(int(c), [&](int nb) {
-      if (nb < c) return;
-      const std::uint32_t e1 = cell_start_[nb + 1];
-      for (std::uint32_t i = b0; i < b1; ++i) {
-        for (std::uint32_t j = (nb == c ? i + 1 : cell_start_[nb]); j < e1; ++j) push_if_near(i, j);
-      }
-    });
-  }
 }
 
 template <class Real, bool Mono>
@@ -838,10 +634,11 @@ void Stepper<Real, Mono>::rebuild() {
   };
   // Positions also go to the rebuild reference and to coordinate arrays for the pair build,
   // in the same pass.
-  scratch_v3_.resize(n), pos0_.resize(n), soa_x_.resize(n), soa_y_.resize(n), soa_z_.resize(n);
+  scratch_v3_.resize(n), pos0_.resize(n);
+  Real *const sx = pairs_.x(n), *const sy = pairs_.y(n), *const sz = pairs_.z(n);
   for (std::size_t k = 0; k < n; ++k) {
     const V3<Real> p = pos_[order_[k]];
-    scratch_v3_[k] = p, pos0_[k] = p, soa_x_[k] = p.x, soa_y_[k] = p.y, soa_z_[k] = p.z;
+    scratch_v3_[k] = p, pos0_[k] = p, sx[k] = p.x, sy[k] = p.y, sz[k] = p.z;
   }
   pos_.swap(scratch_v3_);
   permute(vel_, scratch_v3_);
@@ -862,16 +659,7 @@ void Stepper<Real, Mono>::rebuild() {
   guard_.reset(n);
 
   // Candidate list: every pair that could touch before the next rebuild.
-  near_.clear();
-  wrap_.clear();
-  wrap_image_.clear();
-  adj_start_.assign(n + 1, 0);  // each sphere's list length, counted where its pairs are found
-  if (grid_.half_stencil_ok())
-    build_pairs_half_stencil();
-  else
-    build_pairs_any_grid();
-  if (!big_.empty()) build_big_pairs();
-  build_adjacency();
+  pairs_.build(pos_.data(), r_.data(), cell_start_.data(), n, big_.empty() ? std::uint32_t(n) : big_begin_);
   if (speeds_) {  // in the new order (a rebuild inside a step needs the current speeds)
     speed_.resize(n);
     for (std::size_t k = 0; k < n; ++k) speed_[k] = norm(vel_[k]);
@@ -882,75 +670,11 @@ void Stepper<Real, Mono>::rebuild() {
 
 template <class Real, bool Mono>
 void Stepper<Real, Mono>::bind_resolver() {
-  resolver_.bind({pos_.data(), vel_.data(), r_.data(), m_.data(), id_.data(), slot_.data(), adj_start_.data(),
-                  adj_.data(), image_shift_, speeds_ ? speed_.data() : nullptr, adj_plain_end_.data(),
+  resolver_.bind({pos_.data(), vel_.data(), r_.data(), m_.data(), id_.data(), slot_.data(), pairs_.adj_start(),
+                  pairs_.adj(), image_shift_, speeds_ ? speed_.data() : nullptr, pairs_.adj_plain_end(),
                   owned_.empty() ? nullptr : owned_.data(), owned_.empty() ? nullptr : met_owned_.data(),
                   pair_collisions_.empty() ? nullptr : pair_collisions_.data(),
                   sphere_virial_.empty() ? nullptr : sphere_virial_.data()});
-}
-
-template <class Real, bool Mono>
-template <class Push>
-void Stepper<Real, Mono>::for_each_threat(std::uint32_t i, Push& push) const {
-  // The guard's window, gap < 2 kMaxMove skin, keeps sigma + gap below sigma + 2 skin: two cell
-  // widths, or half a periodic axis for big spheres (big_pass_fits). Gaps are computed again here, so a margin covers
-  // their rounding against the pair build's: pairs at the list's edge count as threats, and gaps are rounded down.
-  const Real eps = Real(1e-4) * (Real(2) * max_radius_ + skin_);
-  const Real window = Real(2) * detail::ListGuard<Real>::kMaxMove * skin_;
-  const detail::CellSorted<Real> cells{
-      &grid_, &box_, cell_start_.data(), {soa_x_.data(), soa_y_.data(), soa_z_.data(), r_.data()}, image_shift_};
-  detail::for_each_gap_between<Real, Mono>(cells, i, sigma_, cell_radius_, skin_ - eps, window + eps, threat_scratch_,
-                                           [&](std::uint32_t j, Real gap, std::uint8_t) { push(j, gap - eps); });
-  for_each_big_gap(i, skin_ - eps, window + eps, [&](std::uint32_t b, Real gap) { push(b, gap - eps); });
-}
-
-template <class Real, bool Mono>
-template <class Push>
-void Stepper<Real, Mono>::for_each_big_gap(std::uint32_t i, Real gap_lo, Real gap_hi, Push&& push) const {
-  // The box is longer than twice any big sphere's reach (big_pass_fits), so the minimum image
-  // is the only one that can be this close.
-  const std::uint32_t n = std::uint32_t(pos_.size());
-  if (big_.empty()) return;
-  for (std::uint32_t b = big_begin_; b < n; ++b) {
-    if (b == i) continue;
-    V3<Real> d{soa_x_[i] - soa_x_[b], soa_y_[i] - soa_y_[b], soa_z_[i] - soa_z_[b]};
-    for (int a = 0; a < 3; ++a)
-      if (box_.periodic[a]) d[a] -= std::nearbyint(d[a] / length_[a]) * length_[a];
-    const Real gap = std::sqrt(dot(d, d)) - (r_[i] + r_[b]);
-    if (gap >= gap_lo && gap < gap_hi) push(b, gap);
-  }
-}
-
-template <class Real, bool Mono>
-void Stepper<Real, Mono>::build_big_pairs() {
-  // Each big sphere against the small ones in every cell its reach overlaps, then big against
-  // big by all pairs; minimum images, stored lower index first like every pair.
-  const std::uint32_t n = std::uint32_t(pos_.size());
-  const detail::CellSorted<Real> cells{
-      &grid_, &box_, cell_start_.data(), {soa_x_.data(), soa_y_.data(), soa_z_.data(), r_.data()}, image_shift_};
-  for (std::uint32_t b = big_begin_; b < n; ++b) {
-    detail::for_each_gap_between<Real, false>(
-        cells, b, sigma_, cell_radius_, -std::numeric_limits<Real>::infinity(), skin_, threat_scratch_,
-        [&](std::uint32_t j, Real, std::uint8_t image) { push_pair(j, b, std::uint8_t(26 - image)); });
-    for (std::uint32_t c = b + 1; c < n; ++c) push_if_near(b, c);
-  }
-}
-
-template <class Real, bool Mono>
-void Stepper<Real, Mono>::build_adjacency() {
-  // Both directions, CSR, for sweeping one sphere's neighbours; (j, i) carries the mirrored image.
-  const std::size_t n = pos_.size(), np = near_.size() + wrap_.size();
-  // adj_start_[i + 1] holds sphere i's list length, counted by the pair build.
-  for (std::size_t i = 0; i < n; ++i) adj_start_[i + 1] += adj_start_[i];
-  adj_.resize(2 * np);
-  adj_cursor_.assign(adj_start_.begin(), adj_start_.end() - 1);
-  auto add = [&](std::uint32_t i, std::uint32_t j, std::uint8_t image) {
-    adj_[adj_cursor_[i]++] = adj_entry(j, image);
-    adj_[adj_cursor_[j]++] = adj_entry(i, std::uint8_t(26 - image));
-  };
-  for (const auto& p : near_) add(p.i, p.j, kNoImage);
-  adj_plain_end_.assign(adj_cursor_.begin(), adj_cursor_.end());  // each row: pairs without an image first
-  for (std::size_t k = 0; k < wrap_.size(); ++k) add(wrap_[k].i, wrap_[k].j, wrap_image_[k]);
 }
 
 template <class Real, bool Mono>
@@ -992,10 +716,12 @@ void Stepper<Real, Mono>::scan_pair_list() {
   // hits: a rejected pair costs no branch and the position loads of a chunk overlap.
   constexpr std::size_t kChunk = 256;
   std::uint32_t hits[kChunk + 4];
-  const Pair* __restrict pairs = near_.data();
+  using Pair = typename detail::PairList<Real, Mono>::Pair;
+  const auto& near = pairs_.near();
+  const Pair* __restrict pairs = near.data();
   static_assert(sizeof(Pair) == 2 * sizeof(std::uint32_t), "pairs as (i, j) words");
-  for (std::size_t c0 = 0; c0 < near_.size(); c0 += kChunk) {
-    const std::size_t len = std::min(kChunk, near_.size() - c0);
+  for (std::size_t c0 = 0; c0 < near.size(); c0 += kChunk) {
+    const std::size_t len = std::min(kChunk, near.size() - c0);
     std::uint32_t n = 0;
     if constexpr (Mono) {
       const Real lim = Sweep ? sigma_ + reach : sigma_;
@@ -1015,9 +741,11 @@ void Stepper<Real, Mono>::scan_pair_list() {
       test(p.i, p.j, kNoImage, pos[p.i] - pos[p.j]);
     }
   }
-  for (std::size_t k = 0; k < wrap_.size(); ++k) {
-    const Pair p = wrap_[k];
-    test(p.i, p.j, wrap_image_[k], pos[p.i] - pos[p.j] - image_shift_[wrap_image_[k]]);
+  const auto& wrap = pairs_.wrap();
+  const auto& wrap_image = pairs_.wrap_image();
+  for (std::size_t k = 0; k < wrap.size(); ++k) {
+    const Pair p = wrap[k];
+    test(p.i, p.j, wrap_image[k], pos[p.i] - pos[p.j] - image_shift_[wrap_image[k]]);
   }
 }
 
@@ -1151,16 +879,19 @@ SphereSample Stepper<Real, Mono>::sphere(std::size_t index) const {
 }
 
 template <class Real>
-std::unique_ptr<StepperBase> make_stepper_for(const ParticleSystem& sys, const StepperConfig& cfg) {
-  if (cfg.specialise && sys.monodisperse()) return std::make_unique<Stepper<Real, true>>(sys, cfg);
-  return std::make_unique<Stepper<Real, false>>(sys, cfg);
+std::unique_ptr<StepperBase> make_stepper_for(const ParticleSystem& sys, const Physics& physics,
+                                              const StepperConfig& cfg) {
+  if (cfg.specialise && sys.monodisperse()) return std::make_unique<Stepper<Real, true>>(sys, physics, cfg);
+  return std::make_unique<Stepper<Real, false>>(sys, physics, cfg);
 }
 
 }  // namespace
 
-std::unique_ptr<StepperBase> make_stepper(const ParticleSystem& sys, const StepperConfig& cfg, Precision precision) {
-  if (precision == Precision::Float) return make_stepper_for<float>(sys, cfg);
-  return make_stepper_for<double>(sys, cfg);
+std::unique_ptr<StepperBase> make_stepper(const ParticleSystem& sys, const Physics& physics, const StepperConfig& cfg,
+                                          Precision precision) {
+  const Physics checked = validated(physics, sys.box.periodic);
+  if (precision == Precision::Float) return make_stepper_for<float>(sys, checked, cfg);
+  return make_stepper_for<double>(sys, checked, cfg);
 }
 
 StateExchange& state_exchange(StepperBase& stepper) {

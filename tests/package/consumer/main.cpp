@@ -27,14 +27,14 @@ int main() {
 
   hs::StepperConfig cfg;
   cfg.dt = 0.01;
-  auto stepper = hs::make_stepper(start, cfg);
+  auto stepper = hs::make_stepper(start, hs::Physics{}, cfg);
   stepper->run(200);
   const hs::ParticleSystem end = stepper->state();
   if (stepper->counters().collisions == 0) return fail("the stepper resolved no collision", 0);
   const double drift = std::abs(hs::kinetic_energy(end) / e0 - 1);
   if (drift > 1e-12) return fail("stepper energy drift", drift);
 
-  hs::EventEngine event(start, hs::EventConfig{});
+  hs::EventEngine event(start, hs::Physics{}, hs::EventConfig{});
   event.advance(2.0);
   const double event_drift = std::abs(hs::kinetic_energy(event.state()) / e0 - 1);
   if (event_drift > 1e-12) return fail("event engine energy drift", event_drift);

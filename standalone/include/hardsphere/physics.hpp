@@ -1,0 +1,49 @@
+#pragma once
+//! The collision law and the external field of a scene: one configuration that both engines, the
+//! command line and the LAMMPS fix take, checked in one place (validated()).
+#include <array>
+#include <string>
+
+namespace hardsphere {
+
+//! TC-model contact time the adapters use when the restitution is below 1 and none is given:
+//! short against a mean free time (~0.1-10 in reduced units for phi 0.45-0.01).
+constexpr double kDefaultContactTime = 1e-4;
+
+//! A gravity component below this fraction of the largest is rounding (LAMMPS's `spherical` angles give
+//! ~1e-16) and counts as zero.
+constexpr double kGravityRounding = 1e-12;
+
+struct Physics {
+  //! Normal restitution of sphere-sphere collisions, in (0, 1]; walls stay elastic.
+  double restitution = 1.0;
+  //! TC model of inelastic collapse (Luding and McNamara 1998): a collision within this time of
+  //! either sphere's previous collision is elastic, so no finite time holds infinitely many.
+  //! Must be > 0 when the restitution is below 1.
+  double contact_time = 0.0;
+  //! Uniform acceleration, allowed along wall axes only: flights are parabolas, relative motion
+  //! of pairs stays straight. Potential energy -m g.(x - lo).
+  std::array<double, 3> gravity{0, 0, 0};
+
+  bool elastic() const { return restitution == 1.0; }
+  bool has_gravity() const { return gravity != std::array<double, 3>{0, 0, 0}; }
+};
+
+//! `g` with its components at rounding level (below kGravityRounding of the largest) set to zero.
+std::array<double, 3> without_rounding(std::array<double, 3> g);
+
+//! How an adapter names the settings in messages: the command line's options, the fix's keywords.
+struct PhysicsNames {
+  std::string restitution = "restitution";
+  std::string contact_time = "contact time";
+  std::string gravity = "gravity";
+  std::string walls = "walls on that axis";  //!< the remedy for gravity along a periodic axis
+};
+
+//! `p` checked against boxes with these periodic axes, with gravity components at rounding level
+//! (kGravityRounding) set to zero. Throws InputError naming the value: a restitution outside
+//! (0, 1], a contact time that is negative, not finite or 0 with a restitution below 1, a gravity
+//! that is not finite or has a component along a periodic axis.
+Physics validated(Physics p, const std::array<bool, 3>& periodic, const PhysicsNames& names = {});
+
+}  // namespace hardsphere

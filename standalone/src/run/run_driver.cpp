@@ -1,0 +1,93 @@
+// One complete run as the command line performs it, for either engine: outputs checked, initial
+// state, equilibration, the measured run with dumps and tracker rows, the summary, and the commit
+// of every output only when all of it succeeded.
+#include <ctime>
+#include <limits>
+
+#include "hardsphere/atomic_file.hpp"
+#include "hardsphere/errors.hpp"
+#include "hardsphere/lammps_io.hpp"
+#include "hardsphere/observables.hpp"
+#include "hardsphere/run_summary.hpp"
+#include "hardsphere/simulation.hpp"
+#include "io/tracker.hpp"
+#include "run/engine_run.hpp"
+
+namespace hardsphere {
+
+Engine parse_engine(const std::string& s) {
+  if (s == "stepper") return Engine::Stepper;
+  if (s == "event") return Engine::Event;
+  throw InputError("unknown engine '" + s + "' (expected stepper or event)");
+}
+
+double process_cpu_seconds() {
+  timespec ts{};
+  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
+  return double(ts.tv_sec) + 1e-9 * double(ts.tv_nsec);
+}
+
+ParticleSystem initial_state(const RunSpec& spec) {
+  // A state this program wrote may overlap by the rounding of the engine that made it.
+  const double eps = spec.precision == Precision::Float ? double(std::numeric_limits<float>::epsilon())
+                                                        : std::numeric_limits<double>::epsilon();
+  if (spec.read_data) return read_data(*spec.read_data, spec.periodic, eps);
+  InitSpec init = spec.init;
+  for (int d = 0; d < 3; ++d) init.box.periodic[d] = spec.periodic[d];
+  return make_initial_state(init);
+}
+
+void check_outputs(const RunSpec& spec) {
+  std::vector<std::pair<std::string, std::string>> out;
+  if (spec.json) out.emplace_back("--json", *spec.json);
+  if (spec.write_data) out.emplace_back("--write-data", *spec.write_data);
+  if (spec.dump) out.emplace_back("--dump", *spec.dump);
+  if (spec.track_file) out.emplace_back("--track-file", *spec.track_file);
+  check_output_paths(out);
+  if (spec.track_id.has_value() != spec.track_file.has_value())
+    throw InputError("--track and --track-file go together: give both (and --track-every)");
+}
+
+nlohmann::json run_simulation(const RunSpec& spec) {
+  check_outputs(spec);  // before anything runs or is created, for library callers as for the CLI
+  if (spec.histogram_bins < 1)
+    throw InputError("--histogram-bins " + std::to_string(spec.histogram_bins) + " must be >= 1");
+  const std::unique_ptr<EngineRun> engine =
+      spec.engine == Engine::Event ? make_event_run(spec) : make_stepper_run(spec);
+
+  ParticleSystem sys = initial_state(spec);
+  engine->start(sys);
+  std::optional<Tracker> tracker;
+  if (spec.track_id) {
+    engine->check_track_every(spec.track_every);
+    tracker.emplace(*spec.track_file, engine->state(), *spec.track_id, spec.track_every, engine->measured_time(),
+                    engine->name());
+  }
+  // Output files are opened (as temporaries) before the long part, so an unwritable path fails fast.
+  std::optional<DumpWriter> dump;
+  if (spec.dump) dump.emplace(*spec.dump);
+  std::optional<AtomicFile> json_file;
+  if (spec.json && *spec.json != "-") json_file.emplace(*spec.json);
+
+  if (engine->equilibrate()) sys = engine->state();
+  engine->reset_counters();
+  const double e0 = kinetic_energy(sys);
+  const double u0 = potential_energy(sys, spec.physics.gravity);
+  const Vec3d p0 = total_momentum(sys);
+  if (dump) dump->write_frame(0, sys);
+  const double cpu = engine->measure(
+      {dump ? &*dump : nullptr, tracker ? &*tracker : nullptr, spec.progress ? &spec.progress : nullptr});
+
+  const ParticleSystem fin = engine->state();
+  nlohmann::json j = physics_summary(fin, engine->totals(e0, p0), !spec.read_data.has_value(), spec.init.seed,
+                                     spec.histogram_bins, overlap_tolerance(fin, engine->rounding_epsilon()));
+  j["engine"] = engine->name();
+  add_energy_summary(j, e0, u0, potential_energy(fin, spec.physics.gravity), spec.physics);
+  j["loop_cpu_seconds"] = cpu;
+  engine->add_summary(j, fin, cpu);
+  if (tracker) j["track"] = tracker->summary();
+  commit_outputs(j, fin, spec.write_data, engine->final_title(), dump, json_file, tracker ? &tracker->file() : nullptr);
+  return j;
+}
+
+}  // namespace hardsphere
