@@ -1,22 +1,13 @@
-"""compare/seed_figures.py quick mode: writes all five files, and the scaling it measures is the
+"""compare.seed_figures quick mode: writes all five files, and the scaling it measures is the
 seed paper's (checks with wide margins, not timing assertions)."""
-import importlib.util
 import json
-from pathlib import Path
 
-SCRIPT = Path(__file__).resolve().parents[2] / "compare" / "seed_figures.py"
-
-
-def load():
-    spec = importlib.util.spec_from_file_location("seed_figures", SCRIPT)
-    mod = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(mod)
-    return mod
+from compare import seed_figures
 
 
 def test_seed_figures_quick(hs, tmp_path):
     lines = []
-    res = load().run(hs, tmp_path, True, progress=lines.append)
+    res = seed_figures.run(hs, tmp_path, True, progress=lines.append)
     names = ["seed_fig1_ideal_boxes.png", "seed_fig2_linear.png", "seed_fig3_one_box.png"]
     for name in names:
         assert (tmp_path / name).stat().st_size > 1000, name

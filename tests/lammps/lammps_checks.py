@@ -310,9 +310,10 @@ run 0
 def identical_big_sphere(args, d, tag):
     """A big heavy sphere (diameter 6, mass 1000) in 2000 unit spheres: the serial fix runs the
     stepper, with its own pass for big spheres, and reproduces the standalone collision for collision."""
-    scene = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "compare", "big_sphere_scene.py")
-    subprocess.run([sys.executable, scene, "--n", "2000", "--phi", "0.2", "--big", "1", "--big-diameter", "6",
-                    "--big-mass", "1000", "--out", "big.data"], cwd=d, check=True, capture_output=True)
+    root = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..")
+    subprocess.run([sys.executable, "-m", "compare.big_sphere_scene", "--n", "2000", "--phi", "0.2", "--big", "1",
+                    "--big-diameter", "6", "--big-mass", "1000", "--out", "big.data"], cwd=d, check=True,
+                   capture_output=True, env=dict(os.environ, PYTHONPATH=root))
     ref = standalone(args, d, "--read-data", "big.data", "--steps", "200", "--dt", "0.01", "--write-data", "sa_big.data")
     script = HEADER.format(data="big.data", skin=0.5, dt=0.01) + """
 thermo_style custom step ke f_hs[1]

@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""compare/lammps_scaling.py on a small gas: the tables it prints (speed-up, weak scaling and the
+"""bench.lammps_scaling on a small gas: the tables it prints (speed-up, weak scaling and the
 uncoupled-runs ceiling) are complete, and the serial and 2-rank runs count the same collisions.
 Times are printed, never asserted."""
 import argparse
@@ -22,9 +22,10 @@ def main():
     ap.add_argument("--hs", required=True)
     ap.add_argument("--mpirun", default="mpirun")
     a = ap.parse_args()
-    out = subprocess.run([sys.executable, str(ROOT / "compare" / "lammps_scaling.py"), "--hs", a.hs, "--lmp", a.lmp,
+    out = subprocess.run([sys.executable, "-m", "bench.lammps_scaling", "--hs", a.hs, "--lmp", a.lmp,
                           "--mpirun", a.mpirun, "--n", "2000", "--phi", "0.3", "--steps", "40", "--rounds", "1",
-                          "--weak", "1000", "--ceiling"], capture_output=True, text=True, check=True).stdout
+                          "--weak", "1000", "--ceiling"], capture_output=True, text=True, check=True,
+                         cwd=ROOT).stdout
     print(out)
     strong, weak = rows(out, "2000"), rows(out, "1000")
     assert len(strong) == 1 and len(strong[0]) == 11, strong
