@@ -316,18 +316,22 @@ def read_dump(path, sort=True):
                 return
             if not line.strip():
                 continue
-            _expect(path, line, "ITEM: TIMESTEP")
-            timestep, time, units = int(f.readline().split()[0]), None, None
-            head = f.readline()
+            # A frame's items up to NUMBER OF ATOMS: UNITS and TIME (dump_modify units / time yes,
+            # before TIMESTEP), TIMESTEP, LIGGGHTS's LABEL ...
+            timestep, time, units, head = None, None, None, line
             while not head.startswith("ITEM: NUMBER OF ATOMS"):
                 if not head.startswith("ITEM:"):
                     raise ValueError(f"{path}: expected 'ITEM: NUMBER OF ATOMS', got {head.strip()!r}")
-                value = f.readline().strip()  # ITEM: TIME, ITEM: UNITS, LIGGGHTS's ITEM: LABEL ...
-                if head.startswith("ITEM: TIME"):
+                value = f.readline().strip()
+                if head.startswith("ITEM: TIMESTEP"):
+                    timestep = int(value.split()[0])
+                elif head.startswith("ITEM: TIME"):
                     time = float(value)
                 elif head.startswith("ITEM: UNITS"):
                     units = value
                 head = f.readline()
+            if timestep is None:
+                raise ValueError(f"{path}: a frame without 'ITEM: TIMESTEP'")
             n = int(f.readline())
             head = f.readline()
             _expect(path, head, "ITEM: BOX BOUNDS")
@@ -370,11 +374,11 @@ def write_dump(path, frames):
     """Writes DumpFrames as LAMMPS writes a text dump (floats as repr(): they round-trip)."""
     out = []
     for fr in frames:
-        out += ["ITEM: TIMESTEP", str(fr.timestep)]
-        if fr.time is not None:
-            out += ["ITEM: TIME", repr(float(fr.time))]
         if fr.units is not None:
             out += ["ITEM: UNITS", fr.units]
+        if fr.time is not None:
+            out += ["ITEM: TIME", repr(float(fr.time))]
+        out += ["ITEM: TIMESTEP", str(fr.timestep)]
         out += ["ITEM: NUMBER OF ATOMS", str(fr.natoms)]
         if fr.tilt is None:
             out.append(f"ITEM: BOX BOUNDS {fr.bounds}".rstrip())
