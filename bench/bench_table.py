@@ -2,7 +2,7 @@
 """Markdown tables from a Google Benchmark JSON file of hs_bench_stepper.
 
 usage: hs_bench_stepper --benchmark_out=bench.json --benchmark_out_format=json
-       bench_table.py bench.json
+       python3 -m bench.bench_table bench.json
 Prints particle-steps per CPU second for the scaling (N x phi), one-box, cells sweep and
 kernel-specialisation families.
 """

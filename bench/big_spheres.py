@@ -1,13 +1,13 @@
 #!/usr/bin/python3
 """What big spheres and size spread cost the stepper, through the command line.
 
-Builds the scenes with compare/big_sphere_scene.py (kept in --workdir, reused when present) and
+Builds the scenes with compare.big_sphere_scene (kept in --workdir, reused when present) and
 times `hardsphere run --read-data F --steps S --json J --quiet`, taking the JSON's loop CPU time.
 The variants of one comparison run alternately (A B C A B C ...) for --rounds rounds, so a load
 that comes and goes hits them alike; the table gives medians of CPU seconds per step and their
 ratios to the first variant of the group.
 
-  big_spheres.py [--hardsphere build/standalone/hardsphere] [--before OLD_BINARY] [--rounds 5]
+  python3 -m bench.big_spheres [--hardsphere build/standalone/hardsphere] [--before OLD_BINARY] [--rounds 5]
 
 Groups: 20000 spheres at phi 0.2 with and without one sphere of diameter 10 (mass 1000); 80000
 with and without one of diameter 20 (mass 10^4); uniform [0.5, 1.5] and log-normal (s = 0.25)
@@ -22,11 +22,8 @@ import json
 import os
 import statistics
 import subprocess
-import sys
 
-HERE = os.path.dirname(os.path.abspath(__file__))
-sys.path.insert(0, os.path.join(HERE, "..", "compare"))
-import big_sphere_scene  # noqa: E402
+from compare import big_sphere_scene
 
 TINY_SPREAD = "uniform:0.999999,1.000001"
 
@@ -34,7 +31,7 @@ TINY_SPREAD = "uniform:0.999999,1.000001"
 def scene_file(workdir, name, **kw):
     path = os.path.join(workdir, name + ".data")
     if not os.path.exists(path):
-        big_sphere_scene.write_data(path + ".tmp", big_sphere_scene.make_scene(**kw))
+        big_sphere_scene.write_scene(path + ".tmp", big_sphere_scene.make_scene(**kw))
         os.replace(path + ".tmp", path)
     return path
 

@@ -1,7 +1,7 @@
 #!/usr/bin/python3
 """Cost of big spheres and of polydispersity in the event engine: CPU time per unit simulated time.
 
-Builds the scenes with compare/big_sphere_scene.py (kept in --work, made once), then times
+Builds the scenes with compare.big_sphere_scene (kept in --work, made once), then times
 `hardsphere run --read-data SCENE --engine event --time T` and reads loop_cpu_seconds from the
 JSON. Each comparison alternates its two runs A B A B ... (--rounds rounds) so both see the same
 machine load, and reports the medians and the ratio B / A (also per collision: the scene
@@ -11,7 +11,7 @@ tables:
 - cost of the scene against its reference gas, with the program under test (--program);
 - before/after: the same scene with --before (e.g. main's build) and --program.
 
-  bench/event_big_spheres.py --program build/standalone/hardsphere \\
+  python3 -m bench.event_big_spheres --program build/standalone/hardsphere \\
       --before /path/to/main/build/standalone/hardsphere --rounds 3
 """
 import argparse
@@ -19,12 +19,14 @@ import json
 import os
 import statistics
 import subprocess
-import sys
 
-HERE = os.path.dirname(os.path.abspath(__file__))
-SCENE = os.path.join(HERE, "..", "compare", "big_sphere_scene.py")
+import numpy as np
 
-# name: arguments of big_sphere_scene.py, simulated time per timed run (a few CPU seconds), and
+from compare import big_sphere_scene
+from compare.lammps_files import read_data, write_data
+
+
+# name: arguments of compare.big_sphere_scene, simulated time per timed run (a few CPU seconds), and
 # that of a --before run where a grid sized by a big sphere is slow. A run must last several list
 # rebuilds per sphere (shell / 2 of travel) to measure their cost: big20x5's before engine has a
 # shell of 2.7 and rebuilds about once per time unit.
@@ -59,18 +61,11 @@ AGAINST = [
 
 
 def clip_diameters(src, dst, medians=2.0):
-    """Copies a data file of big_sphere_scene.py with every diameter above `medians` median
+    """Copies a data file of compare.big_sphere_scene with every diameter above `medians` median
     diameters set to that; densities are kept, so masses shrink with the volume."""
-    lines = open(src).read().split("\n")
-    start = lines.index("Atoms # sphere") + 2
-    end = lines.index("Velocities") - 1
-    rows = [line.split() for line in lines[start:end]]
-    dmax = medians * statistics.median(float(r[2]) for r in rows)
-    for k, r in enumerate(rows):
-        r[2] = repr(min(float(r[2]), dmax))
-        lines[start + k] = " ".join(r)
-    with open(dst, "w") as f:
-        f.write("\n".join(lines))
+    data = read_data(src)
+    data.diameter = np.minimum(data.diameter, medians * statistics.median(data.diameter.tolist()))
+    write_data(dst, data)
 
 
 def scene_file(work, name, seed):
@@ -79,7 +74,7 @@ def scene_file(work, name, seed):
         args = SCENES[name][0]
         if args is None:
             return clip_diameters(scene_file(work, "lognormal", seed), path) or path
-        subprocess.run([sys.executable, SCENE, *args, "--seed", str(seed), "--out", path], check=True)
+        big_sphere_scene.main([*args, "--seed", str(seed), "--out", path])
     return path
 
 

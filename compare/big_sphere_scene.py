@@ -6,15 +6,17 @@ are added at random places, largest first, each clear of those before (random se
 fine up to phi ~0.3). Velocities are Maxwell-Boltzmann at T with the
 total momentum removed. The box is cubic and periodic; phi counts every sphere.
 
-  big_sphere_scene.py --n 20000 --phi 0.2 --big 1 --big-diameter 10 --big-mass 1000 --out big.data
-  big_sphere_scene.py --n 20000 --phi 0.2 --sizes uniform:0.5,1.5 --out poly.data
-  big_sphere_scene.py --n 20000 --phi 0.2 --sizes lognormal:0.25 --out lognormal.data
+  python3 -m compare.big_sphere_scene --n 20000 --phi 0.2 --big 1 --big-diameter 10 --big-mass 1000 --out big.data
+  python3 -m compare.big_sphere_scene --n 20000 --phi 0.2 --sizes uniform:0.5,1.5 --out poly.data
+  python3 -m compare.big_sphere_scene --n 20000 --phi 0.2 --sizes lognormal:0.25 --out lognormal.data
 """
 import argparse
 import math
 import sys
 
 import numpy as np
+
+from compare.lammps_files import spheres, write_data
 
 
 def small_diameters(spec, n, rng):
@@ -112,24 +114,12 @@ def make_scene(n, phi, big=0, big_diameter=10.0, big_mass=None, sizes="mono", te
     return dict(box=length, diameter=diameter, mass=mass, type=kind, pos=pos, vel=vel)
 
 
-def write_data(path, scene, title="hardsphere gas with big spheres"):
-    """LAMMPS data file; density = mass / volume so LAMMPS and hardsphere read the same masses."""
+def write_scene(path, scene, title="hardsphere gas with big spheres"):
+    """LAMMPS data file; density = mass / volume so LAMMPS and hardsphere read the same masses. The
+    angular velocities are zero (hard spheres are smooth)."""
     length = scene["box"]
-    n = len(scene["diameter"])
-    ntypes = int(scene["type"].max())
-    lines = [title, "", f"{n} atoms", f"{ntypes} atom types", ""]
-    lines += [f"0.0 {length!r} {a}lo {a}hi" for a in "xyz"]
-    lines += ["", "Atoms # sphere", ""]
-    for i in range(n):
-        d, m = float(scene["diameter"][i]), float(scene["mass"][i])
-        rho = m / (math.pi / 6 * d**3)
-        x, y, z = (float(c) for c in scene["pos"][i])
-        lines.append(f"{i + 1} {int(scene['type'][i])} {d!r} {rho!r} {x!r} {y!r} {z!r}")
-    lines += ["", "Velocities", ""]
-    # LAMMPS reads sphere velocities with the angular velocity (zero: hard spheres are smooth).
-    lines += [f"{i + 1} {float(v[0])!r} {float(v[1])!r} {float(v[2])!r} 0 0 0" for i, v in enumerate(scene["vel"])]
-    with open(path, "w") as f:
-        f.write("\n".join(lines) + "\n")
+    write_data(path, spheres(scene["pos"], scene["vel"], box=((0.0, length),) * 3, diameter=scene["diameter"],
+                             mass=scene["mass"], types=scene["type"], omega=0.0, title=title))
 
 
 def main(argv=None):
@@ -147,8 +137,8 @@ def main(argv=None):
     try:
         scene = make_scene(a.n, a.phi, a.big, a.big_diameter, a.big_mass, a.sizes, a.temperature, a.seed)
     except ValueError as e:
-        sys.exit(f"big_sphere_scene.py: error: {e}")
-    write_data(a.out, scene)
+        sys.exit(f"big_sphere_scene: error: {e}")
+    write_scene(a.out, scene)
     print(f"{a.out}: {a.big} big + {a.n} small spheres, box {scene['box']:.6g}")
 
 

@@ -1,10 +1,10 @@
 #!/usr/bin/python3
 """Brownian motion of one big, heavy sphere in a hard-sphere gas against kinetic theory.
 
-  compare/brownian.py [--quick] --out DIR [--exe PATH] [--event-time T] [--stepper-time T] [--jobs J]
+  python3 -m compare.brownian [--quick] --out DIR [--exe PATH] [--event-time T] [--stepper-time T] [--jobs J]
 
 One big sphere (id 1, diameter D_big, mass M) among small unit spheres (diameter 1, mass 1) at packing
-fraction phi in a periodic cube (compare/big_sphere_scene.py), kT from the state's energy. Both engines
+fraction phi in a periodic cube (compare.big_sphere_scene), kT from the state's energy. Both engines
 (`hardsphere run --engine stepper|event`) follow it with the tracker (`--track 1 --track-every dt_s
 --track-file`): unwrapped position, velocity and its pair-collision count. From the tracks:
 
@@ -13,7 +13,7 @@ fraction phi in a periodic cube (compare/big_sphere_scene.py), kT from the state
   velocity memory still takes off the slope there), per block of 30 tau of each independent run; D and
   its error are the mean and standard error over all blocks of all runs.
 - Enskog's heavy-tracer value D_E = 3 kT / (8 n sigma12^2 g12 sqrt(2 pi mu kT)), n the small-sphere number
-  density, mu = M m / (M + m), sigma12 = (D_big + 1) / 2, g12 the BMCSL contact value (compare/hs_theory.py),
+  density, mu = M m / (M + m), sigma12 = (D_big + 1) / 2, g12 the BMCSL contact value (compare.hard_sphere_theory),
   and its closure-free form D_E,cf = 3 kT / (4 mu Gamma12) with Gamma12 the big sphere's measured collision
   rate. The total momentum is zero, so the big sphere moves in the centre-of-mass frame of M_tot = M + N m:
   its displacement is (1 - M/M_tot) times its displacement relative to the gas, and the expected value is
@@ -48,18 +48,15 @@ from pathlib import Path
 
 import numpy as np
 
-HERE = Path(__file__).resolve().parent
-sys.path.insert(0, str(HERE))
-
 import matplotlib  # noqa: E402
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
-import big_sphere_scene  # noqa: E402
-import hs_theory  # noqa: E402
+from compare import big_sphere_scene  # noqa: E402
+from compare import hard_sphere_theory as hs_theory  # noqa: E402
 
-ROOT = HERE.parent
+ROOT = Path(__file__).resolve().parents[1]
 XI_CUBIC = 2.837297  # Hasimoto's constant of a periodic cube
 SAMPLE_EVERY = 0.5  # tracker interval (a whole number of stepper steps)
 STEPPER_DT = 0.05
@@ -93,7 +90,7 @@ def theory(phi, n_small, d_big, m_big, length, kT):
 
 def make_state(path, n_small, phi, d_big, m_big, seed):
     scene = big_sphere_scene.make_scene(n_small, phi, big=1, big_diameter=d_big, big_mass=m_big, seed=seed)
-    big_sphere_scene.write_data(path, scene, "brownian: one big sphere in a hard-sphere gas")
+    big_sphere_scene.write_scene(path, scene, "brownian: one big sphere in a hard-sphere gas")
     v2 = (scene["mass"][:, None] * scene["vel"] ** 2).sum()
     kT = v2 / (3 * (len(scene["mass"]) - 1))  # zero total momentum: 3(N - 1) degrees of freedom
     return scene["box"], kT
@@ -325,7 +322,7 @@ def report(out, a, val, sweep, params, elapsed, sigmas, failures):
     lines = ["# Brownian motion of a heavy sphere against kinetic theory", "",
              f"One big sphere (diameter {p['D_big']:g}, mass {p['M']:g}, M/m = {p['M']:g}) among {p['n_small']} unit "
              f"spheres at packing fraction {p['phi']:g} in a periodic box of {head['box']:.4g}; kT = {head['kT']:.4f} "
-             "from the states' energies. Reproduce: `/usr/bin/python3 compare/brownian.py --out DIR` "
+             "from the states' energies. Reproduce: `/usr/bin/python3 -m compare.brownian --out DIR` "
              f"({elapsed:.0f} s wall on 2 shared cores); `--quick` is the ctest `brownian_quick`.", "",
              "Each run: `" + head["command"] + "` (stepper: `--dt 0.05 --detect sweep` instead of the event options). "
              f"D from the MSD slope between lags {head['lags'][0]:g} and {head['lags'][1]:g} (3 and 8 Enskog "
@@ -393,7 +390,7 @@ def main(argv=None):
     a = ap.parse_args(argv)
     exe = str(Path(a.exe).resolve())
     if not Path(exe).is_file():
-        sys.exit(f"brownian.py: error: no hardsphere program at {exe} (build it or pass --exe)")
+        sys.exit(f"brownian: error: no hardsphere program at {exe} (build it or pass --exe)")
     out = Path(a.out)
     out.mkdir(parents=True, exist_ok=True)
     if a.quick:

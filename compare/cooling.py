@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Cooling of a dilute granular gas in every engine against Haff's law.
 
-  compare/cooling.py [--quick] --out DIR [--build BUILD_DIR] [--keep]
+  python3 -m compare.cooling [--quick] --out DIR [--build BUILD_DIR] [--keep]
 
 One state (packing fraction 0.05, T0 = 1, unit spheres; `hardsphere run --write-data`, then an
 elastic event-engine run) cools with normal restitution e, no friction, no gravity, in a periodic
@@ -40,25 +40,20 @@ from pathlib import Path
 
 import numpy as np
 
-HERE = Path(__file__).resolve().parent
-sys.path.insert(0, str(HERE))
-
-import matplotlib  # noqa: E402
+import matplotlib
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
-import hs_theory  # noqa: E402
-import soft_spheres as soft  # noqa: E402
-import xv_plan  # noqa: E402
-import xv_states  # noqa: E402
-from cross_validate import find_tools  # noqa: E402
-from lammps_data import read_sphere_data, write_sphere_data  # noqa: E402
-from xv_engines import Engines, _run  # noqa: E402
-from xv_observables import read_dump  # noqa: E402
-from xv_report import fmt, table, versions  # noqa: E402
+from compare import hard_sphere_theory as hs_theory  # noqa: E402
+from compare import soft_spheres as soft  # noqa: E402
+from compare.crossval import plan as xv_plan  # noqa: E402
+from compare.crossval import states as xv_states  # noqa: E402
+from compare.crossval.engines import ROOT, Engines, find_tools, run_logged  # noqa: E402
+from compare.crossval.observables import read_frames  # noqa: E402
+from compare.crossval.report import fmt, table, versions  # noqa: E402
+from compare.lammps_files import read_data, spheres, write_data  # noqa: E402
 
-ROOT = HERE.parent
 INPUTS = ROOT / "reference_inputs"
 PHI = 0.05
 MONO = [(1.0, 1.0, 1.0)]  # (number fraction, diameter, mass)
@@ -190,22 +185,22 @@ def run_stepper(engines, state, work, e, t_end):
     work.mkdir(parents=True, exist_ok=True)
     dt = frame_dt(t_end, STEPPER_DT)
     every = round(t_end / FRAMES / dt)
-    _run([engines.hs, "run", "--read-data", state, "--restitution", e, "--dt", repr(dt),
+    run_logged([engines.hs, "run", "--read-data", state, "--restitution", e, "--dt", repr(dt),
           "--steps", every * FRAMES, "--dump", work / "run.dump", "--dump-every", every, "--json",
           work / "run.json"], work, work / "run.log")
     j = json.loads((work / "run.json").read_text())
-    return dict(frames=read_dump(work / "run.dump", dt=dt), cpu_seconds=j["loop_cpu_seconds"],
+    return dict(frames=read_frames(work / "run.dump", dt=dt), cpu_seconds=j["loop_cpu_seconds"],
                 sim_time=j["sim_time"], settings=dict(dt=dt, contact_time_tc_model=j["contact_time"]),
                 collisions=j["collisions"])
 
 
 def run_event(engines, state, work, e, t_end):
     work.mkdir(parents=True, exist_ok=True)
-    _run([engines.hs, "run", "--engine", "event", "--read-data", state, "--restitution", e, "--time", t_end,
+    run_logged([engines.hs, "run", "--engine", "event", "--read-data", state, "--restitution", e, "--time", t_end,
           "--blocks", FRAMES, "--dump", work / "run.dump", "--json", work / "run.json"], work, work / "run.log")
     j = json.loads((work / "run.json").read_text())
     times = [k * t_end / FRAMES for k in range(FRAMES + 1)]
-    return dict(frames=read_dump(work / "run.dump", times=times), cpu_seconds=j["loop_cpu_seconds"],
+    return dict(frames=read_frames(work / "run.dump", times=times), cpu_seconds=j["loop_cpu_seconds"],
                 sim_time=j["sim_time"], settings=dict(contact_time_tc_model=j["contact_time"]),
                 collisions=j["collisions"])
 
@@ -213,7 +208,7 @@ def run_event(engines, state, work, e, t_end):
 def run_soft(engines, engine, state, work, settings, t_end):
     dt = settings["dt"]
     every = round(t_end / FRAMES / dt)
-    r = engines._lammps_family(soft_exe(engines, engine), soft_script(engine), state, work, 1, dt, every * FRAMES,
+    r = engines.lammps_family(soft_exe(engines, engine), soft_script(engine), state, work, 1, dt, every * FRAMES,
                                0, every, every, contactsteps=1, extra=settings["variables"])
     return dict(frames=r["frames"], cpu_seconds=r["cpu_seconds"], sim_time=r["sim_time"],
                 settings={k: v for k, v in settings.items() if k != "variables"}, collisions=None)
@@ -227,12 +222,9 @@ def write_pairs(path, pairs, box):
     for k, (v, gap) in enumerate(pairs):
         y, z = 6.0 * (k % side) + 3.0, 6.0 * (k // side) + 3.0
         atoms += [(box / 2 - 0.5 - gap / 2, y, z, v / 2, 0.0, 0.0), (box / 2 + 0.5 + gap / 2, y, z, -v / 2, 0.0, 0.0)]
-    write_sphere_data(path, atoms, box=((0.0, box),) * 3, title="head-on pairs")
-    # atom_style sphere/granular Velocities rows need the angular velocity too
-    lines = Path(path).read_text().splitlines()
-    k = lines.index("Velocities")
-    lines[k + 2:] = [ln + " 0 0 0" if ln.strip() else ln for ln in lines[k + 2:]]
-    Path(path).write_text("\n".join(lines) + "\n")
+    atoms = np.array(atoms)
+    # atom_style sphere/granular Velocities rows need the angular velocity too: zero
+    write_data(path, spheres(atoms[:, :3], atoms[:, 3:], box=((0.0, box),) * 3, omega=0.0, title="head-on pairs"))
 
 
 def pair_restitution(engines, engine, settings, e, work):
@@ -250,7 +242,7 @@ def pair_restitution(engines, engine, settings, e, work):
     cases = [(v, p) for v in PAIR_SPEEDS for p in PAIR_PHASES]
     side = math.ceil(math.sqrt(len(cases)))
     write_pairs(work / "pairs.data", [(v, (3 + 1 - p) * v * dt) for v, p in cases], box=6.0 * side)
-    r = engines._lammps_family(soft_exe(engines, engine), soft_script(engine), work / "pairs.data", work, 1, dt,
+    r = engines.lammps_family(soft_exe(engines, engine), soft_script(engine), work / "pairs.data", work, 1, dt,
                                nrun, 0, nrun, nrun, contactsteps=1, extra=settings["variables"])
     first, last = r["frames"][0], r["frames"][-1]
     out = []
@@ -279,10 +271,9 @@ def make_state(tools, directory, n, seed=1):
     """The state's data file (made in directory), its packing fraction and temperature."""
     path = xv_states.make_state(tools["hardsphere"], tools["lmp"], directory, n, PHI, "mono", EQUILIBRATE, seed=seed,
                                 log=lambda _: None)
-    s = read_sphere_data(path)
-    volume = float(np.prod(s["box"][:, 1] - s["box"][:, 0]))
-    phi = float((4.0 / 3.0 * math.pi * s["radius"] ** 3).sum() / volume)
-    t0 = float((s["mass"] * (s["vel"] ** 2).sum(axis=1)).sum() / (3 * len(s["mass"])))
+    s = read_data(path)
+    phi = float((4.0 / 3.0 * math.pi * s.radius ** 3).sum() / s.volume)
+    t0 = float((s.mass * (s.vel ** 2).sum(axis=1)).sum() / (3 * len(s)))
     return path, phi, t0
 
 
@@ -555,7 +546,7 @@ def shared_until(a, b):
 
 
 def relative_command(argv):
-    words = ["compare/cooling.py"]
+    words = ["python3", "-m", "compare.cooling"]
     for w in argv:
         p = Path(w)
         if p.is_absolute() and ROOT in p.resolve().parents:

@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Cross-validation: the same states through every engine, distributions and timings compared.
 
-  compare/cross_validate.py [--quick] [--build BUILD_DIR] --out DIR
+  python3 -m compare.cross_validate [--quick] [--build BUILD_DIR] --out DIR
 
 Engines: the standalone stepper (double, float; a dt sweep with the default dt 0.01), the event
 engine, lmp_hs + fix hardsphere (serial, 2 ranks), Debian's LAMMPS with elastic gran/hooke and
@@ -17,14 +17,12 @@ import sys
 import time
 from pathlib import Path
 
-HERE = Path(__file__).resolve().parent
-sys.path.insert(0, str(HERE))
-
-import xv_plan  # noqa: E402
-from xv_analysis import analyse, check_agreement  # noqa: E402
-from xv_engines import Engines  # noqa: E402
-from xv_report import write_report  # noqa: E402
-from xv_states import make_state  # noqa: E402
+from compare import seed_figures
+from compare.crossval import plan as xv_plan
+from compare.crossval.analysis import analyse, check_agreement
+from compare.crossval.engines import ROOT, Engines, find_tools
+from compare.crossval.report import write_report
+from compare.crossval.states import make_state
 
 
 class Progress:
@@ -40,21 +38,10 @@ class Progress:
         print(f"[{elapsed:7.0f} s elapsed, ~{left:5.0f} s left] {text}", flush=True)
 
 
-def find_tools(build):
-    build = Path(build).resolve()
-    tools = dict(build=build, hardsphere=build / "standalone" / "hardsphere", lmp_hs=build / "plugin" / "lmp_hs",
-                 lmp=shutil.which("lmp"), liggghts=shutil.which("liggghts"), mpirun=shutil.which("mpirun"))
-    if not tools["hardsphere"].exists():
-        sys.exit(f"cross_validate: {tools['hardsphere']} not built")
-    if not tools["lmp_hs"].exists():
-        tools["lmp_hs"] = None
-    return tools
-
-
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--quick", action="store_true", help="one small state, a few minutes")
-    ap.add_argument("--build", default=str(HERE.parent / "build"), help="build directory (default: build)")
+    ap.add_argument("--build", default=str(ROOT / "build"), help="build directory (default: build)")
     ap.add_argument("--out", required=True, help="output directory (report.md, cross_validation.json, figures)")
     ap.add_argument("--keep", action="store_true", help="keep the runs' trajectories (DIR/runs)")
     ap.add_argument("--resume", action="store_true", help="keep the runs finished by an earlier call with this --out")
@@ -97,7 +84,6 @@ def main(argv=None):
             shutil.rmtree(work, ignore_errors=True)
     seed = None
     if not a.no_seed_figures:
-        import seed_figures
         seed = seed_figures.run(str(tools["hardsphere"]), str(out), a.quick,
                                 progress=lambda s: progress(plan.seed_figure_cost / (60 if a.quick else 300), s))
     failures = check_agreement(rows, plan)

@@ -20,15 +20,14 @@
                              docs/event_engine/speed.json, eos.json, accuracy.json and
                              cross_validation.json; stepper (dt = 0.01) from accuracy.json and
                              cross_validation.json. Collisions per unit time = rate * N / 2 (the rate
-                             counts each collision for both spheres: accuracy.py's eos run length
+                             counts each collision for both spheres: compare.accuracy's eos run length
                              t = collisions / (N rate / 2)).
 
-Usage: /usr/bin/python3 compare/docs_figures.py [--out docs/figures]
+Usage: /usr/bin/python3 -m compare.docs_figures [--out docs/figures]
 """
 import argparse
 import json
 import math
-import sys
 from pathlib import Path
 
 import matplotlib
@@ -38,11 +37,10 @@ import matplotlib.lines  # noqa: E402
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
-HERE = Path(__file__).resolve().parent
-ROOT = HERE.parent
-sys.path.insert(0, str(HERE))
-from accuracy import z_cs, z_kolafa  # noqa: E402
-from xv_report import ENGINE_NAMES, timing_rows  # noqa: E402
+from compare.accuracy import z_cs, z_kolafa  # noqa: E402
+from compare.crossval.report import ENGINE_NAMES, timing_rows  # noqa: E402
+
+ROOT = Path(__file__).resolve().parents[1]
 
 ACCURACY = ROOT / "docs/event_engine/accuracy.json"
 EOS = ROOT / "docs/event_engine/eos.json"

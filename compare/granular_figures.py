@@ -17,7 +17,7 @@
    model (--contact-time 1e-4) keeps the runs going. Checks: max_overlap < 1e-9; every run
    finishes (exit 0, unresolved_steps == 0 for the stepper).
 
-  compare/granular_figures.py --hardsphere build/standalone/hardsphere --out DIR [--quick]
+  python3 -m compare.granular_figures --hardsphere build/standalone/hardsphere --out DIR [--quick]
 
 --quick: shorter barometric runs (mean height within 5% instead of 3%), a smaller bed
 (150 spheres in 6 x 6 x 20, to t = 16) with the same 2% floor tolerance, the same collapse runs.
@@ -35,8 +35,7 @@ from pathlib import Path
 
 import numpy as np
 
-sys.path.insert(0, str(Path(__file__).resolve().parent))
-from soft_spheres import read_dump  # noqa: E402
+from compare.lammps_files import read_dump
 
 ENGINES = ("stepper", "event")
 COLORS = {"stepper": "tab:blue", "event": "tab:red"}
@@ -251,7 +250,7 @@ def main():
     figures(res, out)
     elapsed = time.time() - t0
     ok = all(p for _, p in checks)
-    cmd = "/usr/bin/python3 compare/granular_figures.py --hardsphere build/standalone/hardsphere --out DIR" + \
+    cmd = "/usr/bin/python3 -m compare.granular_figures --hardsphere build/standalone/hardsphere --out DIR" + \
         (" --quick" if a.quick else "")
     res.update({"quick": a.quick, "command": cmd, "seconds": round(elapsed, 1), "machine": "2-core AMD EPYC VM",
                 "tolerances": {"barometric_ratio": baro_tol, "energy_rel_drift": drift_tol, "floor_over_weight": floor_tol,

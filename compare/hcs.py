@@ -10,7 +10,7 @@ run (the distribution relaxes to the cooling state within a few collisions per s
 longer run would let clusters form) and over independent seeds, with the standard error of the
 seed means.
 
-  compare/hcs.py --hardsphere build/standalone/hardsphere --out DIR [--quick]
+  python3 -m compare.hcs --hardsphere build/standalone/hardsphere --out DIR [--quick]
 
 Writes DIR/hcs.json, DIR/hcs.md and DIR/hcs_a2.png; exit status 1 if a measured a2 differs from
 the theory by more than 3 standard errors plus 0.01 (the first Sonine approximation's own error
@@ -27,8 +27,7 @@ from pathlib import Path
 
 import numpy as np
 
-sys.path.insert(0, str(Path(__file__).resolve().parent))
-from soft_spheres import read_dump  # noqa: E402
+from compare.lammps_files import read_dump
 
 
 def a2_van_noije_ernst(e):
@@ -104,7 +103,7 @@ def main():
     (out / "hcs.json").write_text(json.dumps({"rows": rows, "n": n, "seeds": seeds, "seconds": round(elapsed)}, indent=1))
     lines = ["# Homogeneous cooling state: Sonine coefficient a2", "",
              f"Event engine, {n} spheres at phi 0.02, {seeds} seeds per e, frames of the second half of a run of "
-             "about 10 collisions per sphere. Reproduce: `/usr/bin/python3 compare/hcs.py --hardsphere "
+             "about 10 collisions per sphere. Reproduce: `/usr/bin/python3 -m compare.hcs --hardsphere "
              f"build/standalone/hardsphere --out DIR` ({elapsed:.0f} s on 2 cores). Pass: within 3 standard errors "
              "+ 0.01 of van Noije and Ernst's first Sonine approximation.", "",
              "| e | a2 measured | a2 van Noije-Ernst |", "|---|---|---|"]

@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Speed distribution of a hardsphere/LAMMPS data file against Maxwell-Boltzmann.
 
-usage: plot_speeds.py STATE.data OUT.png
+usage: python3 -m compare.plot_speeds STATE.data OUT.png
 Speeds are scaled by sqrt(m/T) (T = <m v^2>/3), so mixed masses share one curve.
 Prints the Kolmogorov-Smirnov distance and p-value (scipy) against the Maxwell distribution.
 """
@@ -14,12 +14,12 @@ import matplotlib.pyplot as plt
 import numpy as np
 from scipy import stats
 
-from lammps_data import read_sphere_data
+from compare.lammps_files import read_data
 
 
 def main(data_path, png_path):
-    d = read_sphere_data(data_path)
-    m, v = d["mass"], d["vel"]
+    d = read_data(data_path)
+    m, v = d.mass, d.vel
     temperature = np.mean(m * np.sum(v * v, axis=1)) / 3.0
     u = np.linalg.norm(v, axis=1) * np.sqrt(m / temperature)
     ks = stats.kstest(u, stats.maxwell.cdf)

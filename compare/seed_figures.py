@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """The seed paper's figures 1-3 (space partitioning) from the standalone stepper.
 
-  compare/seed_figures.py --hardsphere build/standalone/hardsphere --out DIR [--quick]
+  python3 -m compare.seed_figures --hardsphere build/standalone/hardsphere --out DIR [--quick]
 
 Fig. 1: the ideal number of boxes (the cubic cell grid K^3 with the least time per step, from a
 scan of K per axis) against N; fig. 2: time per step against N with that grid (linear); fig. 3:
@@ -31,7 +31,7 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
-from machine import cpu_model  # noqa: E402
+from compare.machine_info import cpu_model  # noqa: E402
 
 # Spheres per cell the K scan aims at: 8 down to ~0.35 in steps of sqrt(2) (~12% in K).
 FULL = dict(n_ideal=[1000 * 2 ** k for k in range(9)], n_one=[500, 1000, 2000, 4000],

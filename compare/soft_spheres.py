@@ -1,8 +1,9 @@
 """Soft elastic spheres as the LAMMPS granular styles and LIGGGHTS model them, for comparison with
 hard spheres: pair energies and forces, the Barker-Henderson (BH) shift of the contact distance,
 the total elastic energy and pair virial of a periodic configuration, head-on contact times, and
-readers for the text dumps and 'Loop time' lines of the reference inputs
-(reference_inputs/lammps/in.granular_*, reference_inputs/liggghts/in.granular_hertz).
+the reader of the block-averaged virial file that the reference inputs write
+(reference_inputs/lammps/in.granular_*, reference_inputs/liggghts/in.granular_hertz; their dumps
+and logs are read by compare.lammps_files).
 
 Importing this module has no side effects. Units are those of the inputs (reduced, k_B = 1).
 
@@ -25,7 +26,6 @@ k in the functions below is kn for 'hooke' and 'hertz_lammps' and Young's modulu
 'hertz_liggghts' (then poisson = nu is required; the LIGGGHTS input uses POISSON_LIGGGHTS).
 """
 import math
-import re
 
 import numpy as np
 
@@ -199,70 +199,6 @@ def hertz_stiffness(model, k, reff, poisson=None):
 
 
 # --- engine output --------------------------------------------------------------------------
-
-_INT_COLUMNS = {"id", "type", "mol", "ix", "iy", "iz", "proc"}
-
-
-def read_dump(path):
-    """Frames of a LAMMPS/LIGGGHTS text dump (dump custom/atom, orthogonal box), one at a time.
-
-    Yields dicts: 'timestep' (int), 'natoms', 'box_lo', 'box_hi' (arrays of 3), 'bounds' (the
-    boundary string, e.g. 'pp pp pp') and one numpy array per dumped column under its dump name
-    ('id', 'type', 'radius', 'xu', ...), rows sorted by id (id, type, ix.. as int arrays).
-    LIGGGHTS writes the box bounds with %g (6 digits): take the box from the data file when the
-    exact length matters."""
-    with open(path) as f:
-        while True:
-            line = f.readline()
-            if not line:
-                return
-            if not line.startswith("ITEM: TIMESTEP"):
-                if line.strip():
-                    raise ValueError(f"{path}: expected 'ITEM: TIMESTEP', got {line.strip()!r}")
-                continue
-            frame = {"timestep": int(f.readline().split()[0])}
-            head = f.readline()
-            while head.startswith("ITEM: LABEL") or head.startswith("ITEM: TIME"):
-                f.readline()  # LIGGGHTS labels, LAMMPS 'ITEM: TIME' (dump_modify time yes)
-                head = f.readline()
-            if not head.startswith("ITEM: NUMBER OF ATOMS"):
-                raise ValueError(f"{path}: expected 'ITEM: NUMBER OF ATOMS', got {head.strip()!r}")
-            n = int(f.readline())
-            head = f.readline()
-            if not head.startswith("ITEM: BOX BOUNDS"):
-                raise ValueError(f"{path}: expected 'ITEM: BOX BOUNDS', got {head.strip()!r}")
-            words = head.split()[3:]
-            if words and words[0] == "xy":
-                raise ValueError(f"{path}: triclinic boxes are not supported")
-            frame["bounds"] = " ".join(words)
-            box = np.array([[float(v) for v in f.readline().split()[:2]] for _ in range(3)])
-            frame["box_lo"], frame["box_hi"] = box[:, 0], box[:, 1]
-            head = f.readline()
-            if not head.startswith("ITEM: ATOMS"):
-                raise ValueError(f"{path}: expected 'ITEM: ATOMS', got {head.strip()!r}")
-            cols = head.split()[2:]
-            text = "".join(f.readline() for _ in range(n))
-            data = np.array(text.split(), dtype=float)
-            if data.size != n * len(cols):
-                raise ValueError(f"{path}: truncated frame at timestep {frame['timestep']}")
-            data = data.reshape(n, len(cols))
-            if "id" in cols:
-                data = data[np.argsort(data[:, cols.index("id")], kind="stable")]
-            frame["natoms"] = n
-            for c, name in enumerate(cols):
-                frame[name] = data[:, c].astype(np.int64) if name in _INT_COLUMNS else data[:, c]
-            yield frame
-
-
-_LOOP = re.compile(r"Loop time of\s+([-+0-9.eE]+)\s+on\s+(\d+)\s+procs\s+for\s+(\d+)\s+steps")
-
-
-def read_loop_time(log_text):
-    """[(seconds, procs, steps), ...], one per 'Loop time of X on P procs for S steps' line (one
-    per run command; LIGGGHTS appends ', finish time ...'). The measured run of the
-    reference inputs is the last entry."""
-    return [(float(s), int(p), int(n)) for s, p, n in _LOOP.findall(log_text)]
-
 
 def read_blocks(path):
     """The virialfile of the reference inputs as an (nblocks, 3) array: step, block mean of the

@@ -9,7 +9,7 @@ root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 build=${HS_BUILD_DIR:-$root/build}
 
 packages=(cmake g++ make libgtest-dev libgmock-dev libbenchmark-dev libcli11-dev nlohmann-json3-dev
-          python3-numpy python3-scipy python3-matplotlib python3-pytest)
+          python3-numpy python3-scipy python3-matplotlib python3-pytest python3-yaml)
 # The test run checks that every C++ file is formatted (.clang-format).
 [ "$mode" = test ] && packages+=(clang-format)
 if [ "${HS_WITH_LAMMPS:-1}" = 1 ]; then
@@ -36,7 +36,7 @@ case "$mode" in
     mkdir -p "$out"
     "$build/standalone/hardsphere" run --n 4000 --phi 0.3 --init-speed 1.7320508075688772 --steps 2000 --dt 0.01 \
       --json "$out/summary.json" --write-data "$out/final.data" --dump "$out/trajectory.dump" --dump-every 500
-    /usr/bin/python3 "$root/compare/plot_speeds.py" "$out/final.data" "$out/speed_distribution.png"
+    PYTHONPATH="$root" /usr/bin/python3 -m compare.plot_speeds "$out/final.data" "$out/speed_distribution.png"
     echo "setup: results in $out (summary.json, final.data, trajectory.dump, speed_distribution.png)"
     ;;
   test)

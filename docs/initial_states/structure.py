@@ -7,7 +7,9 @@ bond order with neighbours closer than 1.4 diameters: the global Q6 (0.575 for F
 amorphous packing), the mean local q6, and the fraction of crystal-like spheres (ten Wolde,
 Ruiz-Montero and Frenkel 1996: at least 7 neighbours whose normalised q6 vectors have a dot
 product above 0.7). Wall axes are analysed without images (spheres by a wall simply have fewer
-neighbours). Usage: structure.py FILE [--boundary p,p,w] | structure.py --fcc (an FCC reference).
+neighbours). Usage, from the repository root:
+    python3 -m docs.initial_states.structure FILE [--boundary p,p,w]
+    python3 -m docs.initial_states.structure --fcc    (an FCC reference)
 """
 import math
 import sys
@@ -16,25 +18,15 @@ import numpy as np
 from scipy.spatial import cKDTree
 from scipy.special import lpmv
 
+from compare.lammps_files import read_data
+
 L_ORDER = 6
 
 
-def read_data(path):
-    lines = open(path).read().splitlines()
-    lo, hi = np.zeros(3), np.zeros(3)
-    for line in lines:
-        parts = line.split()
-        for d, axis in enumerate("xyz"):
-            if len(parts) >= 4 and parts[2] == axis + "lo" and parts[3] == axis + "hi":
-                lo[d], hi[d] = float(parts[0]), float(parts[1])
-    start = next(i for i, l in enumerate(lines) if l.split("#")[0].strip() == "Atoms") + 2
-    rows = []
-    for line in lines[start:]:
-        if not line.strip():
-            break
-        rows.append([float(v) for v in line.split()[:7]])
-    a = np.array(rows)
-    return a[:, 2], a[:, 4:7] - lo, hi - lo
+def read_packing(path):
+    """Diameters, positions from the box's low corner, and box lengths of a data file."""
+    d = read_data(path)
+    return d.diameter, d.pos - d.box[:, 0], d.lengths
 
 
 def fcc(cells, phi):
@@ -113,7 +105,7 @@ def main():
     periodic = (True, True, True)
     if "--boundary" in sys.argv:
         periodic = parse_boundary(sys.argv[sys.argv.index("--boundary") + 1])
-    diam, x, box = fcc(10, 0.62) if "--fcc" in sys.argv else read_data(sys.argv[1])
+    diam, x, box = fcc(10, 0.62) if "--fcc" in sys.argv else read_packing(sys.argv[1])
     for k, v in analyse(diam, x, box, periodic).items():
         print(f"{k:>15} {v:.4g}" if isinstance(v, float) else f"{k:>15} {v}")
 

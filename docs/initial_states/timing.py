@@ -7,19 +7,18 @@ for seeds K = 1..RUNS and reports how many were made and the median wall time (p
 included). For seed 1 it also writes the state once more (untimed), measures the
 compressibility factor Z over --time 0.2 of the event engine from it, and its structure
 (structure.py). Prints one Markdown table row per packing fraction.
-Usage: timing.py HARDSPHERE --n 4000 --phi 0.58 0.60 [--runs 3] [--init dense] [--boundary p]
+Usage, from the repository root:
+    python3 -m docs.initial_states.timing HARDSPHERE --n 4000 --phi 0.58 0.60 [--runs 3] [--init dense] [--boundary p]
 """
 import argparse
 import json
 import os
 import statistics
 import subprocess
-import sys
 import tempfile
 import time
 
-sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-import structure  # noqa: E402
+from docs.initial_states import structure
 
 
 def run(hs, *args):
@@ -56,7 +55,7 @@ def main():
                 _, p = run(a.hardsphere, "--read-data", data, "--boundary", a.boundary, "--engine", "event",
                            "--time", 0.2, "--json", "-")
                 z = json.loads(p.stdout)["compressibility_factor"] if p.returncode == 0 else float("nan")
-                s = structure.analyse(*structure.read_data(data), periodic)
+                s = structure.analyse(*structure.read_packing(data), periodic)
                 cols = [f"{z:.1f}", f"{s['Q6']:.3f}", f"{s['crystal-like']:.3f}", f"{s['g(sqrt3)']:.2f}",
                         f"{s['g(2)']:.2f}"]
             spread = f"{statistics.median(times):.2f} ({min(times):.2f}-{max(times):.2f})"

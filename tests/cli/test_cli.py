@@ -6,9 +6,11 @@ file line where there is one), and no output file left behind, not even a partia
 import math
 from pathlib import Path
 
+import numpy as np
 import pytest
-
 from hs_run import run, run_json
+
+from compare.lammps_files import read_data
 
 JSON_KEYS = [
     "n", "packing_fraction", "box", "steps", "dt", "sim_time", "cells_per_dim", "loop_cpu_seconds",
@@ -25,17 +27,10 @@ def write_state(hs, path, *args):
     return Path(path).read_text()
 
 
-def data_sections(text):
-    """Atoms and Velocities rows as lists of floats keyed by section."""
-    out, section = {}, None
-    for line in text.splitlines():
-        word = line.split("#")[0].strip()
-        if word in ("Atoms", "Velocities"):
-            section = word
-            out[section] = []
-        elif section and word:
-            out[section].append([float(x) for x in word.split()])
-    return out
+def same_state(a, b):
+    """Two data files hold the same box and atoms, every number equal."""
+    fields = ("box", "ids", "types", "diameter", "density", "pos", "image", "vel", "omega")
+    return all(np.array_equal(getattr(a, f), getattr(b, f)) for f in fields)
 
 
 # --- the contract ---------------------------------------------------------------------------
@@ -62,12 +57,11 @@ def test_same_seed_same_result_other_seed_other_result(hs, tmp_path):
 
 
 def test_data_file_round_trip_is_bit_exact(hs, tmp_path):
-    first = write_state(hs, tmp_path / "first.data", "--boundary", "p,p,w")
+    write_state(hs, tmp_path / "first.data", "--boundary", "p,p,w")
     p = run(hs, "--read-data", tmp_path / "first.data", "--boundary", "p,p,w", "--steps", 0,
             "--write-data", tmp_path / "second.data")
     assert p.returncode == 0, p.stderr
-    a, b = data_sections(first), data_sections((tmp_path / "second.data").read_text())
-    assert a == b  # %.17g round-trips every double exactly
+    assert same_state(read_data(tmp_path / "first.data"), read_data(tmp_path / "second.data"))  # %.17g round-trips
 
 
 def test_run_continues_from_its_own_data_file(hs, tmp_path):
@@ -105,10 +99,10 @@ def test_auto_detection_sweeps_long_steps_only(hs):
 
 def test_init_speed_gives_every_sphere_one_speed(hs, tmp_path):
     write_state(hs, tmp_path / "s.data", "--init-speed", 2.0)
-    v = data_sections((tmp_path / "s.data").read_text())["Velocities"]
-    speeds = [math.sqrt(r[1] ** 2 + r[2] ** 2 + r[3] ** 2) for r in v]
+    v = read_data(tmp_path / "s.data").vel
+    speeds = np.sqrt((v ** 2).sum(axis=1))
     assert max(speeds) == pytest.approx(2.0, rel=1e-12) and min(speeds) == pytest.approx(2.0, rel=1e-12)
-    assert sum(r[1] for r in v) == pytest.approx(0.0, abs=1e-12)
+    assert v[:, 0].sum() == pytest.approx(0.0, abs=1e-12)
 
 
 # --- bad input ------------------------------------------------------------------------------
@@ -197,13 +191,13 @@ def test_malformed_values_in_data_files_name_value_and_line(hs, tmp_path, sectio
 
 def test_overlapping_particles_in_data_file(hs, tmp_path):
     text = write_state(hs, tmp_path / "s.data")
-    rows = data_sections(text)["Atoms"]
-    x, y, z = rows[0][4:7]
+    d = read_data(tmp_path / "s.data")  # rows in id order, as hardsphere writes them
+    x, y, z = d.pos[0]
     text, _ = edited(text, "Atoms", 1, 4, repr(x + 0.3))
     text, _ = edited(text, "Atoms", 1, 5, repr(y))
     text, _ = edited(text, "Atoms", 1, 6, repr(z))
     (tmp_path / "bad.data").write_text(text)
-    assert_rejected(hs, tmp_path, ["--read-data", "bad.data"], "overlap", f"{int(rows[0][0])}", f"{int(rows[1][0])}")
+    assert_rejected(hs, tmp_path, ["--read-data", "bad.data"], "overlap", f"{d.ids[0]}", f"{d.ids[1]}")
 
 
 def test_particle_outside_a_wall_box(hs, tmp_path):

@@ -3,20 +3,16 @@ or refused (exit 2, `hardsphere: error:` naming the value), and a run that ends 
 overlapping says so."""
 import json
 import math
-import sys
-from pathlib import Path
 
 import pytest
-
 from hs_run import run, run_json
 
-sys.path.insert(0, str(Path(__file__).resolve().parents[2] / "compare"))
-from lammps_data import write_sphere_data  # noqa: E402
+from compare import lammps_files
 
 
 def write_data(path, atoms, box=((0, 20),) * 3):
     """atoms: (x, y, z, vx, vy, vz[, diameter]) rows; ids from 1."""
-    return write_sphere_data(path, atoms, box, title="limits test")
+    return lammps_files.write_data(path, lammps_files.spheres_from_rows(atoms, box=box, title="limits test"))
 
 
 def refused(p, *needles):
@@ -30,19 +26,6 @@ def gas_file(hs, path, *args):
     p = run(hs, "--steps", 0, "--write-data", path, *args)
     assert p.returncode == 0, p.stderr
     return path
-
-
-def edit_rows(path, section, edit):
-    """Applies edit(words) to every row of a section of a data file."""
-    out, current = [], None
-    for line in Path(path).read_text().splitlines():
-        w = line.split()
-        if w and w[0] in ("Atoms", "Velocities"):
-            current = w[0]
-        elif current == section and len(w) > 3:
-            line = " ".join(edit(w))
-        out.append(line)
-    Path(path).write_text("\n".join(out) + "\n")
 
 
 # --- arithmetic overflow: refused, naming the value ----------------------------------------
@@ -94,15 +77,10 @@ def test_event_engine_refuses_a_sphere_too_fast_to_follow(hs, tmp_path):
 
 def test_float_run_far_from_the_origin_matches_the_run_at_the_origin(hs, tmp_path):
     base = gas_file(hs, tmp_path / "g.data", "--n", 200, "--box", 8.06)
-    far = tmp_path / "far.data"
-    text = []
-    for line in Path(base).read_text().splitlines():
-        w = line.split()
-        if len(w) == 4 and w[2] in ("xlo", "ylo", "zlo"):
-            line = f"{float(w[0]) + 1e6!r} {float(w[1]) + 1e6!r} {w[2]} {w[3]}"
-        text.append(line)
-    far.write_text("\n".join(text) + "\n")
-    edit_rows(far, "Atoms", lambda w: w[:4] + [repr(float(x) + 1e6) for x in w[4:7]] + w[7:])
+    far = lammps_files.read_data(base)
+    far.box += 1e6
+    far.pos += 1e6
+    far = lammps_files.write_data(tmp_path / "far.data", far)
     near = run_json(hs, "--read-data", base, "--steps", 2000, "--precision", "float")
     moved = run_json(hs, "--read-data", far, "--steps", 2000, "--precision", "float")
     assert moved["collisions"] == pytest.approx(near["collisions"], rel=0.05)

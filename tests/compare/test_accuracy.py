@@ -1,14 +1,11 @@
-"""compare/accuracy.py --quick: runs end to end (a few seconds) and its numbers make sense."""
+"""compare.accuracy --quick: runs end to end (a few seconds) and its numbers make sense."""
 import json
 import subprocess
 import sys
-from pathlib import Path
-
-SCRIPT = Path(__file__).resolve().parents[2] / "compare" / "accuracy.py"
 
 
 def run(hs, out, *args):
-    p = subprocess.run([sys.executable, str(SCRIPT), *args, "--quick", "--hardsphere", hs, "--out", str(out)],
+    p = subprocess.run([sys.executable, "-m", "compare.accuracy", *args, "--quick", "--hardsphere", hs, "--out", str(out)],
                        capture_output=True, text=True, timeout=120)
     assert p.returncode == 0, p.stderr
     return p.stdout

@@ -1,16 +1,13 @@
-"""compare/brownian.py's closed forms and its analysis: Enskog's heavy-tracer D equals its
+"""compare.brownian's closed forms and its analysis: Enskog's heavy-tracer D equals its
 closure-free form at Enskog's collision rate, and the block analysis recovers D and the kinetic
 temperature of an Ornstein-Uhlenbeck (Langevin) velocity with known D. The engine runs themselves
-are the ctest brownian_quick (compare/brownian.py --quick)."""
+are the ctest brownian_quick (python3 -m compare.brownian --quick)."""
 import math
-import sys
-from pathlib import Path
 
 import numpy as np
 import pytest
 
-sys.path.insert(0, str(Path(__file__).resolve().parents[2] / "compare"))
-import brownian  # noqa: E402
+from compare import brownian
 
 
 def test_enskog_value_equals_its_closure_free_form_at_the_enskog_rate():

@@ -1,18 +1,14 @@
-"""compare/cooling.py's closed forms: the gran/hooke damping for a restitution against a numerical
+"""compare.cooling's closed forms: the gran/hooke damping for a restitution against a numerical
 integration of the damped contact, Haff's law and its limits, and the small helpers the report
-uses. The engine runs themselves are the ctest cooling_quick (compare/cooling.py --quick)."""
+uses. The engine runs themselves are the ctest cooling_quick (python3 -m compare.cooling --quick)."""
 import math
-import sys
-from pathlib import Path
 
 import numpy as np
 import pytest
 from scipy import integrate
 
-sys.path.insert(0, str(Path(__file__).resolve().parents[2] / "compare"))
-
-import cooling  # noqa: E402
-from lammps_data import read_sphere_data  # noqa: E402
+from compare import cooling
+from compare.lammps_files import read_data
 
 
 def _damped_contact(kn, gamman, meff, v):
@@ -110,12 +106,13 @@ def test_pair_data_file(tmp_path):
     text = (tmp_path / "p.data").read_text()
     velocity_rows = text.split("Velocities")[1].split("\n")[2:8]
     assert all(len(row.split()) == 7 for row in velocity_rows)  # id vx vy vz wx wy wz
-    d = read_sphere_data(tmp_path / "p.data")
-    assert len(d["ids"]) == 6 and np.all(d["radius"] == 0.5) and d["mass"] == pytest.approx(np.ones(6))
+    d = read_data(tmp_path / "p.data")
+    assert len(d.ids) == 6 and np.all(d.radius == 0.5) and d.mass == pytest.approx(np.ones(6))
+    assert d.omega is not None and np.all(d.omega == 0)
     for k, (v, gap) in enumerate(pairs):
         a, b = 2 * k, 2 * k + 1
-        assert d["pos"][b, 0] - d["pos"][a, 0] - 1.0 == pytest.approx(gap)
-        assert d["vel"][a, 0] - d["vel"][b, 0] == pytest.approx(v)
-        assert d["pos"][a, 1:] == pytest.approx(d["pos"][b, 1:])
-    centres = d["pos"][::2, 1:]
+        assert d.pos[b, 0] - d.pos[a, 0] - 1.0 == pytest.approx(gap)
+        assert d.vel[a, 0] - d.vel[b, 0] == pytest.approx(v)
+        assert d.pos[a, 1:] == pytest.approx(d.pos[b, 1:])
+    centres = d.pos[::2, 1:]
     assert min(np.linalg.norm(centres[i] - centres[j]) for i in range(3) for j in range(i)) >= 6.0

@@ -1,18 +1,14 @@
-"""The cross-validation's own measuring code on cases with known answers (compare/hs_theory.py,
-compare/xv_observables.py, the stiffness mapping of compare/xv_plan.py)."""
+"""The cross-validation's own measuring code on cases with known answers (compare.hard_sphere_theory,
+compare.crossval.observables, the stiffness mapping of compare.crossval.plan)."""
 import math
-import sys
-from pathlib import Path
 
 import numpy as np
 import pytest
 
-sys.path.insert(0, str(Path(__file__).resolve().parents[2] / "compare"))
-
-import accuracy  # noqa: E402
-import hs_theory  # noqa: E402
-import xv_observables as obs  # noqa: E402
-import xv_plan  # noqa: E402
+from compare import accuracy
+from compare import hard_sphere_theory as hs_theory
+from compare.crossval import observables as obs
+from compare.crossval import plan as xv_plan
 
 MONO = [(1.0, 1.0, 1.0)]
 

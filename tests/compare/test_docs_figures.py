@@ -1,23 +1,15 @@
-"""compare/docs_figures.py: redraws the three documentation figures from the committed data (no
+"""compare.docs_figures: redraws the three documentation figures from the committed data (no
 hardsphere program needed), and its Pareto fronts are staircases: cheaper settings have larger errors."""
-import importlib.util
 import subprocess
 import sys
-from pathlib import Path
 
-SCRIPT = Path(__file__).resolve().parents[2] / "compare" / "docs_figures.py"
+from compare import docs_figures
+
 NAMES = ["pareto_time_error.png", "eos_kolafa.png", "collisions_per_second.png"]
 
 
-def load():
-    spec = importlib.util.spec_from_file_location("docs_figures", SCRIPT)
-    mod = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(mod)
-    return mod
-
-
 def test_docs_figures(tmp_path):
-    p = subprocess.run([sys.executable, str(SCRIPT), "--out", str(tmp_path)], capture_output=True, text=True,
+    p = subprocess.run([sys.executable, "-m", "compare.docs_figures", "--out", str(tmp_path)], capture_output=True, text=True,
                        timeout=120)
     assert p.returncode == 0, p.stderr
     for name in NAMES:
@@ -28,7 +20,7 @@ def test_docs_figures(tmp_path):
 
 
 def test_pareto_front_is_monotone(tmp_path):
-    mod = load()
+    mod = docs_figures
     assert mod.pareto_front([(0.3, 1.0), (0.1, 3.0), (0.2, 2.0), (0.25, 2.5), (0.05, 2.9)]) == \
         [(0.05, 2.9), (0.2, 2.0), (0.3, 1.0)]
     fronts = mod.main(["--out", str(tmp_path)])

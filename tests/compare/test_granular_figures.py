@@ -1,14 +1,11 @@
-"""compare/granular_figures.py: barometric gas, resting bed and strong dissipation in both engines (quick mode)."""
+"""compare.granular_figures: barometric gas, resting bed and strong dissipation in both engines (quick mode)."""
 import json
 import subprocess
 import sys
-from pathlib import Path
-
-ROOT = Path(__file__).resolve().parents[2]
 
 
 def test_granular_figures_quick(hs, tmp_path):
-    p = subprocess.run([sys.executable, str(ROOT / "compare" / "granular_figures.py"), "--hardsphere", hs, "--out",
+    p = subprocess.run([sys.executable, "-m", "compare.granular_figures", "--hardsphere", hs, "--out",
                         str(tmp_path), "--quick"], capture_output=True, text=True, timeout=300)
     assert p.returncode == 0, p.stdout + p.stderr
     for name in ("barometric", "bed", "collapse"):

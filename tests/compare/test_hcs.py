@@ -1,15 +1,12 @@
-"""compare/hcs.py: the Sonine coefficient of the homogeneous cooling state (quick mode, e = 0.5),
+"""compare.hcs: the Sonine coefficient of the homogeneous cooling state (quick mode, e = 0.5),
 and its theory function."""
 import json
 import subprocess
 import sys
-from pathlib import Path
 
 import pytest
 
-ROOT = Path(__file__).resolve().parents[2]
-sys.path.insert(0, str(ROOT / "compare"))
-import hcs  # noqa: E402
+from compare import hcs
 
 
 def test_van_noije_ernst_limits():
@@ -27,7 +24,7 @@ def test_a2_is_zero_for_maxwell_boltzmann_and_not_for_one_speed():
 
 
 def test_cooling_state_matches_van_noije_ernst(hs, tmp_path):
-    p = subprocess.run([sys.executable, str(ROOT / "compare" / "hcs.py"), "--hardsphere", hs, "--out", str(tmp_path),
+    p = subprocess.run([sys.executable, "-m", "compare.hcs", "--hardsphere", hs, "--out", str(tmp_path),
                         "--quick"], capture_output=True, text=True, timeout=300)
     assert p.returncode == 0, p.stdout + p.stderr
     row = json.loads((tmp_path / "hcs.json").read_text())["rows"][0]

@@ -1,4 +1,4 @@
-"""compare/soft_spheres.py and the soft-sphere reference inputs (reference_inputs/lammps/
+"""compare.soft_spheres and the soft-sphere reference inputs (reference_inputs/lammps/
 in.granular_hooke, in.granular_hertz, reference_inputs/liggghts/in.granular_hertz).
 
 The engine tests run two head-on collisions (equal spheres, and a diameter-1.4 sphere against a
@@ -10,21 +10,17 @@ Tests needing lmp or liggghts skip when the program is not on PATH.
 import math
 import shutil
 import subprocess
-import sys
 from pathlib import Path
 
 import numpy as np
 import pytest
 from scipy import integrate
 
+from compare import soft_spheres as ss
+from compare.lammps_files import UNIT_DENSITY, loop_times, read_dump_frames, spheres_from_rows, write_data
+
 ROOT = Path(__file__).resolve().parents[2]
-sys.path.insert(0, str(ROOT / "compare"))
-
-import soft_spheres as ss  # noqa: E402
-from lammps_data import write_sphere_data  # noqa: E402
-
 INPUTS = ROOT / "reference_inputs"
-UNIT_DENSITY = 6 / math.pi
 
 
 # --- closed forms -------------------------------------------------------------------------
@@ -133,30 +129,6 @@ def test_energy_and_virial_of_a_periodic_configuration():
         ss.elastic_energy(pos, radius, lo, hi, "hertz_liggghts", 1e4)
 
 
-def test_read_dump_and_loop_time(tmp_path):
-    text = ("ITEM: TIMESTEP\n5\nITEM: NUMBER OF ATOMS\n2\nITEM: BOX BOUNDS pp pp pp\n"
-            "0 10\n-1 9.5\n0 1.25e+01\nITEM: ATOMS id type radius xu yu zu\n"
-            "7 2 0.7 1.5 2 3 \n3 1 0.5 -1 2.5 3e-1 \n"
-            "ITEM: TIMESTEP\n6\nITEM: NUMBER OF ATOMS\n0\nITEM: BOX BOUNDS pp pp pp\n"
-            "0 10\n-1 9.5\n0 12.5\nITEM: ATOMS id type radius xu yu zu\n")
-    (tmp_path / "a.dump").write_text(text)
-    frames = list(ss.read_dump(tmp_path / "a.dump"))
-    assert [f["timestep"] for f in frames] == [5, 6]
-    f = frames[0]
-    assert f["id"].tolist() == [3, 7] and f["type"].tolist() == [1, 2] and f["id"].dtype.kind == "i"
-    assert f["xu"].tolist() == [-1.0, 1.5] and f["zu"].tolist() == [0.3, 3.0]
-    assert f["box_lo"].tolist() == [0, -1, 0] and f["box_hi"].tolist() == [10, 9.5, 12.5]
-    assert frames[1]["natoms"] == 0 and len(frames[1]["radius"]) == 0
-    (tmp_path / "b.dump").write_text(text.replace("3 1 0.5 -1 2.5 3e-1 \n", ""))  # one atom row short
-    with pytest.raises(ValueError):
-        list(ss.read_dump(tmp_path / "b.dump"))
-    log = ("# the measured run is the last \"Loop time\" line\n"
-           "Loop time of 0.00389111 on 2 procs for 100 steps with 500 atoms, finish time Tue Nov 24 2026\n\n"
-           "Loop time of 6.48e-2 on 1 procs for 400 steps with 500 atoms\n")
-    assert ss.read_loop_time(log) == [(0.00389111, 2, 100), (0.0648, 1, 400)]
-    assert ss.read_loop_time("nothing") == []
-
-
 # --- the engines --------------------------------------------------------------------------
 
 KN_HOOKE, KN_HERTZ = 1e4, 2e5
@@ -178,13 +150,11 @@ ENGINES = {
 
 
 def _write_data(path):
-    write_sphere_data(path, [a for pair in PAIRS for a in pair], box=((0.0, BOX),) * 3, title="two collisions")
-    # atom_style sphere/granular Velocities rows need the angular velocity too (vx vy vz wx wy wz);
-    # write_sphere_data writes vx vy vz only, which both engines reject
-    lines = Path(path).read_text().splitlines()
-    k = lines.index("Velocities")
-    lines[k + 2:] = [ln + " 0 0 0" if ln.strip() else ln for ln in lines[k + 2:]]
-    Path(path).write_text("\n".join(lines) + "\n")
+    data = spheres_from_rows([a for pair in PAIRS for a in pair], box=((0.0, BOX),) * 3, title="two collisions")
+    # atom_style sphere/granular Velocities rows need the angular velocity too (vx vy vz wx wy wz),
+    # which both engines require
+    data.omega = np.zeros((len(data), 3))
+    write_data(path, data)
 
 
 def _run(engine, work, ranks=1):
@@ -206,8 +176,8 @@ def _run(engine, work, ranks=1):
         cmd = [mpirun, "--allow-run-as-root", "--oversubscribe", "-np", str(ranks)] + cmd
     p = subprocess.run(cmd, cwd=work, capture_output=True, text=True, timeout=120)
     assert p.returncode == 0, (p.stdout + p.stderr)[-3000:]
-    return dict(frames=list(ss.read_dump(work / "run.dump")), contact=list(ss.read_dump(work / "contact.dump")),
-                blocks=ss.read_blocks(work / "virial.txt"), loops=ss.read_loop_time((work / "log.txt").read_text()))
+    return dict(frames=read_dump_frames(work / "run.dump"), contact=read_dump_frames(work / "contact.dump"),
+                blocks=ss.read_blocks(work / "virial.txt"), loops=loop_times((work / "log.txt").read_text()))
 
 
 @pytest.fixture(scope="module")
@@ -240,8 +210,8 @@ def test_output_contract(collision):
     engine, r = collision
     # the equilibration run, then the measured run: last 'Loop time' line
     assert [lp[2] for lp in r["loops"]] == [NEQUIL, NRUN]
-    assert [f["timestep"] for f in r["frames"]] == list(range(NRUN + 1))
-    assert [f["timestep"] for f in r["contact"]] == list(range(CONTACTSTEPS + 1))
+    assert [f.timestep for f in r["frames"]] == list(range(NRUN + 1))
+    assert [f.timestep for f in r["contact"]] == list(range(CONTACTSTEPS + 1))
     f0, c0 = r["frames"][0], r["contact"][0]
     assert f0["id"].tolist() == [1, 2, 3, 4] and f0["radius"].tolist() == [0.5, 0.5, 0.7, 0.5]
     assert set(c0) >= {"id", "type", "radius", "x", "y", "z"}
@@ -253,7 +223,7 @@ def test_output_contract(collision):
     # third column: thermo_temp = sum m v^2 / (3N - 3)
     n = len(f0["id"])
     for f in r["frames"][1::100]:
-        assert blocks[f["timestep"] - 1, 2] == pytest.approx(2 * _kinetic(f) / (3 * n - 3), rel=1e-12)
+        assert blocks[f.timestep - 1, 2] == pytest.approx(2 * _kinetic(f) / (3 * n - 3), rel=1e-12)
 
 
 def test_energy_conservation(collision):
@@ -307,7 +277,7 @@ def test_virial_pressure_is_the_pair_virial(collision):
     checked = 0
     for f in r["frames"][1:]:
         w = ss.pair_virial(_positions(f), f["radius"], lo, hi, model, k, nu)
-        pvir = r["blocks"][f["timestep"] - 1, 1]
+        pvir = r["blocks"][f.timestep - 1, 1]
         assert pvir == pytest.approx(w / (3 * BOX**3), rel=1e-9, abs=1e-13)
         checked += w > 0
     assert checked > 100

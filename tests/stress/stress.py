@@ -1,7 +1,9 @@
 #!/usr/bin/env python3
 """Stress suite: hard cases for both engines, each with a pass criterion.
 
-    stress.py --hardsphere PATH [--quick] [--table FILE] [--only NAME ...]
+    python3 -m tests.stress.stress --hardsphere PATH [--quick] [--table FILE] [--only NAME ...]
+
+(from the repository root; ctest stress_quick runs it with --quick)
 
 Every case runs the `hardsphere` program on a generated state and checks what a correct hard-sphere
 simulation must give: energy and momentum kept, no overlap, no NaN, and the case's own criterion
@@ -19,10 +21,11 @@ import tempfile
 import time
 from pathlib import Path
 
-sys.path.insert(0, str(Path(__file__).resolve().parents[2] / "compare"))
-from lammps_data import write_sphere_data  # noqa: E402
-from machine import cpu_model  # noqa: E402
+import numpy as np
 
+from compare import lammps_files
+from compare.lammps_files import read_data
+from compare.machine_info import cpu_model
 
 
 class Case:
@@ -78,28 +81,12 @@ def check(cond, what):
 
 def write_data(path, atoms, box=((0, 10),) * 3):
     """atoms: rows (x, y, z, vx, vy, vz[, diameter[, density]]), ids from 1."""
-    return write_sphere_data(path, atoms, box, title="stress case")
-
-
-def read_data(path):
-    """{'box': [(lo, hi)] * 3, 'atoms': {id: (diameter, density, x, y, z)}, 'vel': {id: (vx, vy, vz)}}."""
-    box, atoms, vel, section = [None] * 3, {}, {}, None
-    for line in Path(path).read_text().splitlines():
-        w = line.split("#")[0].split()
-        if len(w) == 4 and w[2] in ("xlo", "ylo", "zlo"):
-            box["xyz".index(w[2][0])] = (float(w[0]), float(w[1]))
-        elif w and w[0] in ("Atoms", "Velocities"):
-            section = w[0]
-        elif section == "Atoms" and len(w) >= 7:
-            atoms[int(w[0])] = tuple(float(x) for x in w[2:7])
-        elif section == "Velocities" and len(w) >= 4:
-            vel[int(w[0])] = tuple(float(x) for x in w[1:4])
-    return {"box": box, "atoms": atoms, "vel": vel}
+    return lammps_files.write_data(path, lammps_files.spheres_from_rows(atoms, box=box, title="stress case"))
 
 
 def nan_count(j):
     f = j["_final"]
-    vals = [x for a in f["atoms"].values() for x in a] + [x for v in f["vel"].values() for x in v]
+    vals = np.concatenate([f.diameter, f.density, f.pos.ravel(), f.vel.ravel()]).tolist()
     for k in ("kinetic_energy_final", "temperature", "compressibility_factor", "max_overlap"):
         vals.append(j[k] if isinstance(j[k], (int, float)) else float("nan"))
     return sum(1 for x in vals if not math.isfinite(x))
@@ -108,10 +95,7 @@ def nan_count(j):
 def momentum_drift(j):
     """|p1 - p0| relative to sum m |v| (the scale momentum rounding is measured against)."""
     f = j["_final"]
-    scale = 0.0
-    for i, (d, rho, *_rest) in f["atoms"].items():
-        m = rho * math.pi / 6 * d ** 3
-        scale += m * math.sqrt(sum(x * x for x in f["vel"][i]))
+    scale = float((f.mass * np.sqrt((f.vel ** 2).sum(axis=1))).sum())
     dp = math.sqrt(sum((a - b) ** 2 for a, b in zip(j["momentum_final"], j["momentum_initial"])))
     return dp / scale if scale > 0 else dp
 
@@ -131,12 +115,12 @@ def sound(j, energy=1e-12, overlap=0.0, momentum=1e-12):
 
 def velocities(j):
     f = j["_final"]
-    return {i: f["vel"][i] for i in sorted(f["vel"])}
+    return {int(i): tuple(v) for i, v in zip(f.ids, f.vel.tolist())}
 
 
 def positions(j):
     f = j["_final"]
-    return {i: f["atoms"][i][2:5] for i in sorted(f["atoms"])}
+    return {int(i): tuple(x) for i, x in zip(f.ids, f.pos.tolist())}
 
 
 def close(a, b, tol):
@@ -286,16 +270,9 @@ def gas(ctx, name, *args):
 
 def with_fast_sphere(src, dst, factor):
     """Sphere 1 of a T = 1 state given `factor` times the rms speed along x."""
-    out, section = [], None
-    for line in Path(src).read_text().splitlines():
-        w = line.split()
-        if w and w[0] in ("Atoms", "Velocities"):
-            section = w[0]
-        elif section == "Velocities" and w and w[0] == "1":
-            line = f"1 {factor * math.sqrt(3.0)!r} 0 0"
-        out.append(line)
-    Path(dst).write_text("\n".join(out) + "\n")
-    return str(dst)
+    data = read_data(src)
+    data.vel[data.ids == 1] = (factor * math.sqrt(3.0), 0.0, 0.0)
+    return lammps_files.write_data(dst, data)
 
 
 def agree(a, b, what, rel):
@@ -435,9 +412,10 @@ def long_steps(ctx):
       "no overlap")
 def far_float(ctx):
     base = gas(ctx, "base.data", "--n", 200, "--box", 8.06, "--seed", 12)
-    f = read_data(base)
-    atoms = [(a[2] + 1e6, a[3] + 1e6, a[4] + 1e6, *f["vel"][i]) for i, a in sorted(f["atoms"].items())]
-    moved = write_data(ctx.work / "moved.data", atoms, box=((1e6, 1e6 + f["box"][0][1]),) * 3)
+    moved = read_data(base)
+    moved.pos += 1e6
+    moved.box = np.array([(1e6, 1e6 + moved.box[0][1])] * 3)
+    moved = lammps_files.write_data(ctx.work / "moved.data", moved)
     near = ctx.json("--read-data", base, "--steps", 2000, "--precision", "float")
     j = ctx.json("--read-data", moved, "--steps", 2000, "--precision", "float")
     sound(j, energy=1e-4, overlap=j["overlap_tolerance"], momentum=1e-5)

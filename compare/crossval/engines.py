@@ -1,7 +1,7 @@
 """Runs one state through one engine and setting, returning what the cross-validation measures.
 
 Every engine starts from the same LAMMPS data file and writes trajectory frames, block-averaged
-pressure and its CPU time; compare/cross_validate.py turns these into the compared figures.
+pressure and its CPU time; compare.cross_validate turns these into the compared figures.
 A run is a dict: engine, setting, kind ('hard'/'soft'), ranks, dt, sim_time, steps, frames,
 z_blocks, collision_rate (+ _err), cpu_seconds (CPU time of the stepping loop, all ranks),
 plus engine-specific keys.
@@ -9,25 +9,42 @@ plus engine-specific keys.
 import json
 import math
 import re
+import shutil
 import subprocess
+import sys
 import time
 from pathlib import Path
 
 import numpy as np
 
-import soft_spheres as soft
-import xv_states
-from xv_observables import iter_dump, read_dump
+from compare import lammps_files
+from compare import soft_spheres as soft
+from compare.crossval import states as xv_states
+from compare.crossval.observables import iter_frames, read_frames
 
-ROOT = Path(__file__).resolve().parent.parent
+ROOT = Path(__file__).resolve().parents[2]
 INPUTS = ROOT / "reference_inputs"
+
+
+def find_tools(build):
+    """The programs of a build directory and those on PATH that the engines run (None: missing)."""
+    build = Path(build).resolve()
+    tools = dict(build=build, hardsphere=build / "standalone" / "hardsphere", lmp_hs=build / "plugin" / "lmp_hs",
+                 lmp=shutil.which("lmp"), liggghts=shutil.which("liggghts"), mpirun=shutil.which("mpirun"))
+    if not tools["hardsphere"].exists():
+        sys.exit(f"cross_validate: {tools['hardsphere']} not built")
+    if not tools["lmp_hs"].exists():
+        tools["lmp_hs"] = None
+    return tools
 
 
 class EngineError(RuntimeError):
     pass
 
 
-def _run(cmd, cwd, log):
+def run_logged(cmd, cwd, log):
+    """Runs cmd in cwd with its output in the file log; (CompletedProcess, wall seconds), or
+    EngineError with the output's last lines."""
     t0 = time.time()
     p = subprocess.run([str(c) for c in cmd], cwd=cwd, capture_output=True, text=True)
     Path(log).write_text(p.stdout + p.stderr)
@@ -62,13 +79,13 @@ class Engines:
         current = state
         for b in range(blocks):
             tag = work / f"block{b}"
-            _run([self.hs, "run", "--read-data", current, "--dt", dt, "--steps", per, "--precision", precision,
+            run_logged([self.hs, "run", "--read-data", current, "--dt", dt, "--steps", per, "--precision", precision,
                   "--dump", f"{tag}.dump", "--dump-every", every, "--json", f"{tag}.json",
                   "--write-data", f"{tag}.data"], work, f"{tag}.log")
             j = json.loads(Path(f"{tag}.json").read_text())
             summaries.append(j)
             t0 = b * per * dt
-            fr = read_dump(f"{tag}.dump", dt=dt)
+            fr = read_frames(f"{tag}.dump", dt=dt)
             for f in fr:
                 f["t"] += t0
             frames += fr if b == 0 else fr[1:]
@@ -89,10 +106,10 @@ class Engines:
 
     def event(self, state, work, sim_time, blocks=32):
         work.mkdir(parents=True, exist_ok=True)
-        _run([self.hs, "run", "--engine", "event", "--read-data", state, "--time", sim_time, "--blocks", blocks,
+        run_logged([self.hs, "run", "--engine", "event", "--read-data", state, "--time", sim_time, "--blocks", blocks,
               "--dump", work / "run.dump", "--json", work / "run.json"], work, work / "run.log")
         j = json.loads((work / "run.json").read_text())
-        frames = read_dump(work / "run.dump", times=[k * sim_time / blocks for k in range(blocks + 1)])
+        frames = read_frames(work / "run.dump", times=[k * sim_time / blocks for k in range(blocks + 1)])
         return dict(kind="hard", ranks=1, dt=None, sim_time=sim_time, steps=None, n=j["n"], frames=frames,
                     z=j["compressibility_factor"], z_err=j["compressibility_factor_error"],
                     collision_rate=j["collision_rate_per_particle"], collision_rate_err=j["collision_rate_error"],
@@ -101,7 +118,7 @@ class Engines:
 
     # --- LAMMPS and LIGGGHTS -------------------------------------------------------------------
 
-    def _lammps_family(self, exe, script, state, work, ranks, dt, nrun, nequil, dumpevery, blocksteps,
+    def lammps_family(self, exe, script, state, work, ranks, dt, nrun, nequil, dumpevery, blocksteps,
                        contactsteps=0, extra=()):
         work.mkdir(parents=True, exist_ok=True)
         variables = dict(data=Path(state).resolve(), dt=dt, nrun=nrun, nequil=nequil,
@@ -113,9 +130,9 @@ class Engines:
             cmd += ["-var", k, v]
         if ranks > 1:
             cmd = [self.mpirun, "--allow-run-as-root", "--oversubscribe", "-np", ranks] + cmd
-        _, wall = _run(cmd, work, work / "run.out")
+        _, wall = run_logged(cmd, work, work / "run.out")
         log = (work / "log.lammps").read_text()
-        loops = soft.read_loop_time(log)
+        loops = lammps_files.loop_times(log)
         if not loops:
             raise EngineError(f"no 'Loop time' line in {work / 'log.lammps'}")
         seconds, procs, steps = loops[-1]
@@ -125,7 +142,7 @@ class Engines:
             re.search(r"^Outpt time \(%\) = ([0-9.eE+-]+)", tail, re.M)  # LIGGGHTS 3.8
         output_seconds = float(output.group(1)) if output else 0.0
         blocks = soft.read_blocks(work / "virial.txt")
-        frames = read_dump(work / "run.dump", dt=dt)
+        frames = read_frames(work / "run.dump", dt=dt)
         n = len(frames[0]["ids"])
         volume = float(np.prod(frames[0]["hi"] - frames[0]["lo"]))
         # compute temp divides by 3N - 3 degrees of freedom; Z uses T = sum m v^2 / 3N
@@ -137,7 +154,7 @@ class Engines:
 
     def lmp_hardsphere(self, state, work, dt, nrun, ranks=1, dumpevery=None, blocksteps=None, skin=None):
         script = INPUTS / "lammps" / "in.hardsphere_state"
-        r = self._lammps_family(self.lmp_hs, script, state, work, ranks, dt, nrun, 0, dumpevery, blocksteps,
+        r = self.lammps_family(self.lmp_hs, script, state, work, ranks, dt, nrun, 0, dumpevery, blocksteps,
                                 extra=dict(skin=skin))
         r["kind"] = "hard"
         per_step = r["blocks"][:, 3]  # collisions per step, block means
@@ -155,8 +172,8 @@ class Engines:
             exe = self.lmp
             script = INPUTS / "lammps" / ("in.granular_hooke" if engine == "lammps hooke" else "in.granular_hertz")
             extra = dict(kn=stiffness)
-        r = self._lammps_family(exe, script, state, work, ranks, dt, nrun, nequil, dumpevery, blocksteps,
+        r = self.lammps_family(exe, script, state, work, ranks, dt, nrun, nequil, dumpevery, blocksteps,
                                 contactsteps, extra)
         r["kind"] = "soft"
-        r["contact_frames"] = iter_dump(work / "contact.dump", dt=dt)  # one pass, frame by frame
+        r["contact_frames"] = iter_frames(work / "contact.dump", dt=dt)  # one pass, frame by frame
         return r

@@ -8,27 +8,22 @@ import math
 import numpy as np
 from scipy import stats
 
-import soft_spheres
+from compare import soft_spheres
+from compare.lammps_files import read_dump
 
 
-def iter_dump(path, dt=None, times=None):
-    """Frames of a LAMMPS text dump, one at a time; t = timestep * dt, or times[k] for frame k."""
-    for k, c in enumerate(soft_spheres.read_dump(path)):
-        lo, hi = c["box_lo"], c["box_hi"]
-        if "xu" in c:
-            pos = np.column_stack([c["xu"], c["yu"], c["zu"]])
-        elif "ix" in c:
-            pos = np.column_stack([c[x] + c["i" + x] * (hi[d] - lo[d]) for d, x in enumerate("xyz")])
-        else:
-            pos = np.column_stack([c["x"], c["y"], c["z"]])
-        yield dict(t=times[k] if times is not None else c["timestep"] * (dt or 0.0), step=c["timestep"], lo=lo,
-                   hi=hi, ids=c["id"], types=c["type"], radius=c["radius"], pos=pos,
+def iter_frames(path, dt=None, times=None):
+    """The frames of a LAMMPS text dump (lammps_files.read_dump) as this module's frames, one at a
+    time; t = timestep * dt, or times[k] for frame k."""
+    for k, c in enumerate(read_dump(path)):
+        yield dict(t=times[k] if times is not None else c.timestep * (dt or 0.0), step=c.timestep, lo=c.box_lo,
+                   hi=c.box_hi, ids=c["id"], types=c["type"], radius=c["radius"], pos=c.positions(),
                    vel=np.column_stack([c["vx"], c["vy"], c["vz"]]) if "vx" in c else None,
-                   unwrapped="xu" in c or "ix" in c)
+                   unwrapped=c.unwrapped)
 
 
-def read_dump(path, dt=None, times=None):
-    return list(iter_dump(path, dt, times))
+def read_frames(path, dt=None, times=None):
+    return list(iter_frames(path, dt, times))
 
 
 def unwrap(frames):

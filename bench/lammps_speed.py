@@ -3,14 +3,15 @@
 same state (a data file written by `hardsphere run`), serial and on 2 MPI ranks; prints a
 markdown table with the adapter overhead. Speed is reported, never asserted.
 
-  compare/lammps_speed.py --hs build/standalone/hardsphere --lmp build/plugin/lmp_hs [--n 8000 64000]
+  python3 -m bench.lammps_speed --hs build/standalone/hardsphere --lmp build/plugin/lmp_hs [--n 8000 64000]
 """
 import argparse
 import json
-import re
 import subprocess
 import tempfile
 from pathlib import Path
+
+from compare.lammps_files import loop_times, thermo_rows
 
 INPUT = """units lj
 newton {newton}
@@ -58,9 +59,7 @@ def run_lammps(lmp, d, script, np_, mpirun):
     """Runs `script` with lmp on np_ ranks in d; returns LAMMPS's loop time and the fields of the
     last thermo row."""
     out = lammps_output(lmp, d, script, np_, mpirun)
-    m = re.search(r"Loop time of ([0-9.eE+-]+) on (\d+) procs for (\d+) steps with (\d+) atoms", out)
-    last = [ln.split() for ln in out.splitlines() if ln.split()[:1] and ln.split()[0].isdigit()][-1]
-    return float(m.group(1)), [float(f) for f in last]
+    return loop_times(out)[-1][0], list(thermo_rows(out)[-1].values())
 
 
 def lammps(lmp, d, script, np_, mpirun):

@@ -10,12 +10,12 @@ import math
 
 import numpy as np
 
-import hs_theory
-import soft_spheres as soft
-import xv_observables as obs
-import xv_plan
-import xv_states
-from xv_engines import mean_err
+from compare import hard_sphere_theory as hs_theory
+from compare import soft_spheres as soft
+from compare.crossval import observables as obs
+from compare.crossval import plan as xv_plan
+from compare.crossval import states as xv_states
+from compare.crossval.engines import mean_err
 
 SOFT_MODEL = xv_plan.MODEL
 

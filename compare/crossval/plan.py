@@ -9,8 +9,8 @@ from dataclasses import dataclass, field
 
 from scipy.optimize import brentq
 
-import soft_spheres as soft
-import xv_states
+from compare import soft_spheres as soft
+from compare.crossval import states as xv_states
 
 SOFT_ENGINES = ("lammps hooke", "lammps hertz", "liggghts hertz")
 FAST_PAIR_SPEED = 6.0

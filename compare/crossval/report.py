@@ -1,4 +1,4 @@
-"""report.md and its figures for the cross-validation (compare/cross_validate.py)."""
+"""report.md and its figures for the cross-validation (python3 -m compare.cross_validate)."""
 import math
 import re
 import subprocess
@@ -12,8 +12,8 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 from scipy import stats  # noqa: E402
 
-import xv_analysis  # noqa: E402
-from machine import cpu_model  # noqa: E402
+from compare.crossval import analysis as xv_analysis  # noqa: E402
+from compare.machine_info import cpu_model  # noqa: E402
 
 
 def _first_line(cmd, pattern):
@@ -27,7 +27,7 @@ def _first_line(cmd, pattern):
 
 
 def versions(tools):
-    root = Path(__file__).resolve().parent.parent
+    root = Path(__file__).resolve().parents[2]
     commit = subprocess.run(["git", "-C", str(root), "describe", "--always", "--dirty"], capture_output=True,
                             text=True).stdout.strip() or "unknown"
     cache = Path(tools["build"]) / "CMakeCache.txt"
@@ -237,7 +237,7 @@ def write_report(out, plan, rows, curves, failures, tools, seed):
     lines += [f"**{verdict}** ({plan.mode} run: {len(rows)} runs over {len(states)} states).", ""]
     lines += [f"Machine: {v['machine']}. hardsphere {v['hardsphere']} built with {v['compiler']}; LAMMPS "
               f"{v['lammps']}; {v['liggghts']}; {v['mpi']}.", ""]
-    lines += ["Reproduce: `/usr/bin/python3 compare/cross_validate.py " + ("--quick " if plan.mode == "quick" else "")
+    lines += ["Reproduce: `/usr/bin/python3 -m compare.cross_validate " + ("--quick " if plan.mode == "quick" else "")
               + "--out DIR`. Units sigma = m = kT = 1, tau = sigma sqrt(m/kT).", ""]
     if failures:
         lines += ["## Disagreements", ""] + [f"- {f}" for f in failures] + [""]

@@ -11,13 +11,10 @@ import math
 import subprocess
 from pathlib import Path
 
-import numpy as np
-
-from lammps_data import read_sphere_data
-import soft_spheres
+from compare import soft_spheres
+from compare.lammps_files import UNIT_DENSITY, read_data
 
 BIG = 1.4
-UNIT_DENSITY = 6 / math.pi
 
 PUSH_OFF = """units lj
 atom_style sphere
@@ -59,7 +56,7 @@ def name(n, phi, composition):
 
 def max_overlap(path):
     s = read_state(path)
-    delta = soft_spheres.contacts(s["pos"], s["radius"], s["box"][:, 0], s["box"][:, 1])[4]
+    delta = soft_spheres.contacts(s.pos, s.radius, s.box[:, 0], s.box[:, 1])[4]
     return float(delta.max()) if len(delta) else 0.0
 
 
@@ -101,20 +98,20 @@ def _check(cmd, cwd):
 @functools.lru_cache(maxsize=4)
 def read_state(path):
     """The state's data file, read once per path (every run of a state needs its masses and box)."""
-    return read_sphere_data(path)
+    return read_data(path)
 
 
 def box(state_path):
     """(lo, hi) of the state's box."""
-    b = read_state(state_path)["box"]
+    b = read_state(state_path).box
     return b[:, 0].copy(), b[:, 1].copy()
 
 
 def masses(state_path):
     """Masses sorted by id (dumps are sorted by id too)."""
     s = read_state(state_path)
-    return s["mass"][np.argsort(s["ids"])]
+    return s.mass  # sorted by id
 
 
 def type_count(state_path):
-    return len(set(read_state(state_path)["types"].tolist()))
+    return len(set(read_state(state_path).types.tolist()))

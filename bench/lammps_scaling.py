@@ -2,7 +2,7 @@
 """MPI scaling of `lmp_hs` + `fix hardsphere`: the same run serial and on 2 ranks, alternating,
 medians of LAMMPS's loop (wall) time; prints a markdown table. Speed is reported, never asserted.
 
-  compare/lammps_scaling.py --hs build/standalone/hardsphere --lmp build/plugin/lmp_hs \
+  python3 -m bench.lammps_scaling --hs build/standalone/hardsphere --lmp build/plugin/lmp_hs \
       [--n 64000 1000000] [--phi 0.3 0.45] [--steps 300] [--rounds 3] [--weak 32000] [--timing] [--ceiling]
 
 Columns: speed-up = serial time / 2-rank time; cost per sphere-step on 2 ranks over serial =
@@ -18,13 +18,13 @@ the most weak scaling can.
 """
 import argparse
 import os
-import re
 import statistics
 import subprocess
 import tempfile
 from pathlib import Path
 
-from lammps_speed import lammps_output, run_lammps
+from bench.lammps_speed import lammps_output, run_lammps
+from compare.lammps_files import loop_times
 
 INPUT = """units lj
 atom_style sphere
@@ -78,7 +78,7 @@ def side_by_side(lmp, d, data, dt, steps):
         out, err = p.communicate()
         if p.returncode != 0:
             raise RuntimeError(f"lmp_hs failed: {err or out}")
-        loops.append(float(re.search(r"Loop time of ([0-9.eE+-]+)", out).group(1)))
+        loops.append(loop_times(out)[-1][0])
     return max(loops)
 
 

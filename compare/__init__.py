@@ -1,0 +1,25 @@
+"""hardsphere's Python side: validation against theory and other engines, the figures of the
+documentation, and the readers of LAMMPS files that every Python program of the project uses.
+
+Run an entry point from the repository root as `python3 -m compare.NAME ...` (--help for each):
+
+  accuracy           run time against error, the event engine as reference (docs/event_engine.md)
+  big_sphere_scene   a data file of a gas with a few big spheres
+  brownian           a heavy sphere's diffusion against Enskog (docs/validation/brownian.md)
+  cooling            a granular gas against Haff's law in every engine (docs/validation/cooling.md)
+  cross_validate     the same states through every engine (docs/validation/cross_validation.md)
+  docs_figures       the README's figures from committed data
+  granular_figures   gravity, walls and inelastic collisions (docs/validation/granular.md)
+  hcs                the homogeneous cooling state's a2 (docs/validation/hcs.md)
+  plot_speeds        a data file's speed distribution against Maxwell-Boltzmann
+  seed_figures       the seed paper's figures (docs/validation/seed_figures.json)
+
+Shared modules:
+
+  lammps_files       LAMMPS data files, text dumps and log lines: read and write
+  hard_sphere_theory equations of state, contact values, Enskog collision rates
+  soft_spheres       the soft-sphere force laws of the granular styles, Barker-Henderson shifts
+  machine_info       the machine a report was made on
+  crossval           the cross-validation's parts (plan, states, engines, observables, analysis,
+                     report), used by cross_validate and cooling
+"""

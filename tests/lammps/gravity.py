@@ -1,0 +1,40 @@
+"""`fix gravity` acts on the hard spheres through the stepper's parabolic flights: in serial the
+standalone's --gravity collision for collision, on 2 ranks statistically equal; kinetic +
+potential energy kept (pe includes fix gravity's energy, measured from z = 0 like the
+standalone's); P equals LAMMPS's press averaged over the steps; a varying gravity is refused."""
+from tests.lammps.lammps_runner import Cases, main
+
+cases = Cases(__file__)
+N_ATOMS = 500
+
+
+def bed(ctx):
+    """500 spheres in a 10 x 10 x 40 box with walls on z (bed.data), and the standalone's 1000
+    steps of 0.005 under gravity 1 along -z."""
+    ctx.state("bed.data", "--n", N_ATOMS, "--box", "10,10,40", "--boundary", "p,p,w")
+    return ctx.standalone("--read-data", "bed.data", "--boundary", "p,p,w", "--gravity", "0,0,-1", "--steps", 1000,
+                          "--dt", 0.005)
+
+
+@cases.case
+def falling(ctx, case):
+    ref = bed(ctx)
+    rows = ctx.lammps("gravity/bed.lmp", vars=dict(data="bed.data", boundary="p p f", dt=0.005, g=1.0)).rows
+    first, last = rows[0], rows[-1]
+    ke0, ke1 = first["KinEng"] * N_ATOMS, last["KinEng"] * N_ATOMS
+    return {"P": last["f_hs[10]"], "collisions": last["f_hs[1]"], "wall bounces": last["f_hs[5]"],
+            "kinetic energy": ke1, "kinetic energy over the start": ke1 / ke0,
+            "kinetic + potential energy": (last["KinEng"] + last["PotEng"]) * N_ATOMS}, \
+        dict(standalone=ref, mean_press=last["f_pav"], start=(first["KinEng"] + first["PotEng"]) * N_ATOMS)
+
+
+@cases.case
+def varying_refused(ctx, case):
+    bed(ctx)
+    out = ctx.lammps("gravity/bed.lmp", vars=dict(data="bed.data", boundary="p p f", dt=0.005, g="v_m"),
+                     expect_ok=False)
+    return {"exit status": abs(out.returncode), "output": out.text}, {}
+
+
+if __name__ == "__main__":
+    raise SystemExit(main(cases))
