@@ -172,9 +172,14 @@ void RankStepper::build() {
     error->one(FLERR, std::string("fix hardsphere: ") + e.what());
   }
   auto &exch = hardsphere::state_exchange(*stepper_);
-  exch.set_owned(owned.data());
+  std::vector<std::uint32_t> input(exch.size());
+  exch.copy_input_index(input.data());
+  std::vector<std::uint8_t> owned_by_slot(input.size());
+  for (std::size_t k = 0; k < input.size(); k++) owned_by_slot[k] = owned[input[k]];
+  tally_.reset(std::move(owned_by_slot));
+  exch.set_collision_observer(&tally_);
   exch.set_rebuild_agreement([this](bool due) { return agree_rebuild(due); });
-  last_ = hardsphere::OwnedCounters{};
+  last_ = OwnershipTally::Totals{};
   last_unresolved_ = 0;
   map_slots();
   stale_ = false;
@@ -296,6 +301,7 @@ RankStepper::StepTotals RankStepper::step() {
   StepTotals t;
   if (stepper_) {
     hardsphere::state_exchange(*stepper_).set_sphere_virial(virial_rows_ != nullptr);
+    tally_.start_step();
     try {
       stepper_->run(1);
     } catch (const std::exception &e) {
@@ -324,7 +330,7 @@ RankStepper::StepTotals RankStepper::step() {
       hardsphere::state_exchange(*stepper_).take_sphere_virial(slot_dest_.data(), virial_scale_, virial_rows_);
     }
     timer_.charge(PartTimer::Write);
-    const hardsphere::OwnedCounters &c = hardsphere::state_exchange(*stepper_).owned_counters();
+    const OwnershipTally::Totals &c = tally_.totals();
     t.collisions = c.collisions - last_.collisions;
     t.wall_collisions = c.wall_collisions - last_.wall_collisions;
     for (std::size_t k = 0; k < 6; k++) t.virial[k] = c.pair_virial_tensor[k] - last_.pair_virial_tensor[k];
@@ -366,11 +372,9 @@ bool RankStepper::ghosts_agree() {
   forward_comm(1);
   if (!stepper_) return true;
   auto &exch = hardsphere::state_exchange(*stepper_);
-  met_.resize(ghost_slots_.size());
-  exch.copy_met_owned(ghost_slots_.data(), ghost_slots_.size(), met_.data());
   met_slots_.clear();
-  for (std::size_t i = 0; i < ghost_slots_.size(); i++)
-    if (met_[i]) met_slots_.push_back(ghost_slots_[i]);
+  for (const std::uint32_t k : ghost_slots_)
+    if (tally_.met_owned(k)) met_slots_.push_back(k);
   met_vel_.resize(met_slots_.size());
   exch.copy_velocities(met_slots_.data(), met_slots_.size(), met_vel_.data());
   for (std::size_t i = 0; i < met_slots_.size(); i++) {

@@ -15,6 +15,7 @@
 
 #include "hardsphere/state_exchange.hpp"
 #include "hardsphere/stepper.hpp"
+#include "ownership_tally.h"
 #include "part_timer.h"
 #include "pointers.h"
 
@@ -121,8 +122,9 @@ class RankStepper : protected Pointers {
   double virial_scale_ = 1.0;
   bigint end_atoms_[2] = {-1, -1};         //!< owned atoms and the sum of their tags when the last run ended
   std::array<double, 6> end_subdomain_{};  //!< and the sub-domain's bounds
+  OwnershipTally tally_;                   //!< the stepper's collisions weighted by ownership
   std::unique_ptr<hardsphere::StepperBase> stepper_;
-  hardsphere::OwnedCounters last_;  //!< owned counters after the previous step
+  OwnershipTally::Totals last_;  //!< tally_ after the previous step
   std::int64_t last_unresolved_ = 0;
   std::int64_t mapped_rebuilds_ = -1;           //!< stepper rebuilds when the slots were mapped
   std::vector<int> input_local_;                //!< stepper input index -> LAMMPS local index
@@ -132,7 +134,6 @@ class RankStepper : protected Pointers {
   std::vector<hardsphere::Vec3d> ghost_pos_, ghost_vel_;  //!< scratch for sync_ghosts
   std::vector<std::int32_t> slot_image_;
   std::vector<hardsphere::Vec3d> slot_shift_;
-  std::vector<std::uint8_t> met_;           //!< per ghost slot: it met an owned atom in this step
   std::vector<std::uint32_t> met_slots_;    //!< those slots
   std::vector<hardsphere::Vec3d> met_vel_;  //!< and this rank's velocities of them
   std::vector<hardsphere::Vec3d> x_ref_;    //!< owned positions when LAMMPS last re-neighboured

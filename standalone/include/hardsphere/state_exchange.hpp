@@ -1,7 +1,7 @@
 #pragma once
 //! For adapters that keep their own copy of the spheres (the LAMMPS fix) and for engines that
 //! share spheres with others (one stepper per MPI rank over its owned and ghost spheres): the
-//! stepper's spheres in its internal order, and collision totals weighted by ownership.
+//! stepper's spheres in its internal order, and every collision as it is resolved.
 #include <array>
 #include <cstddef>
 #include <cstdint>
@@ -12,14 +12,18 @@
 
 namespace hardsphere {
 
-//! Totals weighted by ownership (see StateExchange::set_owned): a collision counts
-//! (owned_i + owned_j) / 2, a wall bounce owned_i, so engines that share spheres add up to
-//! the totals of one engine over all of them.
-struct OwnedCounters {
-  double collisions = 0;
-  double wall_collisions = 0;
-  double pair_virial = 0;                                      //!< sum of weight * r_ij . dp_i
-  std::array<double, 6> pair_virial_tensor{0, 0, 0, 0, 0, 0};  //!< xx yy zz xy xz yz
+//! Told of every collision and wall bounce an engine resolves, by slot (StateExchange's order),
+//! e.g. by an adapter whose engines share spheres and weight their totals by ownership.
+class CollisionObserver {
+ public:
+  virtual ~CollisionObserver() = default;
+  //! The spheres in slots i and j collided: `tensor` is r_ij (x) dp_i (xx yy zz xy xz yz, as
+  //! StepCounters::pair_virial_tensor), `virial` r_ij . dp_i.
+  virtual void collision(std::uint32_t i, std::uint32_t j, const double* tensor, double virial) = 0;
+  //! The sphere in slot i bounced off a wall.
+  virtual void bounce(std::uint32_t i) = 0;
+  //! The engine re-sorted its spheres: slot k now holds the sphere that was in slot old[k].
+  virtual void reordered(const std::uint32_t* old, std::size_t n) = 0;
 };
 
 class StateExchange {
@@ -61,13 +65,9 @@ class StateExchange {
   //! Adds each slot's sums since the last take, times `scale`, to row dest[k] of `out` (6
   //! doubles per row; kNoRow skipped) and clears them.
   virtual void take_sphere_virial(const std::uint32_t* dest, double scale, double* out) = 0;
-  //! Marks which spheres (input order, 1 = owned) this engine owns; owned_counters() then
-  //! accumulate from the next step on. Without it nothing is accumulated there.
-  virtual void set_owned(const std::uint8_t* owned) = 0;
-  virtual const OwnedCounters& owned_counters() const = 0;
-  //! Per given slot: 1 if the sphere is not owned and collided with an owned one in the last
-  //! run().
-  virtual void copy_met_owned(const std::uint32_t* slots, std::size_t count, std::uint8_t* out) const = 0;
+  //! From the next step on, `observer` (not owned; nullptr: none) is told of every collision and
+  //! bounce; it must outlive the engine or be removed first.
+  virtual void set_collision_observer(CollisionObserver* observer) = 0;
   //! For engines that step side by side and wait for each other after every step (one per MPI
   //! rank): they rebuild their pair lists on the same steps, so none waits while another
   //! rebuilds. In every step, after its first drift, the engine calls agree(due), due telling

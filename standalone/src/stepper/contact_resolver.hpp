@@ -25,6 +25,7 @@
 #include "common/neighbour_entry.hpp"
 #include "common/xyz4.hpp"
 #include "hardsphere/collision.hpp"
+#include "hardsphere/state_exchange.hpp"
 #include "hardsphere/vec3.hpp"
 #include "stepper/contact_queue.hpp"
 
@@ -51,17 +52,13 @@ struct ContactArrays {
   //! Optional: row s's entries before adj_plain_end[s] all have image kNoImage (the sweeps then
   //! skip their shift, a sizeable part of the filter's instructions; see docs/performance.md).
   const std::uint32_t* adj_plain_end = nullptr;
-  //! Optional: 1 for the spheres this engine owns (indexed like pos): the tally's owned_* sums
-  //! then weight each collision by the owned share of its pair and each bounce by its sphere's.
-  const std::uint8_t* owned = nullptr;
-  //! With owned: set to 1 for each sphere not owned that collided with an owned one (indexed
-  //! like pos), so an adapter can check those copies against their owners.
-  std::uint8_t* met_owned = nullptr;
   //! Optional: each sphere's pair collisions (indexed like pos), incremented for both spheres.
   std::int64_t* pair_collisions = nullptr;
   //! Optional: 6 per sphere (indexed like pos): each collision adds half its virial tensor
   //! r_ij (x) dp_i (xx yy zz xy xz yz) to both spheres, so the spheres' sums add up to the tally's.
   double* sphere_virial = nullptr;
+  //! Optional: told of every collision and bounce (indices like pos).
+  CollisionObserver* observer = nullptr;
 };
 
 //! Totals of resolved contacts.
@@ -73,9 +70,6 @@ struct ContactTally {
   double virial = 0;                            //!< sum over collisions of r_ij . dp_i at contact
   //! The same sum as a tensor, r_ij (x) dp_i: xx, yy, zz, xy, xz, yz (LAMMPS's virial order).
   std::array<double, 6> virial_tensor{0, 0, 0, 0, 0, 0};
-  //! The same weighted by ownership (ContactArrays::owned), so engines sharing spheres add up.
-  double owned_collisions = 0, owned_wall_collisions = 0, owned_virial = 0;
-  std::array<double, 6> owned_virial_tensor{0, 0, 0, 0, 0, 0};
 };
 
 //! Mono: every sphere has the diameter `sigma` and mass `mass` given to set_uniform().
@@ -482,7 +476,6 @@ class ContactResolver {
   }
   std::int64_t id(std::uint32_t i) const { return a_.id_slot ? a_.id[a_.id_slot[i]] : a_.id[i]; }
   std::uint32_t id_index(std::uint32_t i) const { return a_.id_slot ? a_.id_slot[i] : i; }
-  double owned(std::uint32_t i) const { return a_.owned[i]; }
   //! TC model: a collision `back` before the step's end is elastic if either sphere collided
   //! within contact_time_ before it.
   bool collided_recently(std::uint32_t i, std::uint32_t j, Real back) const {
@@ -508,7 +501,7 @@ class ContactResolver {
       kernel::reflect_from_walls(a_.pos[c.i][d], v, lo_[std::size_t(d)], hi_[std::size_t(d)], radius(c.i));
     }
     ++tally.wall_collisions;
-    if (a_.owned) tally.owned_wall_collisions += owned(c.i);
+    if (a_.observer) a_.observer->bounce(c.i);
     tally.wall_impulse[std::size_t(d)] += 2.0 * std::abs(double(Mono ? mass_ : a_.mass[c.i]) * double(v_before));
     mark_changed(c.i, c.back);
     hooks.after_bounce(c.i);
@@ -609,14 +602,10 @@ class ContactResolver {
     ++tally.collisions;
     tally.virial += virial;
     if (a_.pair_collisions) ++a_.pair_collisions[i], ++a_.pair_collisions[j];
-    if (a_.sphere_virial) add_sphere_virial(i, j, r, dp);
-    if (a_.owned) {
-      const double w = 0.5 * (owned(i) + owned(j));
-      if (w == 0.5) a_.met_owned[owned(i) != 0.0 ? j : i] = 1;
-      tally.owned_collisions += w;
-      tally.owned_virial += w * virial;
+    if (a_.sphere_virial || a_.observer) {
       const double t[6] = {r[0] * dp[0], r[1] * dp[1], r[2] * dp[2], r[0] * dp[1], r[0] * dp[2], r[1] * dp[2]};
-      for (int k = 0; k < 6; ++k) tally.owned_virial_tensor[std::size_t(k)] += w * t[k];
+      if (a_.sphere_virial) add_sphere_virial(i, j, t);
+      if (a_.observer) a_.observer->collision(i, j, t, virial);
     }
     for (const std::uint32_t k : {i, j}) {
       mark_changed(k, back);
@@ -626,8 +615,7 @@ class ContactResolver {
   }
 
   //! Half of a collision's r (x) dp to each of its spheres (ContactArrays::sphere_virial).
-  void add_sphere_virial(std::uint32_t i, std::uint32_t j, const double* r, const double* dp) {
-    const double t[6] = {r[0] * dp[0], r[1] * dp[1], r[2] * dp[2], r[0] * dp[1], r[0] * dp[2], r[1] * dp[2]};
+  void add_sphere_virial(std::uint32_t i, std::uint32_t j, const double* t) {
     for (const std::uint32_t s : {i, j})
       for (std::size_t k = 0; k < 6; ++k) a_.sphere_virial[6 * std::size_t(s) + k] += 0.5 * t[k];
   }

@@ -107,7 +107,6 @@ class Stepper final : public StepperBase, public StateExchange {
   Stepper(const ParticleSystem& sys, const Physics& physics, const StepperConfig& cfg);
 
   void run(std::int64_t steps) override {
-    std::fill(met_owned_.begin(), met_owned_.end(), std::uint8_t(0));
     // Scene features select a specialised kernel once per run, not per pair.
     const int key = (all_periodic_ ? 2 : 0) + (sweep_ ? 1 : 0);
     switch (key) {
@@ -155,11 +154,8 @@ class Stepper final : public StepperBase, public StateExchange {
   void copy_input_index(std::uint32_t* out) const override {
     for (std::size_t k = 0; k < slot_.size(); ++k) out[k] = input_of_rank_[slot_[k]];
   }
-  void set_owned(const std::uint8_t* owned) override {
-    // In slot order, permuted at each rebuild: the resolver reads both at every collision.
-    owned_.resize(slot_.size());
-    for (std::size_t k = 0; k < owned_.size(); ++k) owned_[k] = owned[input_of_rank_[slot_[k]]];
-    met_owned_.assign(owned_.size(), 0);
+  void set_collision_observer(CollisionObserver* observer) override {
+    observer_ = observer;
     bind_resolver();
   }
   void set_sphere_virial(bool on) override {
@@ -178,16 +174,6 @@ class Stepper final : public StepperBase, public StateExchange {
         for (std::size_t c = 0; c < 6; ++c) out[6 * std::size_t(dest[k]) + c] += scale * w[c];
       std::fill(w, w + 6, 0.0);
     }
-  }
-  void copy_met_owned(const std::uint32_t* slots, std::size_t count, std::uint8_t* out) const override {
-    for (std::size_t i = 0; i < count; ++i) out[i] = met_owned_.empty() ? 0 : met_owned_[slots[i]];
-  }
-  const OwnedCounters& owned_counters() const override {
-    owned_counters_.collisions = tally_.owned_collisions;
-    owned_counters_.wall_collisions = tally_.owned_wall_collisions;
-    owned_counters_.pair_virial = tally_.owned_virial;
-    owned_counters_.pair_virial_tensor = tally_.owned_virial_tensor;
-    return owned_counters_;
   }
   void copy_images(std::int32_t* out) const override {
     for (std::size_t k = 0; k < slot_.size(); ++k)
@@ -441,9 +427,7 @@ class Stepper final : public StepperBase, public StateExchange {
   ContactResolver<Real, Mono> resolver_;
   ContactTally tally_;
   mutable StepCounters counters_;
-  mutable OwnedCounters owned_counters_;
-  std::vector<std::uint8_t> owned_;           // slot order; empty: no ownership accounting
-  std::vector<std::uint8_t> met_owned_;       // slot order: not owned, collided with an owned sphere in this run()
+  CollisionObserver* observer_ = nullptr;     // set_collision_observer
   std::function<bool(bool)> agree_;           // set_rebuild_agreement
   bool vote_due_ = false;                     // this step has not asked agree_ yet
   std::vector<std::uint32_t> input_of_rank_;  // id rank -> index in the constructor's input
@@ -452,7 +436,6 @@ class Stepper final : public StepperBase, public StateExchange {
   std::vector<std::int64_t> pair_collisions_, scratch_i64_;  // since reset_counters() (if counted)
   // Cell order, 6 per sphere: collision virial since the last take_sphere_virial (if on).
   std::vector<double> sphere_virial_, scratch_virial_;
-  std::vector<std::uint8_t> scratch_u8_;
   mutable std::size_t sampled_at_ = 0;    // sphere()'s last cell-order position: valid until a rebuild
   double clock_ = 0;                      // time since construction, for the collision times
   std::array<Real, 3> gravity_{0, 0, 0};  // uniform acceleration (wall axes only)
@@ -654,7 +637,7 @@ void Stepper<Real, Mono>::rebuild() {
       std::copy_n(&sphere_virial_[6 * std::size_t(order_[k])], 6, &scratch_virial_[6 * k]);
     sphere_virial_.swap(scratch_virial_);
   }
-  if (!owned_.empty()) permute(owned_, scratch_u8_), permute(met_owned_, scratch_u8_);
+  if (observer_) observer_->reordered(order_.data(), n);
   resolver_.permute(order_);
   guard_.reset(n);
 
@@ -672,9 +655,8 @@ template <class Real, bool Mono>
 void Stepper<Real, Mono>::bind_resolver() {
   resolver_.bind({pos_.data(), vel_.data(), r_.data(), m_.data(), id_.data(), slot_.data(), pairs_.adj_start(),
                   pairs_.adj(), image_shift_, speeds_ ? speed_.data() : nullptr, pairs_.adj_plain_end(),
-                  owned_.empty() ? nullptr : owned_.data(), owned_.empty() ? nullptr : met_owned_.data(),
                   pair_collisions_.empty() ? nullptr : pair_collisions_.data(),
-                  sphere_virial_.empty() ? nullptr : sphere_virial_.data()});
+                  sphere_virial_.empty() ? nullptr : sphere_virial_.data(), observer_});
 }
 
 template <class Real, bool Mono>
