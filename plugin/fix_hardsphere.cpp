@@ -13,13 +13,16 @@
 #include "domain.h"
 #include "error.h"
 #include "force.h"
+#include "ghost_path.h"
 #include "hardsphere/errors.hpp"
 #include "hardsphere/format.hpp"
 #include "hardsphere/stepper.hpp"
 #include "memory.h"
 #include "modify.h"
 #include "neighbor.h"
+#include "output.h"
 #include "pair_hardsphere.h"
+#include "serial_path.h"
 #include "update.h"
 #include "utils.h"
 
@@ -83,7 +86,7 @@ FixHardSphere::FixHardSphere(LAMMPS *lmp, int narg, char **arg) : Fix(lmp, narg,
   size_vector = kVectorSize;
   global_freq = 1;
   extvector = 0;
-  comm_forward = RankStepper::kForwardSize;  // ghost velocities (owned + ghost path)
+  comm_forward = StepPath::kForwardSize;  // ghost velocities (owned + ghost path)
   virial_global_flag = 1;
   thermo_virial = 1;
   force_reneighbor = 1;
@@ -106,7 +109,7 @@ void FixHardSphere::init() {
   serial = comm->nprocs == 1 && !ghost_path_only;
   check_input();  // fix_hardsphere_checks.cpp: styles, box, run style, other fixes, neighbour settings
   dt = update->dt;
-  serial_schedule();  // also tells the owned + ghost path when to re-measure the temperature
+  others.scan(modify, this);
   // Per-atom virials only where a compute asks for them (the same on every rank).
   atom_virial = false;
   for (int i = 0; i < modify->ncompute; i++) atom_virial |= modify->compute[i]->pressatomflag != 0;
@@ -116,6 +119,12 @@ void FixHardSphere::init() {
   } else if (!atom_virial) {
     memory->destroy(vstep);
     vstep_rows = 0;
+  }
+  if (!path) {
+    if (serial)
+      path = std::make_unique<SerialPath>(lmp, timing, others);
+    else
+      path = std::make_unique<GhostPath>(lmp, this, timing);
   }
   if (serial) return;  // the stepper needs no ghost shell and no LAMMPS neighbour list
 
@@ -129,7 +138,7 @@ void FixHardSphere::init() {
   // Raise the user ghost cutoff (comm_modify cutoff) to the shell the owned + ghost path needs
   // unless 'ghost user' was given. No LAMMPS neighbour list: each rank's stepper makes its own.
   if (ghost_auto) {
-    const double need = RankStepper::ghost_cutoff(force->pair->cutforce, neighbor->skin);
+    const double need = GhostPath::ghost_cutoff(force->pair->cutforce, neighbor->skin);
     if (comm->cutghostuser < need) {
       comm->cutghostuser = need;
       if (comm->me == 0)
@@ -138,24 +147,13 @@ void FixHardSphere::init() {
                      " (3 x contact distance + 2 x skin) so the ghosts an owned atom meets see all their partners\n");
     }
   }
-  if (!rank) rank = std::make_unique<RankStepper>(lmp, this, timing);
 }
 
 void FixHardSphere::reset_dt() { dt = update->dt; }
 
-void FixHardSphere::setup_pre_neighbor() {
-  if (serial)
-    slots_dirty = true;
-  else
-    rank->neighbours_changed();
-}
+void FixHardSphere::setup_pre_neighbor() { path->neighbours_changed(); }
 
-void FixHardSphere::pre_neighbor() {
-  if (serial)
-    lammps_moved = true;  // LAMMPS has wrapped and may have sorted its atoms
-  else
-    rank->neighbours_changed();  // new ghosts, or atoms that changed ranks
-}
+void FixHardSphere::pre_neighbor() { path->neighbours_changed(); }
 
 void FixHardSphere::setup(int vflag) {
   // rerun reads snapshots and takes no step: no stepper, and no overlap check on positions that
@@ -172,17 +170,8 @@ void FixHardSphere::setup(int vflag) {
   skip_reverse_comm();
   read_gravity();
   positions_kept = false;  // the run's start reads every atom anew
-  if (serial) {
-    serial_setup();
-  } else {
-    rank->configure(stepper_config(), physics);
-    rank->neighbours_changed();
-    rank->run_starts();
-    // Made here, outside the run's loop, as the serial path's stepper is; the first step still
-    // takes up velocities that other fixes' setup may have changed.
-    rank->prepare();
-    rank->velocities_changed();
-  }
+  path->configure(stepper_config(), physics);
+  path->run_starts();
   t_now = temperature_now();
   run_set_up = true;
   // Thermo at a run's first step reports the last resolved step's collision virial (zero
@@ -243,7 +232,7 @@ void FixHardSphere::initial_integrate(int vflag) {
     skip_reverse_comm();
     dt = update->dt;
     check_timestep();
-    if (!serial) rank->configure(stepper_config(), physics);
+    path->configure(stepper_config(), physics);
   } else if (!gravity_fixes.empty() && gravity_changed()) {
     error->all(FLERR,
                "fix hardsphere: fix gravity changed its acceleration during the run (a variable magnitude "
@@ -252,38 +241,29 @@ void FixHardSphere::initial_integrate(int vflag) {
   // Another fix may have moved atoms at the end of the last step (x was kept at post_force).
   const bool moved = positions_kept && positions_moved();
   positions_kept = false;
-  if (serial) {
-    serial_step(wants_atom_virial(vflag), moved);
-    return;
-  }
-  if (!run_set_up || others_acted(update->ntimestep - 1)) t_now = temperature_now();
-  if (!run_set_up)
-    rank->run_starts_without_setup();  // 'run ... pre no': commands in between may have changed atoms
-  else if (others_acted(update->ntimestep - 1))
-    rank->velocities_changed();  // by another fix
-  if (moved) rank->atoms_moved(moved_source());
+  const StepStart start{!run_set_up, others.acted(update->ntimestep - 1), moved ? moved_source() : std::string()};
   run_set_up = true;
-  ghost_path_step(wants_atom_virial(vflag));
-  if (temperature_varies()) t_now = temperature_now();  // the owned atoms' rows hold this step's result
+  if (path->before_step(start)) t_now = temperature_now();
+  const bool take_atom_virial = wants_atom_virial(vflag);
+  add_step(path->step(take_atom_virial ? vstep[0] : nullptr, force->mvv2e / dt));
+  if (take_atom_virial) vstep_at = update->ntimestep;
+  if (temperature_varies()) t_now = temperature_of(path->owned_mv2());
   t_integral += t_now * dt;
+  if (path->needs_reneighbor()) {  // LAMMPS decides after this hook: re-neighbour in this step
+    next_reneighbor = update->ntimestep;
+    n_forced += 1;
+  }
 }
 
-void FixHardSphere::ghost_path_step(bool take_atom_virial) {
-  rank->take_atom_virial(take_atom_virial ? vstep[0] : nullptr, force->mvv2e / dt);
-  const RankStepper::StepTotals t = rank->step();
-  if (take_atom_virial) vstep_at = update->ntimestep;
+void FixHardSphere::add_step(const StepTotals &t) {
   n_coll_step = t.collisions;
   for (int k = 0; k < 6; k++) step_virial[k] = t.virial[std::size_t(k)];
   n_coll += n_coll_step;
-  for (int k = 0; k < 3; k++) virial_sum += step_virial[k];
+  virial_sum += t.pair_virial;
   n_wall += t.wall_collisions;
   n_unresolved += t.unresolved;
   if (t.rerun) n_global += 1;
   sim_time += dt;
-  if (rank->needs_reneighbor()) {  // LAMMPS decides after this hook: re-neighbour in this step
-    next_reneighbor = update->ntimestep;
-    n_forced += 1;
-  }
 }
 
 void FixHardSphere::post_run() {
@@ -293,8 +273,7 @@ void FixHardSphere::post_run() {
   }
   timing.report(lmp, world, long(update->nsteps));
   timing.reset();
-  if (serial && stepper && !state_written) serial_write();  // a run cut short (timer timeout)
-  if (!serial && rank) rank->run_ends();
+  if (path) path->run_ends();
   run_set_up = false;                                   // a following 'run ... pre no' starts without setup()
   if (newton_saved >= 0) force->newton = newton_saved;  // the user's setting between runs
   newton_saved = -1;
@@ -305,7 +284,7 @@ void FixHardSphere::post_force(int vflag) {
   report_step_virial(vflag);
   // LAMMPS has re-neighboured (if it does in this step) and holds this step's positions; keep
   // them if a fix acting at the end of the step may move atoms (the next step compares).
-  positions_kept = others_may_move(update->ntimestep);
+  positions_kept = others.may_move(update->ntimestep);
   if (positions_kept && atom->nlocal > 0)
     x_kept.assign(atom->x[0], atom->x[0] + 3 * atom->nlocal);
   else
@@ -324,7 +303,7 @@ void FixHardSphere::report_step_virial(int vflag) {
 }
 
 std::string FixHardSphere::moved_source() const {
-  return "fix hardsphere: after " + movers + " at step " + std::to_string(update->ntimestep - 1);
+  return "fix hardsphere: after " + others.movers() + " at step " + std::to_string(update->ntimestep - 1);
 }
 
 bool FixHardSphere::wants_atom_virial(int vflag) const {
@@ -361,16 +340,37 @@ int FixHardSphere::unpack_exchange(int nlocal, double *buf) {
 
 double FixHardSphere::memory_usage() { return double(vstep_rows) * 6 * sizeof(double); }
 
-bool FixHardSphere::temperature_varies() const { return !physics.elastic() || physics.has_gravity(); }
+double FixHardSphere::temperature_of(double local_mv2) const {
+  double all = 0.0;
+  MPI_Allreduce(&local_mv2, &all, 1, MPI_DOUBLE, MPI_SUM, world);
+  return atom->natoms > 0 ? all / (3.0 * double(atom->natoms)) : 0.0;
+}
 
 double FixHardSphere::temperature_now() const {
-  double mv2 = 0.0, all = 0.0;
+  double mv2 = 0.0;
   for (int i = 0; i < atom->nlocal; i++) {
     const double *v = atom->v[i];
     mv2 += atom->rmass[i] * (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
   }
-  MPI_Allreduce(&mv2, &all, 1, MPI_DOUBLE, MPI_SUM, world);
-  return atom->natoms > 0 ? all / (3.0 * double(atom->natoms)) : 0.0;
+  return temperature_of(mv2);
+}
+
+bool FixHardSphere::positions_moved() const {
+  // x_kept holds the owned rows as they were before the other fixes' step-end hooks (see
+  // post_force); LAMMPS neither re-orders nor wraps atoms between those hooks and this step.
+  const int nlocal = atom->nlocal;
+  int moved = x_kept.size() != std::size_t(3 * nlocal) ||
+              (nlocal > 0 && !std::equal(atom->x[0], atom->x[0] + 3 * nlocal, x_kept.begin()));
+  MPI_Allreduce(MPI_IN_PLACE, &moved, 1, MPI_INT, MPI_MAX, world);
+  return moved != 0;
+}
+
+hardsphere::StepperConfig FixHardSphere::stepper_config() const {
+  hardsphere::StepperConfig cfg;
+  cfg.dt = dt;
+  cfg.detect = sweep ? hardsphere::Detect::Sweep : hardsphere::Detect::Overlap;
+  cfg.max_events_per_step = max_events;
+  return cfg;
 }
 
 double FixHardSphere::compute_vector(int n) {
@@ -390,7 +390,7 @@ double FixHardSphere::compute_vector(int n) {
 }
 
 int FixHardSphere::pack_forward_comm(int n, int *list_, double *buf, int pbc_flag, int *pbc) {
-  return rank->pack_forward(n, list_, buf, pbc_flag, pbc);
+  return path->pack_forward(n, list_, buf, pbc_flag, pbc);
 }
 
-void FixHardSphere::unpack_forward_comm(int n, int first, double *buf) { rank->unpack_forward(n, first, buf); }
+void FixHardSphere::unpack_forward_comm(int n, int first, double *buf) { path->unpack_forward(n, first, buf); }

@@ -3,15 +3,14 @@
 //!                       [ghost auto|user] [path auto|ghosts] [timing no|yes]
 //!
 //! Time integrator for hard spheres (instead of fix nve/sphere); user documentation in
-//! docs/fix_hardsphere.md. On one rank it hands the atoms to the standalone stepper
-//! (fix_hardsphere_serial.cpp). Under MPI (or 'path ghosts') each rank runs one standalone stepper
-//! over its owned atoms and the ghosts around its sub-domain (rank_stepper.h), checks the ghosts
-//! against their owners and re-runs the step for all atoms if they disagree. What it refuses (other fixes,
-//! boundaries, minimize, ...) is decided in fix_hardsphere_checks.cpp. Global vector
-//! (f_ID[1..10]): collisions (cumulative), collisions in the last step, sum of r_ij.dp_i over
-//! collisions, simulated time, wall bounces, steps re-run for all atoms at once because a ghost
-//! copy disagreed with its owner, forced reneighbourings, steps that hit max_events,
-//! compressibility factor Z and pressure P (time averages since the fix was defined).
+//! docs/fix_hardsphere.md. The fix is LAMMPS's face: it reads its keywords, refuses what it
+//! cannot simulate (fix_hardsphere_checks.cpp), hands each step to a StepPath (step_path.h: the
+//! standalone stepper on one rank, serial_path.h; one stepper per rank over owned and ghost atoms
+//! under MPI, ghost_path.h) and totals the steps. Global vector (f_ID[1..10]): collisions
+//! (cumulative), collisions in the last step, sum of r_ij.dp_i over collisions, simulated time,
+//! wall bounces, steps re-run for all atoms at once because a ghost copy disagreed with its owner,
+//! forced reneighbourings, steps that hit max_events, compressibility factor Z and pressure P
+//! (time averages since the fix was defined).
 #include <array>
 #include <cstdint>
 #include <memory>
@@ -19,8 +18,11 @@
 #include <vector>
 
 #include "fix.h"
+#include "hardsphere/physics.hpp"
 #include "hardsphere/stepper.hpp"
-#include "rank_stepper.h"
+#include "other_fixes.h"
+#include "part_timer.h"
+#include "step_path.h"
 
 namespace LAMMPS_NS {
 
@@ -50,7 +52,6 @@ class FixHardSphere : public Fix {
   double memory_usage() override;
 
  private:
-  using V3 = hardsphere::Vec3<double>;
   void check_setup();
   void check_timestep() const;
   //! The last step's collision virial, as LAMMPS's virial (energy units) when it asks, global
@@ -58,6 +59,8 @@ class FixHardSphere : public Fix {
   void report_step_virial(int vflag);
   //! Whether this step's per-atom virial is asked for (compute stress/atom and the like).
   bool wants_atom_virial(int vflag) const;
+  //! Adds one step's totals to the fix's outputs.
+  void add_step(const StepTotals &t);
   // fix_hardsphere_checks.cpp: what the fix refuses, and the neighbour settings it needs.
   void check_input();
   void check_other_fixes();
@@ -73,79 +76,37 @@ class FixHardSphere : public Fix {
   static hardsphere::PhysicsNames physics_names() {
     return {"restitution", "contact_time", "fix gravity", "'boundary f' on that axis"};
   }
-  //! 2 KE / (3 N) over all atoms (the standalone's temperature: 3N degrees of freedom).
+  //! 2 KE / (3 N) from the sum of m v^2 over this rank's atoms (the standalone's temperature:
+  //! 3N degrees of freedom).
+  double temperature_of(double local_mv2) const;
+  //! The same from LAMMPS's rows.
   double temperature_now() const;
   //! Gravity or inelastic collisions change the temperature inside the steps: it is measured
   //! after every step, so <T> is the average of the steps' end temperatures, as LAMMPS's press.
-  bool temperature_varies() const;
-  //! Whether another fix may have changed velocities at the end of `step`.
-  bool others_acted(bigint step) const;
-  //! Whether another fix may also have moved atoms at the end of `step` (a fix not known to
-  //! leave positions alone, e.g. python/invoke): LAMMPS's x is then kept and compared.
-  bool others_may_move(bigint step) const { return !movers.empty() && others_acted(step); }
+  bool temperature_varies() const { return !physics.elastic() || physics.has_gravity(); }
   //! After another fix's step-end hooks: atoms it moved (compared with what was kept)?
   bool positions_moved() const;
   //! Names the fixes that may have moved atoms at the end of the last step, for an error.
   std::string moved_source() const;
-  // Owned + ghost path (rank_stepper.cpp): one stepper per rank.
-  void ghost_path_step(bool take_atom_virial);
-  // Serial path (fix_hardsphere_serial.cpp): the standalone stepper on the owned atoms.
-  //! A fresh stepper from LAMMPS's atoms; `source` names where an invalid state came from.
-  void serial_setup(const std::string &source = "fix hardsphere", const std::string &hint = kStartHint);
-  //! One stepper step; `moved`: another fix moved atoms since the last one (make it again).
-  void serial_step(bool take_atom_virial, bool moved);
-  void serial_map();
-  void serial_map_if_stale();
-  void map_tags();
-  void serial_follow_lammps();
-  void serial_write();
-  void serial_schedule();
-  bool serial_must_write() const;
-  //! The LAMMPS box as a hardsphere::Box, no spheres yet.
-  hardsphere::ParticleSystem empty_system() const;
-  //! The stepper settings of this fix's keywords, dt and gravity (both paths use them).
+  //! The stepper settings of this fix's keywords and the timestep (both paths use them).
   hardsphere::StepperConfig stepper_config() const;
-  //! A standalone stepper for `sys` with stepper_config() and physics.
-  std::unique_ptr<hardsphere::StepperBase> new_stepper(const hardsphere::ParticleSystem &sys) const;
 
-  double dt = 0.0;
+  // Keywords.
   bool sweep = false;
   bool ghost_auto = true;
+  bool ghost_path_only = false;  //!< 'path ghosts': the owned + ghost path in serial too
   std::int64_t max_events = 100000000;
-  std::vector<Fix *> gravity_fixes;  //!< fix gravity commands, acting through the stepper
   //! Restitution and contact time from the keywords, gravity from the fix gravity commands (read
   //! at setup); validated at setup.
   hardsphere::Physics physics{1.0, hardsphere::kDefaultContactTime, {0, 0, 0}};
-
-  // Serial runs (one rank) hand the owned atoms to the standalone stepper, which handles
-  // periodic images itself: no ghosts, no neighbour list, the standalone result by construction.
-  // 'path ghosts' forces the owned + ghost path (the MPI one) in serial too.
-  bool ghost_path_only = false;
   PartTimer timing;  //!< 'timing yes': wall time per part, printed at the end of each run
-  bool serial = false;
-  std::unique_ptr<hardsphere::StepperBase> stepper;
-  std::vector<std::int64_t> slot_id;           //!< scratch: the stepper's atom tags, slot order
-  std::vector<std::int32_t> slot_image;        //!< scratch: the stepper's wrap counts, 3 per slot
-  std::vector<std::uint32_t> slot_local;       //!< stepper slot -> LAMMPS local index
-  std::vector<V3> slot_shift;                  //!< LAMMPS position - stepper position, per slot
-  std::vector<V3> slot_pos, slot_vel;          //!< scratch: the stepper's state while mapping
-  std::vector<std::uint32_t> local_slot;       //!< LAMMPS local index -> stepper slot
-  std::vector<imageint> mapped_image;          //!< LAMMPS's image flags the shifts account for
-  std::vector<int> tag_local;                  //!< atom tag -> LAMMPS local index, as of mapped_tags
-  std::vector<tagint> mapped_tags;             //!< LAMMPS's tags in local order when tag_local was made
-  std::vector<std::array<int, 3>> tag_image0;  //!< per tag: LAMMPS unwrapped = stepper unwrapped + this * L
-  std::vector<double> v_written;               //!< velocities last written, while other fixes may change them
-  bool others_every_step = false;              //!< another fix acts inside every step
-  std::vector<int> others_every;               //!< nevery of other fixes acting only at end_of_step
-  std::string movers;                          //!< those of them that may move atoms ("fix ID (style)", ...)
-  std::vector<double> x_kept;                  //!< owned x before other fixes' step-end hooks, if they may move atoms
-  bool positions_kept = false;                 //!< x_kept was taken in the last step (on every rank alike)
-  std::int64_t slot_rebuilds = -1;             //!< stepper rebuilds when the slots were mapped
-  bool slots_dirty = true;                     //!< slot_local/slot_shift need serial_map()
-  bool lammps_moved = false;                   //!< LAMMPS re-neighboured: it may have wrapped or sorted atoms
-  bool state_written = true;                   //!< LAMMPS's x and v hold the stepper's current state
 
-  std::unique_ptr<RankStepper> rank;  //!< the owned + ghost path's stepper
+  double dt = 0.0;
+  std::unique_ptr<StepPath> path;    //!< made at the first init(): serial on one rank, else owned + ghost
+  OtherFixes others;                 //!< when other fixes read or change x and v (init)
+  std::vector<Fix *> gravity_fixes;  //!< fix gravity commands, acting through the stepper
+  std::vector<double> x_kept;        //!< owned x before other fixes' step-end hooks, if they may move atoms
+  bool positions_kept = false;       //!< x_kept was taken in the last step (on every rank alike)
 
   // Per-atom collision virial (compute stress/atom): each collision's r_ij (x) dp_i / dt, half to
   // each atom, taken from the stepper right after a step on which LAMMPS asks for it and kept
@@ -168,6 +129,7 @@ class FixHardSphere : public Fix {
   bool initialised = false;                //!< init() ran (a fix defined just before 'run ... pre no' misses it)
   bool in_rerun = false;                   //!< the setup() of a 'rerun' (no stepper) was the last one
   bool after_rerun = false;                //!< the last setup() was a rerun's: LAMMPS holds a snapshot
+  bool serial = false;                     //!< the path is the serial one (decided at init)
   std::vector<std::string> fixes_at_init;  //!< IDs of all fixes when check_other_fixes() last ran
   bool neigh_noted = false;                //!< the neighbour settings message was printed
   int newton_saved = -1;                   //!< force->newton before this run, while the fix has turned it off

@@ -15,6 +15,7 @@ class OwnershipTally : public hardsphere::CollisionObserver {
  public:
   struct Totals {
     double collisions = 0, wall_collisions = 0;
+    double pair_virial = 0;                                      //!< weighted r_ij . dp_i
     std::array<double, 6> pair_virial_tensor{0, 0, 0, 0, 0, 0};  //!< weighted r_ij (x) dp_i
   };
   //! A new engine: owned[k] (1 = owned) for its slot k; the totals start from zero.
@@ -29,10 +30,11 @@ class OwnershipTally : public hardsphere::CollisionObserver {
   //! Whether the sphere in `slot` is a ghost that collided with an owned atom since start_step().
   bool met_owned(std::uint32_t slot) const { return met_[slot] != 0; }
 
-  void collision(std::uint32_t i, std::uint32_t j, const double *tensor, double) override {
+  void collision(std::uint32_t i, std::uint32_t j, const double *tensor, double virial) override {
     const double w = 0.5 * (double(owned_[i]) + double(owned_[j]));
     if (w == 0.5) met_[owned_[i] ? j : i] = 1;
     totals_.collisions += w;
+    totals_.pair_virial += w * virial;
     for (std::size_t k = 0; k < 6; k++) totals_.pair_virial_tensor[k] += w * tensor[k];
   }
   void bounce(std::uint32_t i) override { totals_.wall_collisions += double(owned_[i]); }

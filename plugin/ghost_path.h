@@ -18,25 +18,15 @@
 #include "ownership_tally.h"
 #include "part_timer.h"
 #include "pointers.h"
+#include "slot_map.h"
+#include "step_path.h"
 
 namespace LAMMPS_NS {
 
-//! What an error about an invalid state tells the user to do: at a run's start, and after
-//! another fix moved atoms at the end of a step.
-inline constexpr char kStartHint[] = "start from a valid non-overlapping state";
-inline constexpr char kMovedAtomsHint[] = "a fix that moves atoms must leave them apart (and inside fixed walls)";
-
-class RankStepper : protected Pointers {
+class GhostPath : public StepPath, protected Pointers {
  public:
-  //! What one step did on this rank (ownership-weighted, so sums over ranks are totals).
-  struct StepTotals {
-    double collisions = 0, wall_collisions = 0, unresolved = 0;
-    std::array<double, 6> virial{0, 0, 0, 0, 0, 0};
-    bool rerun = false;  //!< the step was re-run for all atoms (rank 0 carries the totals)
-  };
-
-  RankStepper(LAMMPS *lmp, class Fix *fix, PartTimer &timer) : Pointers(lmp), fix_(fix), timer_(timer) {}
-  void configure(const hardsphere::StepperConfig &c, const hardsphere::Physics &p) {
+  GhostPath(LAMMPS *lmp, class Fix *fix, PartTimer &timer) : Pointers(lmp), fix_(fix), timer_(timer) {}
+  void configure(const hardsphere::StepperConfig &c, const hardsphere::Physics &p) override {
     config_ = c;
     physics_ = p;
   }
@@ -44,45 +34,23 @@ class RankStepper : protected Pointers {
   //! meets must see all its own partners (two contact distances), and the skin twice over plus
   //! one more contact distance is what atoms may move before LAMMPS re-neighbours.
   static double ghost_cutoff(double contact, double skin) { return 3.0 * contact + 2.0 * skin; }
-  //! LAMMPS has re-neighboured (or a run starts): new ghosts, atoms may have changed ranks; the
-  //! stepper is made again before the next step.
-  void neighbours_changed() { stale_ = epoch_ = true; }
-  //! A run starts (setup): the stepper is made again from LAMMPS's atoms, and that state is
-  //! checked as a run's start (no overlapping pair).
-  void run_starts() { stale_ = check_start_ = true; }
-  //! A run starts without setup ('run ... pre no'): as run_starts(), and LAMMPS's ghosts may be
-  //! stale (see step()).
-  void run_starts_without_setup() { stale_ = check_start_ = unsure_ghosts_ = true; }
-  //! A run ends: the owned atoms, against which the next run without setup compares.
-  void run_ends();
-  //! Another fix or command may have changed velocities: they are read again before the next step.
-  void velocities_changed() { refresh_v_ = true; }
-  //! Another fix moved owned atoms (on some rank) since the last step: the next step runs for
-  //! all atoms at once from LAMMPS's rows, checked as a run's start (`source` names the fix),
-  //! and LAMMPS re-neighbours in it.
-  void atoms_moved(const std::string &source) {
-    moved_ = true;
-    moved_source_ = source;
-  }
-  //! The next step also adds each owned atom's share of its collision virial, times `scale`,
-  //! to `rows` (6 per LAMMPS row, zeroed first); nullptr: not asked for.
-  void take_atom_virial(double *rows, double scale) {
-    virial_rows_ = rows;
-    virial_scale_ = scale;
-  }
-  //! Makes the stepper now if it is due (a run's setup), not at the next step.
-  void prepare() {
-    if (stale_) build();
-  }
+  //! New ghosts, atoms may have changed ranks: the stepper is made again before the next step.
+  void neighbours_changed() override { stale_ = epoch_ = true; }
+  //! The stepper is made now (outside the run's loop, as the serial path's is) from LAMMPS's
+  //! atoms and checked as a run's start; the first step still takes up velocities that other
+  //! fixes' setup may have changed.
+  void run_starts() override;
+  bool before_step(const StepStart &start) override;
   //! Advances the owned atoms (and this rank's ghost copies) by one step.
-  StepTotals step();
+  StepTotals step(double *virial_rows, double scale) override;
+  double owned_mv2() const override;
   //! Whether LAMMPS must re-neighbour before the next step so that every atom an owned atom
   //! can meet is among this rank's ghosts.
-  bool needs_reneighbor() const { return reneighbor_; }
-
-  int pack_forward(int n, int *list, double *buf, int pbc_flag, const int *pbc);
-  void unpack_forward(int n, int first, double *buf);
-  static constexpr int kForwardSize = 3;
+  bool needs_reneighbor() const override { return reneighbor_; }
+  //! A run ends: the owned atoms, against which the next run without setup compares.
+  void run_ends() override;
+  int pack_forward(int n, int *list, double *buf, int pbc_flag, const int *pbc) override;
+  void unpack_forward(int n, int first, double *buf) override;
 
  private:
   void build();
@@ -118,7 +86,7 @@ class RankStepper : protected Pointers {
   bool unsure_ghosts_ = false;
   bool moved_ = false;             //!< see atoms_moved()
   std::string moved_source_;       //!< the fix that moved them, for an error message
-  double *virial_rows_ = nullptr;  //!< see take_atom_virial()
+  double *virial_rows_ = nullptr;  //!< this step's per-atom virial rows (see step())
   double virial_scale_ = 1.0;
   bigint end_atoms_[2] = {-1, -1};         //!< owned atoms and the sum of their tags when the last run ended
   std::array<double, 6> end_subdomain_{};  //!< and the sub-domain's bounds
@@ -126,18 +94,14 @@ class RankStepper : protected Pointers {
   std::unique_ptr<hardsphere::StepperBase> stepper_;
   OwnershipTally::Totals last_;  //!< tally_ after the previous step
   std::int64_t last_unresolved_ = 0;
-  std::int64_t mapped_rebuilds_ = -1;           //!< stepper rebuilds when the slots were mapped
   std::vector<int> input_local_;                //!< stepper input index -> LAMMPS local index
   std::vector<hardsphere::Vec3d> input_shift_;  //!< LAMMPS x - stepper position at build, per input
-  std::vector<std::uint32_t> slot_input_, slot_local_, ghost_slots_;
-  std::vector<std::uint32_t> slot_dest_;  //!< per slot: its LAMMPS row if owned, else StateExchange::kNoRow
+  SlotMap slots_;
   std::vector<hardsphere::Vec3d> ghost_pos_, ghost_vel_;  //!< scratch for sync_ghosts
-  std::vector<std::int32_t> slot_image_;
-  std::vector<hardsphere::Vec3d> slot_shift_;
-  std::vector<std::uint32_t> met_slots_;    //!< those slots
-  std::vector<hardsphere::Vec3d> met_vel_;  //!< and this rank's velocities of them
-  std::vector<hardsphere::Vec3d> x_ref_;    //!< owned positions when LAMMPS last re-neighboured
-  std::vector<hardsphere::Vec3d> v_owner_;  //!< per ghost: its owner's velocity after the step
+  std::vector<std::uint32_t> met_slots_;                  //!< those slots
+  std::vector<hardsphere::Vec3d> met_vel_;                //!< and this rank's velocities of them
+  std::vector<hardsphere::Vec3d> x_ref_;                  //!< owned positions when LAMMPS last re-neighboured
+  std::vector<hardsphere::Vec3d> v_owner_;                //!< per ghost: its owner's velocity after the step
   // Owned atoms that other ranks hold as ghosts (and this rank's own periodic images, if the
   // swaps were not recognised): LAMMPS's rows, recorded from its send lists at the build, their
   // slots, and their velocities after the step, sent before LAMMPS's own rows are written.

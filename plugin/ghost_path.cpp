@@ -1,4 +1,4 @@
-#include "rank_stepper.h"
+#include "ghost_path.h"
 
 #include <mpi.h>
 
@@ -34,7 +34,7 @@ double distance_outside(const double *p, const double *lo, const double *hi) {
 
 }  // namespace
 
-void RankStepper::check_owned_atoms() const {
+void GhostPath::check_owned_atoms() const {
   // The serial path's checks in LAMMPS's box (walls, finite and resolvable numbers, overlaps
   // among owned atoms), before any of them is wrapped into this rank's box.
   hardsphere::ParticleSystem sys;
@@ -55,7 +55,7 @@ void RankStepper::check_owned_atoms() const {
   }
 }
 
-void RankStepper::build() {
+void GhostPath::build() {
   if (check_start_) check_owned_atoms();
   // Ghost velocities come from their owners; LAMMPS refreshed the ghost positions.
   forward_comm_learning_swaps();
@@ -185,7 +185,7 @@ void RankStepper::build() {
   stale_ = false;
 }
 
-void RankStepper::start_epoch(double shell, double dmax) {
+void GhostPath::start_epoch(double shell, double dmax) {
   // Slack of the shell: a ghost that meets an owned atom (at most `outside` beyond the
   // sub-domain) is within one contact distance of it, and its own partners within another;
   // an atom that is not a ghost was at least `shell` from the sub-domain. The copies of the
@@ -207,56 +207,61 @@ void RankStepper::start_epoch(double shell, double dmax) {
   epoch_ = false;
 }
 
-void RankStepper::map_slots() {
-  // Which LAMMPS row each stepper slot is, and the shift from the stepper's position to
-  // LAMMPS's continuous one (the build's wrap plus the stepper's own wraps since).
-  auto &exch = hardsphere::state_exchange(*stepper_);
-  const std::size_t n = exch.size();
-  slot_input_.resize(n), slot_image_.resize(3 * n), slot_local_.resize(n), slot_shift_.resize(n);
-  exch.copy_input_index(slot_input_.data());
-  exch.copy_images(slot_image_.data());
-  for (std::size_t k = 0; k < n; k++) {
-    const std::uint32_t in = slot_input_[k];
-    slot_local_[k] = std::uint32_t(input_local_[in]);
-    Vec3d s = input_shift_[in];
-    for (int d = 0; d < 3; d++) s[d] += double(slot_image_[3 * k + std::size_t(d)]) * domain->prd[d];
-    slot_shift_[k] = s;
-  }
+void GhostPath::map_slots() {
   // Only owned rows are written back: a ghost's row is its owner's, refreshed by LAMMPS.
-  ghost_slots_.clear();
-  slot_dest_.resize(n);
-  std::vector<std::uint32_t> row_slot(std::size_t(atom->nlocal));
-  for (std::size_t k = 0; k < n; k++) {
-    const bool ghost = int(slot_local_[k]) >= atom->nlocal;
-    if (ghost)
-      ghost_slots_.push_back(std::uint32_t(k));
-    else
-      row_slot[slot_local_[k]] = std::uint32_t(k);
-    slot_dest_[k] = ghost ? hardsphere::StateExchange::kNoRow : slot_local_[k];
-  }
+  slots_.make(*stepper_, input_local_, input_shift_, {}, domain->prd, atom->nlocal);
   sent_slots_.resize(sent_rows_.size());
-  for (std::size_t b = 0; b < sent_rows_.size(); b++) sent_slots_[b] = row_slot[std::size_t(sent_rows_[b])];
-  mapped_rebuilds_ = stepper_->counters().rebuilds;
+  for (std::size_t b = 0; b < sent_rows_.size(); b++) sent_slots_[b] = slots_.slot_of_row(sent_rows_[b]);
 }
 
-void RankStepper::sync_ghosts() {
+void GhostPath::sync_ghosts() {
   // Each ghost copy starts the step as its owner ended the last one: LAMMPS has refreshed the
   // ghosts' positions, the owner check brought their velocities. Copies then differ only by
   // what one step's collision chains from beyond the shell can do, which the check catches.
-  if (stepper_->counters().rebuilds != mapped_rebuilds_) map_slots();
+  if (slots_.stale(*stepper_)) map_slots();
   double **x = atom->x;
-  const std::size_t n = ghost_slots_.size();
+  const std::vector<std::uint32_t> &ghosts = slots_.ghost_slots();
+  const std::size_t n = ghosts.size();
   ghost_pos_.resize(n), ghost_vel_.resize(n);
   for (std::size_t i = 0; i < n; i++) {
-    const std::uint32_t k = ghost_slots_[i];
-    const int g = int(slot_local_[k]);
-    ghost_pos_[i] = Vec3d{x[g][0], x[g][1], x[g][2]} - slot_shift_[k];
+    const std::uint32_t k = ghosts[i];
+    const int g = int(slots_.rows()[k]);
+    ghost_pos_[i] = Vec3d{x[g][0], x[g][1], x[g][2]} - slots_.shifts()[k];
     ghost_vel_[i] = v_owner_[std::size_t(g)];
   }
-  hardsphere::state_exchange(*stepper_).set_spheres(ghost_slots_.data(), n, ghost_pos_.data(), ghost_vel_.data());
+  hardsphere::state_exchange(*stepper_).set_spheres(ghosts.data(), n, ghost_pos_.data(), ghost_vel_.data());
 }
 
-RankStepper::StepTotals RankStepper::step() {
+void GhostPath::run_starts() {
+  stale_ = epoch_ = check_start_ = true;
+  build();
+  refresh_v_ = true;
+}
+
+bool GhostPath::before_step(const StepStart &start) {
+  if (start.without_setup)  // 'run ... pre no': commands in between may have changed atoms
+    stale_ = check_start_ = unsure_ghosts_ = true;
+  else if (start.others_acted)
+    refresh_v_ = true;
+  if (!start.moved_by.empty()) {
+    moved_ = true;
+    moved_source_ = start.moved_by;
+  }
+  return start.without_setup || start.others_acted;
+}
+
+double GhostPath::owned_mv2() const {
+  double mv2 = 0.0;
+  for (int i = 0; i < atom->nlocal; i++) {
+    const double *v = atom->v[i];
+    mv2 += atom->rmass[i] * (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+  }
+  return mv2;
+}
+
+StepTotals GhostPath::step(double *virial_rows, double scale) {
+  virial_rows_ = virial_rows;
+  virial_scale_ = scale;
   if (unsure_ghosts_) {
     // 'run ... pre no': LAMMPS kept its ghosts and send lists from the last run. If commands in
     // between added, deleted or moved atoms between ranks, changed the sub-domains, or moved or
@@ -282,12 +287,12 @@ RankStepper::StepTotals RankStepper::step() {
   } else if (stepper_) {
     if (refresh_v_) {  // every atom's velocity from LAMMPS, the ghosts' from their owners
       forward_comm(0);
-      if (stepper_->counters().rebuilds != mapped_rebuilds_) map_slots();
-      hardsphere::state_exchange(*stepper_).gather_velocities(slot_local_.data(), atom->v[0]);
+      if (slots_.stale(*stepper_)) map_slots();
+      hardsphere::state_exchange(*stepper_).gather_velocities(slots_.rows(), atom->v[0]);
       double **v = atom->v;
       v_owner_.resize(std::size_t(atom->nlocal + atom->nghost));
-      for (std::size_t k = 0; k < ghost_slots_.size(); k++) {
-        const int g = int(slot_local_[ghost_slots_[k]]);
+      for (const std::uint32_t k : slots_.ghost_slots()) {
+        const int g = int(slots_.rows()[k]);
         v_owner_[std::size_t(g)] = {v[g][0], v[g][1], v[g][2]};
       }
     }
@@ -308,7 +313,7 @@ RankStepper::StepTotals RankStepper::step() {
       error->one(FLERR, std::string("fix hardsphere: ") + e.what());
     }
     timer_.charge(PartTimer::Steps);
-    if (stepper_->counters().rebuilds != mapped_rebuilds_) map_slots();
+    if (slots_.stale(*stepper_)) map_slots();
     sent_vel_.resize(sent_slots_.size());
     hardsphere::state_exchange(*stepper_).copy_velocities(sent_slots_.data(), sent_slots_.size(), sent_vel_.data());
   } else {
@@ -324,15 +329,16 @@ RankStepper::StepTotals RankStepper::step() {
     stale_ = true;
     timer_.charge(PartTimer::Rerun);
   } else if (stepper_) {
-    hardsphere::state_exchange(*stepper_).scatter_state(slot_dest_.data(), slot_shift_.data(), x[0], v[0]);
+    hardsphere::state_exchange(*stepper_).scatter_state(slots_.owned_rows(), slots_.shifts(), x[0], v[0]);
     if (virial_rows_) {  // only owned rows: a ghost's share is its owner's
       std::fill(virial_rows_, virial_rows_ + 6 * atom->nlocal, 0.0);
-      hardsphere::state_exchange(*stepper_).take_sphere_virial(slot_dest_.data(), virial_scale_, virial_rows_);
+      hardsphere::state_exchange(*stepper_).take_sphere_virial(slots_.owned_rows(), virial_scale_, virial_rows_);
     }
     timer_.charge(PartTimer::Write);
     const OwnershipTally::Totals &c = tally_.totals();
     t.collisions = c.collisions - last_.collisions;
     t.wall_collisions = c.wall_collisions - last_.wall_collisions;
+    t.pair_virial = c.pair_virial - last_.pair_virial;
     for (std::size_t k = 0; k < 6; k++) t.virial[k] = c.pair_virial_tensor[k] - last_.pair_virial_tensor[k];
     last_ = c;
     const std::int64_t unresolved = stepper_->counters().unresolved_steps;
@@ -345,7 +351,7 @@ RankStepper::StepTotals RankStepper::step() {
   return t;
 }
 
-RankStepper::StepTotals RankStepper::restart_globally(const std::string &source, const std::string &hint) {
+StepTotals GhostPath::restart_globally(const std::string &source, const std::string &hint) {
   timer_.start();
   StepTotals t = step_globally(true, source, hint);
   t.rerun = false;  // not a disagreement
@@ -354,7 +360,7 @@ RankStepper::StepTotals RankStepper::restart_globally(const std::string &source,
   return t;
 }
 
-bool RankStepper::agree_rebuild(bool due) {
+bool GhostPath::agree_rebuild(bool due) {
   // Every rank waits for the slowest after each step: one rank's pair-list rebuild would
   // stall all the others, so all rebuild on the steps any of them needs to.
   int any = due ? 1 : 0;
@@ -362,7 +368,7 @@ bool RankStepper::agree_rebuild(bool due) {
   return any != 0;
 }
 
-bool RankStepper::ghosts_agree() {
+bool GhostPath::ghosts_agree() {
   // A ghost copy evolves from what this rank sees around it. An owned atom's step is right if
   // every ghost it met was right; each such ghost must end the step with its owner's velocity
   // (rounding differs between copies by ~1e-15). The owners' velocities also start the ghost
@@ -373,18 +379,18 @@ bool RankStepper::ghosts_agree() {
   if (!stepper_) return true;
   auto &exch = hardsphere::state_exchange(*stepper_);
   met_slots_.clear();
-  for (const std::uint32_t k : ghost_slots_)
+  for (const std::uint32_t k : slots_.ghost_slots())
     if (tally_.met_owned(k)) met_slots_.push_back(k);
   met_vel_.resize(met_slots_.size());
   exch.copy_velocities(met_slots_.data(), met_slots_.size(), met_vel_.data());
   for (std::size_t i = 0; i < met_slots_.size(); i++) {
-    const Vec3d &owner = v_owner_[slot_local_[met_slots_[i]]];
+    const Vec3d &owner = v_owner_[slots_.rows()[met_slots_[i]]];
     if (!(std::sqrt(norm2(met_vel_[i] - owner)) <= 1e-9 * (1.0 + std::sqrt(norm2(owner))))) return false;
   }
   return true;
 }
 
-RankStepper::StepTotals RankStepper::step_globally(bool check, const std::string &source, const std::string &hint) {
+StepTotals GhostPath::step_globally(bool check, const std::string &source, const std::string &hint) {
   // Re-run this step for all atoms at once with one standalone stepper (the same algorithm,
   // so the result a complete ghost shell gives), on every rank from the gathered start state;
   // each rank keeps its own atoms. Rare.
@@ -456,13 +462,14 @@ RankStepper::StepTotals RankStepper::step_globally(bool check, const std::string
   if (comm->me == 0) {  // the stepper counted every atom: rank 0 reports the totals
     t.collisions = double(c.collisions);
     t.wall_collisions = double(c.wall_collisions);
+    t.pair_virial = c.pair_virial;
     t.unresolved = double(c.unresolved_steps);
     for (std::size_t k = 0; k < 6; k++) t.virial[k] = c.pair_virial_tensor[k];
   }
   return t;
 }
 
-void RankStepper::take_owned_virial(hardsphere::StateExchange &exch) {
+void GhostPath::take_owned_virial(hardsphere::StateExchange &exch) {
   // The engine holds every atom: this rank's shares go to its rows, found by tag.
   std::vector<std::int64_t> ids(exch.size());
   exch.copy_ids(ids.data());
@@ -476,14 +483,14 @@ void RankStepper::take_owned_virial(hardsphere::StateExchange &exch) {
   exch.take_sphere_virial(dest.data(), virial_scale_, virial_rows_);
 }
 
-void RankStepper::run_ends() {
+void GhostPath::run_ends() {
   end_atoms_[0] = atom->nlocal, end_atoms_[1] = 0;
   for (int i = 0; i < atom->nlocal; i++) end_atoms_[1] += atom->tag[i];
   for (int d = 0; d < 3; d++)
     end_subdomain_[std::size_t(d)] = domain->sublo[d], end_subdomain_[std::size_t(d + 3)] = domain->subhi[d];
 }
 
-bool RankStepper::layout_changed() const {
+bool GhostPath::layout_changed() const {
   bigint sum = 0;
   for (int i = 0; i < atom->nlocal; i++) sum += atom->tag[i];
   int changed = atom->nlocal != end_atoms_[0] || sum != end_atoms_[1] ? 1 : 0;
@@ -494,7 +501,7 @@ bool RankStepper::layout_changed() const {
   return changed != 0;
 }
 
-bool RankStepper::shell_used_up() const {
+bool GhostPath::shell_used_up() const {
   // Largest owned move since the epoch began, from LAMMPS's rows. Before the next step every
   // atom that can meet an owned atom must be here: the shell is used up when the moves (both
   // atoms of a pair) and one more step could exceed its slack.
@@ -508,7 +515,7 @@ bool RankStepper::shell_used_up() const {
   return 2.0 * (std::sqrt(moves[0]) + 2.0 * std::sqrt(moves[1]) * config_.dt) >= reach_;
 }
 
-void RankStepper::forward_comm_learning_swaps() {
+void GhostPath::forward_comm_learning_swaps() {
   // LAMMPS's send lists and swaps stay as they are until it re-neighbours: learn which owned
   // rows other ranks hold as ghosts and which swaps only copy to this rank itself.
   sent_rows_.clear(), rows_self_.clear(), rows_pending_.clear(), self_swap_.clear();
@@ -527,14 +534,14 @@ void RankStepper::forward_comm_learning_swaps() {
   for (std::size_t b = 0; b < sent_rows_.size(); b++) row_sent_[std::size_t(sent_rows_[b])] = int(b);
 }
 
-void RankStepper::forward_comm(int mode) {
+void GhostPath::forward_comm(int mode) {
   comm_mode_ = mode;
   swap_ = 0;
   comm->forward_comm_fix(fix_, kForwardSize);
   comm_mode_ = 0;
 }
 
-int RankStepper::pack_forward(int n, int *list, double *buf, int pbc_flag, const int *pbc) {
+int GhostPath::pack_forward(int n, int *list, double *buf, int pbc_flag, const int *pbc) {
   if (record_sends_) {
     if (packed_) swaps_known_ = false;  // two packs in a row
     packed_ = buf;
@@ -563,7 +570,7 @@ int RankStepper::pack_forward(int n, int *list, double *buf, int pbc_flag, const
   return m;
 }
 
-void RankStepper::unpack_forward(int n, int first, double *buf) {
+void GhostPath::unpack_forward(int n, int first, double *buf) {
   if (record_sends_) {
     if (!packed_) swaps_known_ = false;  // an unpack without its pack
     const bool self = buf == packed_;

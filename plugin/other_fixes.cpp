@@ -1,0 +1,57 @@
+#include "other_fixes.h"
+
+#include <algorithm>
+#include <string>
+
+#include "fix.h"
+#include "modify.h"
+#include "utils.h"
+
+using namespace LAMMPS_NS;
+using namespace FixConst;
+
+namespace {
+
+// Fixes that may act between steps (end_of_step) and are known to leave positions alone:
+// thermostats and velocity exchanges, averages, output and bookkeeping. Any other (python/invoke,
+// say) may move atoms, so the fix compares LAMMPS's x after it acts.
+bool keeps_positions(const Fix *f) {
+  for (const char *prefix : {"^ave/", "^temp/", "^store/"})
+    if (utils::strmatch(f->style, prefix)) return true;
+  for (const char *style : {"heat", "momentum", "momentum/chunk", "print", "halt", "vector", "balance", "setforce",
+                            "gravity", "thermal/conductivity", "viscosity"})
+    if (std::string(f->style) == style) return true;
+  return false;
+}
+
+}  // namespace
+
+void OtherFixes::scan(const Modify *modify, const Fix *self) {
+  every_step_ = false;
+  every_.clear();
+  movers_.clear();
+  const int per_step = INITIAL_INTEGRATE | POST_INTEGRATE | PRE_EXCHANGE | PRE_NEIGHBOR | POST_NEIGHBOR | PRE_FORCE |
+                       PRE_REVERSE | POST_FORCE | FINAL_INTEGRATE;
+  for (int f = 0; f < modify->nfix; f++) {
+    const Fix *fix = modify->fix[f];
+    if (fix == self) continue;
+    // fix gravity only adds forces (its acceleration acts through the stepper) and reads x for
+    // its energy, which output steps write anyway.
+    if (utils::strmatch(fix->style, "^gravity")) continue;
+    if (modify->fmask[f] & per_step)
+      every_step_ = true;
+    else if (modify->fmask[f] & END_OF_STEP)
+      every_.push_back(std::max(1, fix->nevery));
+    else
+      continue;
+    if (!keeps_positions(fix))
+      movers_ += (movers_.empty() ? "fix " : ", fix ") + std::string(fix->id) + " (" + fix->style + ")";
+  }
+}
+
+bool OtherFixes::acted(bigint step) const {
+  if (every_step_) return true;
+  for (const int every : every_)
+    if (step % every == 0) return true;
+  return false;
+}

@@ -1,0 +1,35 @@
+#pragma once
+//! When the other fixes of an input look at or change LAMMPS's x and v: a fix hooked into the
+//! step's stages does so every step, one acting only at end_of_step every nevery steps. Both paths
+//! of fix hardsphere ask this before they read velocities again or write LAMMPS's rows, and the
+//! fix asks which of those fixes may also move atoms.
+#include <string>
+#include <vector>
+
+#include "lmptype.h"
+
+namespace LAMMPS_NS {
+
+class Fix;
+class Modify;
+
+class OtherFixes {
+ public:
+  //! Reads the fixes of `modify` other than `self` (at init).
+  void scan(const Modify *modify, const Fix *self);
+  //! Whether another fix may have read or changed x and v at the end of `step`.
+  bool acted(bigint step) const;
+  //! Whether any other fix acts between steps at all.
+  bool any() const { return every_step_ || !every_.empty(); }
+  //! Whether another fix that may move atoms acted at the end of `step`.
+  bool may_move(bigint step) const { return !movers_.empty() && acted(step); }
+  //! Those fixes, for messages: "fix ID (style), ...".
+  const std::string &movers() const { return movers_; }
+
+ private:
+  bool every_step_ = false;  //!< a fix acts inside every step
+  std::vector<int> every_;   //!< nevery of the fixes acting only at end_of_step
+  std::string movers_;
+};
+
+}  // namespace LAMMPS_NS
