@@ -24,7 +24,8 @@ void PairList<Real, Mono>::build(const Vec3<Real>* pos, const Real* radius, cons
 }
 
 template <class Real, bool Mono>
-int PairList<Real, Mono>::stencil_runs(std::int64_t c, const std::array<int, 3>& at, CellRun* const first) const {
+HS_ALWAYS_INLINE int PairList<Real, Mono>::stencil_runs(std::int64_t c, const std::array<int, 3>& at,
+                                                        CellRun* const first) const {
   // Every periodic axis has >= 3 cells: the 13 forward neighbours of a cell are distinct, and
   // wrapping a neighbour's cell coordinate gives exactly the pair's minimum image, so each
   // unordered pair of neighbouring cells is met once and no pair needs a division.

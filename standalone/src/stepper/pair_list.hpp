@@ -11,6 +11,7 @@
 #include <limits>
 #include <vector>
 
+#include "common/always_inline.hpp"
 #include "common/default_init_allocator.hpp"
 #include "common/neighbour_entry.hpp"
 #include "hardsphere/box.hpp"
@@ -77,7 +78,8 @@ class PairList {
   CellSorted<Real> cells() const {
     return {g_.grid, g_.box, cell_start_, {soa_x_.data(), soa_y_.data(), soa_z_.data(), radius_}, g_.image_shift};
   }
-  int stencil_runs(std::int64_t c, const std::array<int, 3>& at, CellRun* out) const;
+  //! Called per cell of every build: inlined into it, as its small loops are.
+  HS_ALWAYS_INLINE int stencil_runs(std::int64_t c, const std::array<int, 3>& at, CellRun* out) const;
   void build_half_stencil();
   void build_any_grid();
   void build_big_pairs();
