@@ -1,4 +1,5 @@
 // hardsphere: command-line front end. It only parses options and calls the library.
+#include <fcntl.h>
 #include <unistd.h>
 
 #include <chrono>
@@ -96,9 +97,24 @@ class ProgressLine {
   bool first_ = false, shown_ = false;
 };
 
+// A standard stream started closed must stay so: the first file opened would otherwise take its
+// descriptor, and the summary would be written into an output file. Standard output is held by a
+// read-only descriptor, so writing the summary fails as it would have.
+void hold_closed_standard_streams() {
+  for (const int fd : {STDIN_FILENO, STDOUT_FILENO, STDERR_FILENO}) {
+    if (fcntl(fd, F_GETFD) != -1) continue;
+    const int held = open("/dev/null", fd == STDERR_FILENO ? O_WRONLY : O_RDONLY);
+    if (held >= 0 && held != fd) {
+      dup2(held, fd);
+      close(held);
+    }
+  }
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
+  hold_closed_standard_streams();
   cli::CommandLine cmd;
   try {
     cmd = cli::parse_command_line(argc, argv);
@@ -109,17 +125,18 @@ int main(int argc, char** argv) {
     // From here on a signal removes the temporaries of the outputs before the process dies.
     install_cleanup_signal_handlers();
     if (!cmd.quiet && isatty(STDERR_FILENO)) cmd.spec.progress = ProgressLine();
-    const auto summary = run_simulation(cmd.spec);
-    for (const auto& w : summary["warnings"]) std::cerr << "hardsphere: warning: " << w.get<std::string>() << '\n';
-    if (cmd.spec.json && *cmd.spec.json == "-")
-      std::cout << summary.dump(2) << '\n';
-    else
-      print_summary(summary, std::cout);
-    std::cout.flush();
-    if (!std::cout) {
-      std::cerr << "hardsphere: error: cannot write the summary to standard output\n";
-      return 2;
-    }
+    // The summary goes out before the output files are committed: if standard output fails, the
+    // run fails and leaves no file.
+    cmd.spec.report = [&](const nlohmann::json& summary) {
+      for (const auto& w : summary["warnings"]) std::cerr << "hardsphere: warning: " << w.get<std::string>() << '\n';
+      if (cmd.spec.json && *cmd.spec.json == "-")
+        std::cout << summary.dump(2) << '\n';
+      else
+        print_summary(summary, std::cout);
+      std::cout.flush();
+      if (!std::cout) throw InputError("cannot write the summary to standard output");
+    };
+    run_simulation(cmd.spec);
     return 0;
   } catch (const InputError& e) {
     std::cerr << "hardsphere: error: " << e.what() << '\n';

@@ -1,6 +1,6 @@
 """Output files: two outputs naming one file (under any spelling) are refused before anything is
-created, and a run killed by SIGTERM, SIGINT or SIGHUP removes its temporary files and dies by
-that signal.
+created, a run killed by any terminating signal removes its temporary files and dies by that
+signal, and a run whose summary cannot be written leaves no file.
 """
 import os
 import resource
@@ -60,11 +60,17 @@ def test_an_output_through_a_symlink_writes_its_target(hs, tmp_path):
 def default_signals():
     # A child started from a shell without job control may inherit SIGINT ignored; the program
     # rightly keeps an ignored signal ignored, so give it the default disposition a terminal has.
-    for s in (signal.SIGINT, signal.SIGHUP, signal.SIGTERM):
+    for s in SIGNALS:
         signal.signal(s, signal.SIG_DFL)
 
 
-@pytest.mark.parametrize("sig", [signal.SIGTERM, signal.SIGINT, signal.SIGHUP])
+# Every signal a user, a batch system (Slurm and PBS warn with SIGUSR1/SIGUSR2 or SIGALRM before a
+# wall-time limit), a closed pipe or abort() may end a run with.
+SIGNALS = [signal.SIGTERM, signal.SIGINT, signal.SIGHUP, signal.SIGQUIT, signal.SIGALRM, signal.SIGPIPE,
+           signal.SIGUSR1, signal.SIGUSR2, signal.SIGABRT, signal.SIGRTMIN + 3]
+
+
+@pytest.mark.parametrize("sig", SIGNALS)
 def test_a_signal_removes_the_temporary_files_and_kills_with_that_signal(hs, tmp_path, sig):
     cmd = [hs, "run", "--n", 20000, "--phi", 0.2, "--steps", 10 ** 7, "--dump", "t.dump", "--dump-every", 5,
            "--json", "s.json", "--write-data", "f.data"]
@@ -106,4 +112,15 @@ def test_a_file_size_limit_leaves_no_file(hs, tmp_path, xfsz):
         assert p.returncode == -signal.SIGXFSZ, (p.returncode, p.stderr)
     else:
         assert p.returncode == 2 and "error while writing 't.dump'" in p.stderr, (p.returncode, p.stderr)
+    assert os.listdir(tmp_path) == []
+
+
+def test_a_summary_that_cannot_be_written_leaves_no_output(hs, tmp_path):
+    # Standard output closed: the summary fails after the run, and so must the run: exit 2, and the
+    # files it would have written are not committed.
+    p = subprocess.run([str(hs), "run", "--n", "50", "--phi", "0.1", "--steps", "5", "--write-data", "f.data",
+                        "--json", "s.json"], cwd=tmp_path, stderr=subprocess.PIPE, text=True,
+                       preexec_fn=lambda: os.close(1))
+    assert p.returncode == 2, (p.returncode, p.stderr)
+    assert "hardsphere: error: cannot write the summary to standard output" in p.stderr
     assert os.listdir(tmp_path) == []

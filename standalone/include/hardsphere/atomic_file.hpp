@@ -2,7 +2,7 @@
 //! Output files that appear complete or not at all: each is written under a temporary name
 //! (the target's name + ".tmp." + pid, in the target's directory) and renamed into place only
 //! when the whole run succeeded. Every open temporary is listed in a fixed table that a signal
-//! handler can read without allocating, so SIGINT/SIGTERM/SIGHUP remove them too.
+//! handler can read without allocating, so a terminating signal removes them too.
 #include <fstream>
 #include <initializer_list>
 #include <string>
@@ -41,9 +41,11 @@ class AtomicFile {
 //! cleanup signals blocked, so a signal either removes every temporary or finds them all in place.
 void commit_together(std::initializer_list<AtomicFile*> files);
 
-//! Installs handlers for SIGHUP, SIGINT, SIGTERM, SIGQUIT, SIGXCPU and SIGXFSZ that remove every
-//! open temporary file, then let the process die by the same signal (default action re-raised).
-//! Signals that are ignored at the time of the call (e.g. SIGHUP under nohup) stay ignored.
+//! Installs handlers for every catchable signal whose default action ends the process (SIGHUP,
+//! SIGINT, SIGTERM, SIGUSR1/2, SIGALRM, SIGPIPE, SIGABRT, faults, real-time signals, ...) that
+//! remove every open temporary file, then let the process die by the same signal (default
+//! action re-raised). Signals that are ignored at the time of the call (e.g. SIGHUP under nohup)
+//! stay ignored.
 //! The CLI calls this once; library users writing outputs may call it too.
 void install_cleanup_signal_handlers();
 

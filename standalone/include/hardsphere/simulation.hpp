@@ -53,6 +53,10 @@ struct RunSpec {
   //! Called during the measured run (about every 1% for the stepper, after each block for the
   //! event engine) with the fraction done and the simulated time; the CLI's progress line.
   std::function<void(double fraction, double sim_time)> progress;
+  //! Called with the summary once the run succeeded and before any output file is committed, e.g.
+  //! to print it: if it throws, no output file is left (a summary that cannot be written fails
+  //! the run).
+  std::function<void(const nlohmann::json& summary)> report;
 };
 
 //! Runs the job with spec.engine and returns the JSON summary (keys documented in docs/cli.md).

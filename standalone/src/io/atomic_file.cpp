@@ -34,7 +34,12 @@ Slot g_slots[kSlots];
 std::mutex g_register_mutex;
 static_assert(std::atomic<int>::is_always_lock_free, "the signal handler reads slot flags");
 
-constexpr int kCleanupSignals[] = {SIGHUP, SIGINT, SIGTERM, SIGQUIT, SIGXCPU, SIGXFSZ};
+// Every signal whose default action ends the process and that can be caught: the warnings of
+// batch systems (SIGUSR1, SIGUSR2, SIGALRM before a wall-time limit), a closed pipe, abort(),
+// and faults, whose handler only unlinks (async-signal-safe) before the default action.
+constexpr int kCleanupSignals[] = {SIGHUP,  SIGINT,    SIGQUIT, SIGILL,  SIGTRAP, SIGABRT, SIGBUS,  SIGFPE,
+                                   SIGUSR1, SIGSEGV,   SIGUSR2, SIGPIPE, SIGALRM, SIGTERM, SIGXCPU, SIGXFSZ,
+                                   SIGVTALRM, SIGPROF, SIGPOLL, SIGPWR,  SIGSYS};
 
 int register_temporary(const std::string& tmp, const std::string& shown) {
   if (tmp.size() >= kSlotPath) throw InputError("cannot write '" + shown + "': path is too long");
@@ -68,10 +73,17 @@ extern "C" void remove_temporaries_and_die(int sig) {
   ::raise(sig);
 }
 
+// The real-time signals end the process by default too.
+template <class F>
+void for_each_cleanup_signal(F&& f) {
+  for (int s : kCleanupSignals) f(s);
+  for (int s = SIGRTMIN; s <= SIGRTMAX; ++s) f(s);
+}
+
 sigset_t cleanup_signal_set() {
   sigset_t set;
   sigemptyset(&set);
-  for (int s : kCleanupSignals) sigaddset(&set, s);
+  for_each_cleanup_signal([&](int s) { sigaddset(&set, s); });
   return set;
 }
 
@@ -194,11 +206,11 @@ void install_cleanup_signal_handlers() {
   sa.sa_handler = remove_temporaries_and_die;
   sa.sa_mask = cleanup_signal_set();  // one cleanup at a time
   sa.sa_flags = 0;
-  for (int s : kCleanupSignals) {
+  for_each_cleanup_signal([&](int s) {
     struct sigaction old {};
-    if (sigaction(s, nullptr, &old) == 0 && old.sa_handler == SIG_IGN) continue;
+    if (sigaction(s, nullptr, &old) != 0 || old.sa_handler == SIG_IGN) return;
     sigaction(s, &sa, nullptr);
-  }
+  });
 }
 
 }  // namespace hardsphere

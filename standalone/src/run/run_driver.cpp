@@ -86,6 +86,7 @@ nlohmann::json run_simulation(const RunSpec& spec) {
   j["loop_cpu_seconds"] = cpu;
   engine->add_summary(j, fin, cpu);
   if (tracker) j["track"] = tracker->summary();
+  if (spec.report) spec.report(j);
   commit_outputs(j, fin, spec.write_data, engine->final_title(), dump, json_file, tracker ? &tracker->file() : nullptr);
   return j;
 }
