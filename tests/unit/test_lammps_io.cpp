@@ -150,7 +150,11 @@ TEST(ReadData, MassesRowsAreParsed) {
   refused(join(with(base_lines(), 12, "1 2.0")), 12, {"atom type 1 given twice", "line 11"});
   refused(join(with(base_lines(), 12, "2 0")), 12, {"mass 0 of atom type 2"});
   refused(join(with(base_lines(), 12, "2 -1")), 12, {"mass -1"});
-  refused(join(with(base_lines(), 12, "2 nan")), 12, {"'nan'", "not finite"});
+  refused(join(with(base_lines(), 12, "2 nan")), 12, {"'nan'", "not a number"});
+  // Only what LAMMPS reads: no hexadecimal floats or infinities (a file LAMMPS refuses).
+  refused(join(with(base_lines(), 12, "2 0x1p0")), 12, {"'0x1p0'", "not a number", "LAMMPS"});
+  refused(join(with(base_lines(), 12, "2 inf")), 12, {"'inf'", "not a number"});
+  refused(join(with(base_lines(), 12, "2 1e999")), 12, {"'1e999'", "too large"});
   refused(join(with(base_lines(), 12, "2 heavy")), 12, {"'heavy'"});
   refused(join(inserted(base_lines(), 13, "3 3.0")), 13, {"expected a section name", "'3 3.0'", "atom types"});
 }

@@ -79,16 +79,19 @@ inline T normal_impulse(Vec3<T> dr, Vec3<T> dv, T m1, T m2, T restitution = T(1)
   return -(T(1) + restitution) * reduced_mass * b / std::sqrt(r2);
 }
 
-//! Applies a pair collision at contact separation dr; returns the virial term dr.dp1 (>= 0).
+//! Applies a pair collision at contact separation dr: v1 += m2 s dr, v2 -= m1 s dr with
+//! s = -(1+e) dr.dv / (|dr|^2 (m1+m2)). No square root: at contact distances near a power of two
+//! (unit diameters) |dr|^2 sits a few ulps from it, where a rounded square root leans one way and
+//! every collision would gain energy. Returns the virial term dr.dp1 = -(1+e) mu dr.dv (>= 0).
 template <class T>
 inline T collide(Vec3<T> dr, Vec3<T>& v1, Vec3<T>& v2, T m1, T m2, T restitution = T(1)) {
-  const T j = normal_impulse(dr, v1 - v2, m1, m2, restitution);
-  if (j == T(0)) return T(0);
-  const T inv_len = T(1) / std::sqrt(dot(dr, dr));
-  const Vec3<T> n = inv_len * dr;
-  v1 += (j / m1) * n;
-  v2 -= (j / m2) * n;
-  return j / inv_len;
+  const T r2 = dot(dr, dr);
+  const T b = dot(dr, v1 - v2);
+  if (!(b < T(0)) || !(r2 > T(0))) return T(0);
+  const T s = -(T(1) + restitution) * b / (r2 * (m1 + m2));
+  v1 += (s * m2) * dr;
+  v2 -= (s * m1) * dr;
+  return -(T(1) + restitution) * (m1 * m2 / (m1 + m2)) * b;
 }
 
 //! Equal-mass special case: the velocity change is exactly antisymmetric, so momentum is

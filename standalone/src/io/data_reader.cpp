@@ -148,9 +148,14 @@ class LineReader {
     fail(std::string(what) + (who ? " " + *who : "") + " '" + shown(w) + "' " + why);
   }
 
-  //! A finite double. Values that underflow to a subnormal or zero are what strtod rounds them
-  //! to (hardsphere writes subnormals itself); overflow is refused.
+  //! A finite double written as LAMMPS reads numbers (digits, signs, '.' and an exponent only:
+  //! no hexadecimal, inf or nan, which LAMMPS refuses, so every file read here reads in LAMMPS).
+  //! Values that underflow to a subnormal or zero are what strtod rounds them to (hardsphere
+  //! writes subnormals itself); overflow is refused.
   double real(const std::string& w, const char* what, const std::string* who = nullptr) const {
+    for (const char c : w)
+      if (!((c >= '0' && c <= '9') || c == '+' || c == '-' || c == '.' || c == 'e' || c == 'E'))
+        fail_value(what, who, w, "is not a number (LAMMPS reads digits, a sign, '.' and an exponent only)");
     char* end = nullptr;
     errno = 0;
     const double v = std::strtod(w.c_str(), &end);
