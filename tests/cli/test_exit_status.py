@@ -51,6 +51,11 @@ def assert_refused(p, *needles):
     (["run", "--engine", "event", "--time", "nan"], ["--time nan"]),
     (["run", "--cells", "0"], ["--cells '0'"]),
     (["run", "--cells", "2,2,2,"], ["--cells '2,2,2,'"]),
+    # A periodic axis of two diameters: the box is the cause, with auto or with the one cell it
+    # can have; a user grid too fine for the diameter is the grid's fault.
+    (["run", "--n", "40", "--box", "2,10,12"], ["periodic box length 2 (axis x)", "lengthen that axis"]),
+    (["run", "--n", "40", "--box", "2,10,12", "--cells", "1,3,3"], ["periodic box length 2 (axis x)"]),
+    (["run", "--n", "40", "--box", "10,10,12", "--cells", "12,3,3"], ["cells 12,3,3", "use fewer cells"]),
     (["run", "--box", "10,10,10,"], ["--box '10,10,10,'"]),
     (["run", "--box", "1e999"], ["1e999"]),
     (["run", "--seed", "0x10"], ["--seed '0x10'"]),

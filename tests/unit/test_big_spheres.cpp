@@ -185,6 +185,20 @@ TEST(StepperBigSpheres, FloatRunsKeepEnergyWithUnitDiametersAndOneOddSphere) {
   EXPECT_LT(std::abs(kinetic_energy(st->state()) - e0) / e0, 4e-7);
 }
 
+TEST(StepperBigSpheres, AutomaticGridDoesNotCollapseForOneLightFastBigSphere) {
+  // One light big sphere at speed 5000 among unit spheres: the tuned skin (6 v_rms dt) is
+  // several diameters, too thick for the big sphere's own pass in this box, and its grid was
+  // one cell (all pairs at every rebuild, ~100x a good manual grid). The automatic choice must
+  // keep a real grid (bench/auto_cells.py measures how close to the best manual one it runs).
+  auto s = scene(cube(27.7, {true, true, true}), {{10, 5.2e-6, {13, 13, 13}}}, 3864, unit, 12);
+  s.vel[0] = {3000, 3200, 2400};
+  auto st = make_stepper(s, {}, StepperConfig{});
+  EXPECT_GE(st->cells_per_dim()[0], 8);
+  EXPECT_LT(st->skin(), 2.0);
+  st->run(3);
+  EXPECT_LT(max_overlap(st->state()), 1e-9);
+}
+
 TEST(StepperBigSpheres, ListGuardWatchesUnlistedBigSpheres) {
   // Cells 2 wide give a skin of 1. A small sphere and a big one (D = 6), unlisted at a gap of
   // 1.1, close it together: the one moving 0.8 per unit time becomes a mover past half the

@@ -119,8 +119,4 @@ class StepperBase {
 std::unique_ptr<StepperBase> make_stepper(const ParticleSystem& sys, const Physics& physics, const StepperConfig& cfg,
                                           Precision precision = Precision::Double);
 
-//! The skin (extra list radius beyond the contact distance) chosen by cells = auto, scaled by
-//! the largest diameter of the spheres that are not big.
-double auto_skin(const ParticleSystem& sys, double dt);
-
 }  // namespace hardsphere

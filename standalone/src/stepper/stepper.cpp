@@ -22,6 +22,7 @@
 #include "stepper/distance_filter.hpp"
 #include "stepper/drift_kernel.hpp"
 #include "stepper/gap_search.hpp"
+#include "stepper/grid_choice.hpp"
 #include "stepper/list_guard.hpp"
 #include "stepper/pair_list.hpp"
 
@@ -57,47 +58,10 @@ bool detects_by_sweep(Detect d, const ParticleSystem& sys, double dt) {
   return rms_speed(sys) * dt > kOverlapDetectionLimit * smallest;
 }
 
-double auto_skin(const ParticleSystem& sys, double dt, double phi_gas) {
-  // A thin skin means frequent rebuilds, a thick one longer scans and neighbour sweeps.
-  // (1) A rebuild every ~4 steps at most for the fastest spheres (~2.5 rms speeds): skin >=
-  // 20 v_rms dt; more frequent rebuilds also fall mid-step in dense gases. (2) The list costs
-  // ~ phi s per step for a skin s and a rebuild ~ N (plus the pair build) every ~ s / (v dt)
-  // steps, so the sum is least near s ~ sqrt(v dt d / phi): thicker skins pay in dilute gases.
-  // The larger of the two, within [0.3, 0.6] diameters (prefactors fitted, see docs/performance.md).
-  // (3) With the pairwise list guard a list outlives the first sphere to cross half the skin,
-  // so dense gases do better with thinner skins: the upper bound falls from 0.6 at phi 0.2 to
-  // 0.4 at phi >= 0.3 (see docs/performance.md).
-  // (4) Long steps overrule (3): no sphere may move more than 0.85 skins between rebuilds, so a
-  // skin below a few v_rms dt lets the fast spheres expire the list every step, and in the
-  // middle of steps, at a multiple of the cost (see docs/performance.md). skin >= 6 v_rms dt
-  // gives a sphere at 3 v_rms about two steps to cross it.
-  // The diameter is the median one: the skin is a distance a typical sphere travels between
-  // rebuilds, so neither big spheres nor the tail of a size distribution may thicken it.
-  const double v_rms = rms_speed(sys);
-  std::vector<double> radii(sys.radius);
-  const auto mid = radii.begin() + std::ptrdiff_t(radii.size() / 2);
-  if (!radii.empty()) std::nth_element(radii.begin(), mid, radii.end());
-  const double diameter = radii.empty() ? 0.0 : 2 * *mid;
-  const double phi = std::max(phi_gas, 1e-3);
-  const double skin = std::max(20.0 * v_rms * dt, 1.75 * std::sqrt(v_rms * dt * diameter / phi));
-  const double thickest = std::clamp(0.6 - 2.0 * (phi - 0.2), 0.4, 0.6);
-  return std::max(std::clamp(skin, 0.3 * diameter, thickest * diameter), 6.0 * v_rms * dt);
-}
-
 namespace {
 
 template <class Real>
 using V3 = Vec3<Real>;
-
-//! Whether big spheres can find their partners by minimum image: every periodic axis longer
-//! than twice the farthest a big sphere's pairs and list-guard threats reach (sigma + 2 skins).
-bool big_pass_fits(const ParticleSystem& sys, const SizeSplit& split, double skin) {
-  const double partner = split.big.size() > 1 ? sys.radius[split.big[1]] : split.grid_diameter / 2;
-  const double reach = sys.radius[split.big[0]] + partner + 2 * skin;
-  for (int d = 0; d < 3; ++d)
-    if (sys.box.periodic[d] && !(sys.box.length(d) > 2 * reach)) return false;
-  return true;
-}
 
 //! Mono: every sphere has the same radius and mass (chosen from the scene by make_stepper).
 template <class Real, bool Mono>
@@ -469,49 +433,35 @@ Stepper<Real, Mono>::Stepper(const ParticleSystem& sys, const Physics& physics, 
   if (!(cfg.packing_fraction >= 0 && cfg.packing_fraction < 1))
     throw InputError("packing fraction hint " + std::to_string(cfg.packing_fraction) + " must be in [0, 1)");
   const double phi_gas = cfg.packing_fraction > 0 ? cfg.packing_fraction : sys.packing_fraction();
-  auto grid_for = [&](double diameter) {
-    return auto_cells
-               ? CellGrid::with_min_width(box_, diameter + auto_skin(sys, cfg.dt, phi_gas), std::int64_t(2 * n + 27))
-               : CellGrid(box_, cfg.cells);
-  };
-  auto skin_of = [](const CellGrid& g, double diameter) {
-    const double reach = g.reach();
-    return std::isinf(reach) ? std::numeric_limits<double>::infinity() : reach - diameter;
-  };
-  // Big spheres get a pass of their own when the grid sized without them has a finite skin and
-  // the box is long enough for it; otherwise the grid is sized by the largest sphere, as before.
-  double diameter = 2 * sys.max_radius();
   const SizeSplit split = split_by_size(sys);
-  bool big_pass = false;
-  if (!split.big.empty()) {
-    const CellGrid g = grid_for(split.grid_diameter);
-    const double skin = skin_of(g, split.grid_diameter);
-    if (g.half_stencil_ok() && std::isfinite(skin) && skin > 0 && big_pass_fits(sys, split, skin)) {
-      big_pass = true;
-      grid_ = g;
-      diameter = split.grid_diameter;
-    }
-  }
-  if (!big_pass) grid_ = grid_for(diameter);
-  const double skin = skin_of(grid_, diameter);
-  if (!(skin > 0) && !split.big.empty() && auto_cells) {
-    // Neither a grid over the largest sphere nor the pass for big spheres fits the box.
-    int axis = -1;  // the shortest periodic axis
-    for (int d = 0; d < 3; ++d)
-      if (sys.box.periodic[d] && (axis < 0 || sys.box.length(d) < sys.box.length(axis))) axis = d;
-    axis = std::max(axis, 0);
-    std::ostringstream m;
-    m << "periodic box length " << sys.box.length(axis) << " (axis "
-      << "xyz"[axis] << ") is too short for a sphere of diameter " << 2 * sys.max_radius()
-      << ": a periodic axis must be longer than twice the largest diameter, or than twice the reach of a big"
-      << " sphere's pairs (its diameter plus its largest partner's and two list skins)";
-    throw InputError(m.str());
-  }
+  const detail::GridChoice choice = detail::choose_grid(sys, box_, cfg.cells, cfg.dt, phi_gas, split, physics.gravity);
+  grid_ = choice.grid;
+  const double diameter = choice.diameter, skin = choice.skin;
+  const bool big_pass = choice.big_pass;
   if (!(skin > 0)) {
+    // The box is the cause when no grid could do: the grid is automatic, or the axis that limits
+    // the reach is a periodic one covered by one or two cells (half its length is all they reach).
+    bool box_too_short = auto_cells;
+    for (int d = 0; d < 3; ++d)
+      if (sys.box.periodic[d] && grid_.counts()[d] < 3 && !(0.5 * sys.box.length(d) > diameter)) box_too_short = true;
     std::ostringstream m;
-    m << "cells " << grid_.counts()[0] << "," << grid_.counts()[1] << "," << grid_.counts()[2]
-      << " give a cell width of " << grid_.reach() << ", not more than the largest diameter " << diameter
-      << "; use fewer cells or --cells auto";
+    if (box_too_short) {
+      int axis = -1;  // the shortest periodic axis
+      for (int d = 0; d < 3; ++d)
+        if (sys.box.periodic[d] && (axis < 0 || sys.box.length(d) < sys.box.length(axis))) axis = d;
+      axis = std::max(axis, 0);
+      m << "periodic box length " << sys.box.length(axis) << " (axis "
+        << "xyz"[axis] << ") is too short for a sphere of diameter " << 2 * sys.max_radius()
+        << ": a periodic axis must be longer than twice the largest diameter";
+      if (!split.big.empty())
+        m << ", or than twice the reach of a big sphere's pairs (its diameter plus its largest partner's and two list"
+          << " skins)";
+      m << "; lengthen that axis";
+    } else {
+      m << "cells " << grid_.counts()[0] << "," << grid_.counts()[1] << "," << grid_.counts()[2]
+        << " give a cell width of " << grid_.reach() << ", not more than the largest diameter " << diameter
+        << "; use fewer cells or --cells auto";
+    }
     throw InputError(m.str());
   }
   skin_ = Real(skin);

@@ -1,0 +1,91 @@
+#!/usr/bin/env python3
+"""How good is --cells auto? For each scene, the stepper's loop CPU time with the automatic grid
+against a sweep of manual grids (K cells per axis), medians of alternating rounds; prints a
+markdown table with auto / best. Speed is reported, never asserted.
+
+  python3 -m bench.auto_cells --hs build/standalone/hardsphere [--rounds 3] [--quick]
+"""
+import argparse
+import dataclasses
+import json
+import math
+import statistics
+import subprocess
+import tempfile
+from pathlib import Path
+
+import numpy as np
+
+from compare.big_sphere_scene import make_scene, write_scene
+from compare.lammps_files import read_data, write_data
+
+# name, how to make the state, steps, dt
+SCENES = [
+    ("mono phi 0.05", dict(n=8000, phi=0.05), 200, 0.01),
+    ("mono phi 0.2", dict(n=8000, phi=0.2), 200, 0.01),
+    ("mono phi 0.45", dict(n=8000, phi=0.45), 100, 0.01),
+    ("mono phi 0.2, long steps (dt 0.1)", dict(n=8000, phi=0.2), 40, 0.1),
+    ("lognormal sizes 0.25, phi 0.2", dict(n=8000, phi=0.2, sizes="lognormal:0.25"), 100, 0.01),
+    ("one big sphere d 10, mass 1000, phi 0.2", dict(n=8000, phi=0.2, big=1, big_diameter=10, big_mass=1000), 100,
+     0.01),
+    ("one big sphere d 20, phi 0.2, box too short for its pass",
+     dict(n=4000, phi=0.2, big=1, big_diameter=20, big_mass=8000), 50, 0.01),
+    ("one light fast big sphere d 10 (speed 5000), phi 0.12",
+     dict(n=3864, phi=0.12, big=1, big_diameter=10, big_mass=1e-8 * math.pi / 6 * 1000, fast=5000), 20, 0.01),
+    ("one fast unit sphere (speed 1000), phi 0.2", dict(n=8000, phi=0.2, fast=1000), 20, 0.01),
+]
+
+
+def state(tmp, name, spec):
+    spec = dict(spec)
+    fast = spec.pop("fast", None)
+    path = Path(tmp) / (name.replace(" ", "_").replace(",", "").replace("(", "").replace(")", "") + ".data")
+    write_scene(path, make_scene(seed=3, **spec))
+    if fast:
+        d = read_data(path)
+        v = d.vel.copy()
+        v[0] = np.array([0.6, 0.64, 0.48]) * fast
+        write_data(path, dataclasses.replace(d, vel=v))
+    return path
+
+
+def loop_cpu(hs, data, steps, dt, cells):
+    p = subprocess.run([hs, "run", "--quiet", "--read-data", str(data), "--steps", str(steps), "--dt", str(dt),
+                        "--cells", cells, "--json", "-"], capture_output=True, text=True)
+    if p.returncode:
+        return None, None  # a grid too fine for the largest sphere is refused
+    j = json.loads(p.stdout)
+    return j["loop_cpu_seconds"], j["cells_per_dim"][0]
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--hs", required=True)
+    ap.add_argument("--rounds", type=int, default=3)
+    ap.add_argument("--quick", action="store_true", help="one round, three scenes")
+    a = ap.parse_args()
+    scenes = SCENES[:1] + SCENES[-2:] if a.quick else SCENES
+    rounds = 1 if a.quick else a.rounds
+    print("| scene | auto grid | auto (s) | best manual grid | best (s) | auto / best |")
+    print("|---|---|---|---|---|---|")
+    with tempfile.TemporaryDirectory() as tmp:
+        for name, spec, steps, dt in scenes:
+            data = state(tmp, name, spec)
+            _, k_auto = loop_cpu(a.hs, data, 1, dt, "auto")
+            length = read_data(data).lengths[0]
+            grids = sorted({k for k in [1, 2, 3, 4, 6, 8, 11, 16, 23, 32] + [k_auto - 2, k_auto + 2] if k >= 1})
+            times = {"auto": [], **{str(k): [] for k in grids}}
+            for _ in range(rounds):  # alternating, so the machine's drift hits every grid alike
+                for c in times:
+                    t, _ = loop_cpu(a.hs, data, steps, dt, c)
+                    if t is not None:
+                        times[c].append(t)
+            med = {c: statistics.median(v) for c, v in times.items() if v}
+            best = min((c for c in med if c != "auto"), key=med.get)
+            print(f"| {name} | {k_auto} | {med['auto']:.3f} | {best} | {med[best]:.3f} | "
+                  f"{med['auto'] / med[best]:.2f} |", flush=True)
+            del length
+
+
+if __name__ == "__main__":
+    main()
