@@ -5,14 +5,15 @@ Run an entry point from the repository root as `python3 -m compare.NAME ...` (--
 
   accuracy           run time against error, the event engine as reference (docs/event_engine.md)
   big_sphere_scene   a data file of a gas with a few big spheres
-  brownian           a heavy sphere's diffusion against Enskog (docs/validation/brownian.md)
-  cooling            a granular gas against Haff's law in every engine (docs/validation/cooling.md)
-  cross_validate     the same states through every engine (docs/validation/cross_validation.md)
-  docs_figures       the README's figures from committed data
-  granular_figures   gravity, walls and inelastic collisions (docs/validation/granular.md)
-  hcs                the homogeneous cooling state's a2 (docs/validation/hcs.md)
+  brownian           a heavy sphere's diffusion against Enskog (docs/reports/validation/brownian.md)
+  cooling            a granular gas against Haff's law in every engine (docs/reports/validation/cooling.md)
+  cross_validate     the same states through every engine (docs/reports/validation/cross_validation.md)
+  docs_figures       the README's figures (docs/reports/figures/) from committed data
+  granular_figures   gravity, walls and inelastic collisions (docs/reports/validation/granular.md)
+  hcs                the homogeneous cooling state's a2 (docs/reports/validation/hcs.md)
+  packing_structure  bond order and g(r) of a packing in a data file (docs/initial_states.md)
   plot_speeds        a data file's speed distribution against Maxwell-Boltzmann
-  seed_figures       the seed paper's figures (docs/validation/seed_figures.json)
+  seed_figures       the seed paper's figures (docs/reports/validation/seed_figures.json)
 
 Shared modules:
 

@@ -33,7 +33,7 @@ The validation point is phi 0.01 (mean free path 11.8, four times sigma12): from
 path below sigma12 = 3) the measured D exceeds Enskog's clearly (the sweep shows it), as correlated
 collisions and the gas's backflow come in once the big sphere is not small against the mean free path.
 --quick: D_big 5, M 125, phi 0.01, 1000 small spheres, 4 runs per engine, each run one block, no sweep.
-Full (docs/validation/brownian.md): 2000 small spheres, 144 event runs and 24 stepper runs of 7000,
+Full (docs/reports/validation/brownian.md): 2000 small spheres, 144 event runs and 24 stepper runs of 7000,
 and the sweep.
 """
 import argparse

@@ -26,7 +26,7 @@ Writes DIR/cooling.json, DIR/cooling.md, DIR/cooling_T.png and DIR/cooling_speed
 measured times of |T/T_Haff - 1|), a soft engine by more than 5%, or a two-sphere run of a soft
 engine at the cooling run's stiffness and time step leaves with a normal speed ratio more than 1%
 from e. --quick: N = 1000, e = 0.9, soft shift 0.01, under a minute. Full: N = 8000, e = 0.9 and
-0.7, shift 0.0025 (docs/validation/cooling.md).
+0.7, shift 0.0025 (docs/reports/validation/cooling.md).
 """
 import argparse
 import json

@@ -7,7 +7,7 @@ Engines: the standalone stepper (double, float; a dt sweep with the default dt 0
 engine, lmp_hs + fix hardsphere (serial, 2 ranks), Debian's LAMMPS with elastic gran/hooke and
 gran/hertz/history and LIGGGHTS's hertz model, over a stiffness sweep. Writes DIR/report.md with
 figures and DIR/cross_validation.json; exits 1 when an engine disagrees beyond the stated
-tolerances (docs/validation/cross_validation.md lists them). --quick: one small state, minutes.
+tolerances (docs/reports/validation/cross_validation.md lists them). --quick: one small state, minutes.
 """
 import argparse
 import json

@@ -3,27 +3,27 @@
 
   pareto_time_error.png      Run time against pressure error, one panel per packing fraction: every
                              stepper setting (dt, float/double, overlap/sweep detection) of
-                             docs/event_engine/accuracy.json as faint points, their Pareto front (the
+                             docs/reports/event_engine/accuracy.json as faint points, their Pareto front (the
                              cheapest setting with |Z/Z_event - 1| <= x) as a staircase, the exact event
                              engine as a horizontal line (star: its own 1-sigma statistical error), the
                              band where an error is indistinguishable from noise (< 2 sigma of one run),
                              and, where N and phi match (N = 8000), the soft-sphere peers (LAMMPS
                              gran/hooke, gran/hertz/history, LIGGGHTS hertz; raw and Barker-Henderson
                              mapped Z) and the stepper of that same run from
-                             docs/validation/cross_validation.json. Each panel also quotes the report's CPU
-                             ratios at matched (1%) accuracy, computed by xv_report.timing_rows.
-  eos_kolafa.png             (Z - Z_Kolafa)/Z_Kolafa against phi: event engine (docs/event_engine/eos.json,
+                             docs/reports/validation/cross_validation.json. Each panel also quotes the report's CPU
+                             ratios at matched (1%) accuracy, computed by compare.crossval.report.timing_rows.
+  eos_kolafa.png             (Z - Z_Kolafa)/Z_Kolafa against phi: event engine (docs/reports/event_engine/eos.json,
                              N = 4000), and the event engine's long reference runs, the stepper (dt = 0.01,
                              double and float) and lmp_hs from cross_validation.json (monodisperse states,
                              N = 8000 and 64000); Carnahan-Starling's residual as a line.
   collisions_per_second.png  Collisions per CPU second against N, one colour per phi: event engine from
-                             docs/event_engine/speed.json, eos.json, accuracy.json and
+                             docs/reports/event_engine/speed.json, eos.json, accuracy.json and
                              cross_validation.json; stepper (dt = 0.01) from accuracy.json and
                              cross_validation.json. Collisions per unit time = rate * N / 2 (the rate
                              counts each collision for both spheres: compare.accuracy's eos run length
                              t = collisions / (N rate / 2)).
 
-Usage: /usr/bin/python3 -m compare.docs_figures [--out docs/figures]
+Usage: /usr/bin/python3 -m compare.docs_figures [--out docs/reports/figures]
 """
 import argparse
 import json
@@ -42,10 +42,10 @@ from compare.crossval.report import ENGINE_NAMES, timing_rows  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[1]
 
-ACCURACY = ROOT / "docs/event_engine/accuracy.json"
-EOS = ROOT / "docs/event_engine/eos.json"
-SPEED = ROOT / "docs/event_engine/speed.json"
-XV = ROOT / "docs/validation/cross_validation.json"
+ACCURACY = ROOT / "docs/reports/event_engine/accuracy.json"
+EOS = ROOT / "docs/reports/event_engine/eos.json"
+SPEED = ROOT / "docs/reports/event_engine/speed.json"
+XV = ROOT / "docs/reports/validation/cross_validation.json"
 MACHINE = ("Timings: 2-core AMD EPYC VM (shared; single runs vary by 20-40%), one thread, "
            "CPU time of the step/event loop.")
 FLOOR = 1e-5  # smaller |errors| (double-precision stepper on the event engine's own trajectory) drawn here
@@ -276,7 +276,7 @@ def fig_collisions(out):
 
 def main(argv=None):
     p = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    p.add_argument("--out", default=str(ROOT / "docs" / "figures"), help="output directory")
+    p.add_argument("--out", default=str(ROOT / "docs" / "reports" / "figures"), help="output directory")
     out = Path(p.parse_args(argv).out)
     out.mkdir(parents=True, exist_ok=True)
     lines, fronts = fig_pareto(out)

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Fails when an #include runs up a layer (docs/dev/architecture.md, "Layers").
+"""Fails when an #include runs up a layer (docs/dev/architecture.md, "Source tree and layers").
 
 Private headers live in standalone/src/<layer>/ and are included by their owner's name
 ("stepper/list_guard.hpp"); public headers in standalone/include/hardsphere/ belong to a layer

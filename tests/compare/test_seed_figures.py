@@ -21,7 +21,7 @@ def test_seed_figures_quick(hs, tmp_path):
     assert md.startswith("### ") and all(f"({name})" in md for name in names)
 
     # Structure only: the figures' numbers are CPU times, which a loaded machine changes at will, so
-    # no slope or ideal grid is asserted (docs/validation/seed_figures.json has the measured ones).
+    # no slope or ideal grid is asserted (docs/reports/validation/seed_figures.json has the measured ones).
     ideal, one, fits = saved["ideal"], saved["one_box"], saved["fits"]
     assert len(ideal) >= 3 and len(one) >= 3
     assert [r["n"] for r in ideal] == sorted(r["n"] for r in ideal) and len({r["n"] for r in one}) == len(one)

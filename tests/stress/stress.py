@@ -9,7 +9,7 @@ Every case runs the `hardsphere` program on a generated state and checks what a 
 simulation must give: energy and momentum kept, no overlap, no NaN, and the case's own criterion
 (an analytic result, agreement with the other engine, a refusal). --quick runs the reduced set that
 ctest runs (label `stress`); without it the full set runs (minutes) and --table writes the
-markdown table of docs/stress.md. Exit status 1 if any case fails.
+markdown table of docs/reports/stress.md. Exit status 1 if any case fails.
 """
 import argparse
 import json
@@ -549,7 +549,7 @@ def main():
 
 
 def write_table(path, results, quick):
-    """docs/stress.md: every case, its criterion and the worst figures over its runs."""
+    """docs/reports/stress.md: every case, its criterion and the worst figures over its runs."""
     total = sum(r[3] for r in results)
     lines = [
         "# Stress suite",
@@ -560,8 +560,8 @@ def write_table(path, results, quick):
         "quick subset (label `stress`); this table is the " + ("quick" if quick else "full") + " set:",
         "",
         "```sh",
-        "/usr/bin/python3 tests/stress/stress.py --hardsphere build/standalone/hardsphere" + (" --quick" if quick else "") +
-        " --table docs/stress.md",
+        "/usr/bin/python3 -m tests.stress.stress --hardsphere build/standalone/hardsphere" + (" --quick" if quick else "") +
+        " --table docs/reports/stress.md",
         "```",
         "",
         f"{len(results)} cases, {total:.0f} s in all on one core of a {cpu_model()}. Columns: simulated runs, "

@@ -8,8 +8,8 @@ amorphous packing), the mean local q6, and the fraction of crystal-like spheres 
 Ruiz-Montero and Frenkel 1996: at least 7 neighbours whose normalised q6 vectors have a dot
 product above 0.7). Wall axes are analysed without images (spheres by a wall simply have fewer
 neighbours). Usage, from the repository root:
-    python3 -m docs.initial_states.structure FILE [--boundary p,p,w]
-    python3 -m docs.initial_states.structure --fcc    (an FCC reference)
+    python3 -m compare.packing_structure FILE [--boundary p,p,w]
+    python3 -m compare.packing_structure --fcc    (an FCC reference)
 """
 import math
 import sys

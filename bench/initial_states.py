@@ -6,9 +6,9 @@ For each packing fraction, runs
 for seeds K = 1..RUNS and reports how many were made and the median wall time (process start
 included). For seed 1 it also writes the state once more (untimed), measures the
 compressibility factor Z over --time 0.2 of the event engine from it, and its structure
-(structure.py). Prints one Markdown table row per packing fraction.
+(compare.packing_structure). Prints one Markdown table row per packing fraction.
 Usage, from the repository root:
-    python3 -m docs.initial_states.timing HARDSPHERE --n 4000 --phi 0.58 0.60 [--runs 3] [--init dense] [--boundary p]
+    python3 -m bench.initial_states HARDSPHERE --n 4000 --phi 0.58 0.60 [--runs 3] [--init dense] [--boundary p]
 """
 import argparse
 import json
@@ -18,7 +18,7 @@ import subprocess
 import tempfile
 import time
 
-from docs.initial_states import structure
+from compare import packing_structure as structure
 
 
 def run(hs, *args):
