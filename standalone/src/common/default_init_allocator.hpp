@@ -2,7 +2,7 @@
 //! An allocator whose resize() leaves new elements of trivial types uninitialised (default-
 //! initialised) instead of zeroing them: for scratch arrays that are resized to a bound and
 //! then filled, such as the pair list, which each rebuild grows to twice its worst case and
-//! cuts back to what it found (zeroing it was a measurable cost in dense runs; see docs/performance.md).
+//! cuts back to what it found (zeroing it was a measurable cost in dense runs; see docs/dev/performance.md).
 #include <memory>
 #include <new>
 #include <utility>

@@ -589,7 +589,7 @@ struct EventEngine::Impl {
 
   void collide(int i, int j) {
     // Both lists are requested before either is scanned, so their misses overlap. The neighbourhoods are
-    // not: each scan requests its partners itself, and doing it here too was slower (see docs/performance.md).
+    // not: each scan requests its partners itself, and doing it here too was slower (see docs/dev/performance.md).
     __builtin_prefetch(list(i));
     __builtin_prefetch(list(j));
     __builtin_prefetch(&nfill[std::size_t(i)]);
@@ -882,7 +882,7 @@ double auto_shell(double phi) {
   // A sphere rebuilds its list after moving shell / 2, so rebuilds per collision grow as the mean
   // free path lambda = sigma / (6 sqrt(2) phi g(sigma)) (Enskog, Carnahan-Starling g) outgrows the
   // shell. So the shell follows lambda: 1.6 lambda (where timed runs found the optimum), kept within
-  // [0.6, 2] diameters (see docs/performance.md).
+  // [0.6, 2] diameters (see docs/dev/performance.md).
   if (!(phi > 0)) return 0.6;
   const double g = (1 - phi / 2) / std::pow(1 - std::min(phi, 0.7), 3);
   const double lambda = 1 / (6 * std::sqrt(2.0) * phi * g);

@@ -6,7 +6,7 @@
 //! it. Within the cursor's bucket the earliest entry is found by the resolver's own order, so
 //! entries come out exactly as from a binary heap with that order, which it replaces: most
 //! entries are predictions that go stale before their time, and each push and pop of the heap
-//! sifted through several levels (see docs/performance.md).
+//! sifted through several levels (see docs/dev/performance.md).
 #include <cstddef>
 #include <cstdint>
 #include <vector>

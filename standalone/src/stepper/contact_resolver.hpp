@@ -50,7 +50,7 @@ struct ContactArrays {
   //! |v_s| + |v_q| instead of |v_s| + the fastest speed of all.
   Real* speed = nullptr;
   //! Optional: row s's entries before adj_plain_end[s] all have image kNoImage (the sweeps then
-  //! skip their shift, a sizeable part of the filter's instructions; see docs/performance.md).
+  //! skip their shift, a sizeable part of the filter's instructions; see docs/dev/performance.md).
   const std::uint32_t* adj_plain_end = nullptr;
   //! Optional: each sphere's pair collisions (indexed like pos), incremented for both spheres.
   std::int64_t* pair_collisions = nullptr;
@@ -420,7 +420,7 @@ class ContactResolver {
 
   //! In a large system the scan's contacts, taken in time order, land anywhere in memory, and a
   //! collision then waits on its spheres' records, list rows and partners' positions in turn
-  //! (see docs/performance.md). Request them for the contacts a few places ahead in three
+  //! (see docs/dev/performance.md). Request them for the contacts a few places ahead in three
   //! stages, each reading only what the stage before brought in.
   template <class Hooks>
   HS_ALWAYS_INLINE void prefetch_ahead(std::size_t next, const Hooks& hooks) const {
@@ -443,7 +443,7 @@ class ContactResolver {
         if (k != kWall) __builtin_prefetch(&a_.adj[a_.adj_start[k]]);
     }
     // Partners only in systems whose positions do not sit in L2 anyway: in smaller ones the loop
-    // over every partner costs more than it hides (see docs/performance.md).
+    // over every partner costs more than it hides (see docs/dev/performance.md).
     if (next + kPartners < n && change_.size() > kPrefetchPartnersAbove) {
       const Candidate& c = sorted_[next + kPartners];
       for (const std::uint32_t k : {c.i, c.j}) {
@@ -524,7 +524,7 @@ class ContactResolver {
   //! out = in, earliest contact first (the order of std::sort with later()). Contact times
   //! spread over the step, so a bucket pass by time (monotone in `back`, so it never
   //! contradicts later()) leaves a handful per bucket for insertion sorts: O(n), where a
-  //! comparison sort of a dense step's contacts was a visible part of the run (see docs/performance.md).
+  //! comparison sort of a dense step's contacts was a visible part of the run (see docs/dev/performance.md).
   void order_by_time(const std::vector<Candidate>& in, std::vector<Candidate>& out) {
     const std::size_t n = in.size();
     out.resize(n);

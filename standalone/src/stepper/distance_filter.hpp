@@ -1,7 +1,7 @@
 #pragma once
 //! |a - b|^2 for the per-step list scan's distance filter. With AVX-512VL each position is one
 //! masked three-lane load and the squares are summed with two shuffles: fewer instructions and
-//! cycles per pair than six scalar loads (see docs/performance.md). The lanes are summed in
+//! cycles per pair than six scalar loads (see docs/dev/performance.md). The lanes are summed in
 //! another order than dot(), so the result may differ from it in the last bits:
 //! kDistanceFilterSlack widens the filter, and the caller decides each pair that passes with
 //! the exact expression.
@@ -51,7 +51,7 @@ HS_ALWAYS_INLINE Real distance2_filter(const Vec3<Real>& a, const Vec3<Real>& b)
 //! widened by the caller) and returns their number; `hits` needs room for len + 4. In float with
 //! AVX-512VL four pairs at a time: their differences transposed into x, y and z vectors and one
 //! compress of the passing indices (fewer instructions per pair than one pair at a time; see
-//! docs/performance.md).
+//! docs/dev/performance.md).
 template <class Real>
 HS_ALWAYS_INLINE std::uint32_t filter_pairs(const Vec3<Real>* __restrict pos, const std::uint32_t* __restrict pairs,
                                             std::uint32_t len, Real lim2, std::uint32_t* __restrict hits) {

@@ -5,7 +5,7 @@
 //! register) is three registers: the move is element-wise on them as they are, and the
 //! per-sphere sums of squares take the components apart with two permutes each. The scalar
 //! loop was a visible part of a dense step (no vectorised sqrt, three strided streams; see
-//! docs/performance.md).
+//! docs/dev/performance.md).
 //! Both paths compute |d|^2 as fma(dz, dz, fma(dx, dx, dy dy)) (what GCC makes of the scalar
 //! expression), so they give the same numbers.
 #include <cmath>

@@ -9,7 +9,7 @@
 //!  - every d must stay below kMaxMove skin, so only pairs with gap_ij < 2 kMaxMove skin can
 //!    ever touch: a mover i is checked against these, its "threats", listed once when i
 //!    becomes a mover.
-//! So the list outlives the classic test's half skin and rebuilds are rarer (see docs/performance.md).
+//! So the list outlives the classic test's half skin and rebuilds are rarer (see docs/dev/performance.md).
 //! d is each sphere's largest recorded displacement since the rebuild (recorded at every step
 //! end and after every velocity change; in between a sphere moves on straight segments whose
 //! distance from X is largest at an end), so the test covers the whole time since the rebuild.

@@ -52,7 +52,7 @@ double rms_speed(const ParticleSystem& sys) {
 bool detects_by_sweep(Detect d, const ParticleSystem& sys, double dt) {
   if (d != Detect::Auto) return d == Detect::Sweep;
   // Overlap detection misses grazes (pairs that touch and part within one step), which matter only for
-  // long steps; sweeping costs more, so it is chosen only beyond kOverlapDetectionLimit (see docs/performance.md).
+  // long steps; sweeping costs more, so it is chosen only beyond kOverlapDetectionLimit (see docs/dev/performance.md).
   double smallest = std::numeric_limits<double>::infinity();
   for (const double r : sys.radius) smallest = std::min(smallest, 2 * r);
   return rms_speed(sys) * dt > kOverlapDetectionLimit * smallest;
@@ -371,7 +371,7 @@ class Stepper final : public StepperBase, public StateExchange {
   // Per-field arrays in cell order: a neighbour's position or velocity is one cache line.
   std::vector<V3<Real>> pos_, vel_, pos0_;  // pos0_: positions at the last rebuild
   // |vel_|, set by drift(), kept by the resolver, for the neighbour sweeps' per-pair speed bound. Only where
-  // sweeps are a large part of the loop and speeds stay in cache do their loads pay (see docs/performance.md).
+  // sweeps are a large part of the loop and speeds stay in cache do their loads pay (see docs/dev/performance.md).
   bool speeds_ = false;
   std::vector<Real> speed_;
   std::vector<Real> r_, m_;
@@ -527,7 +527,7 @@ Stepper<Real, Mono>::Stepper(const ParticleSystem& sys, const Physics& physics, 
   // 3 cells (so a cell is at least sigma + skin wide).
   guard_.configure(skin_, cfg.pairwise_list_check && grid_.half_stencil_ok(), std::max<std::size_t>(n / 32, 16));
   // Speeds pay where the sweeps' extra loads hit the cache: positions and speeds within ~1 MiB
-  // (the L2 of this machine's cores); beyond it each speed is one more miss (see docs/performance.md).
+  // (the L2 of this machine's cores); beyond it each speed is one more miss (see docs/dev/performance.md).
   // Under gravity speeds change during the step, so the per-sphere bounds are not used.
   speeds_ = !has_gravity_ && phi_gas >= 0.3 && double(n) * double(sizeof(V3<Real>) + sizeof(Real)) <= 1048576.0;
   rebuild();
