@@ -114,6 +114,11 @@ void FixHardSphere::check_input() {
                             " " + (t.style ? t.style : "none") +
                             "), but hard spheres interact only by collisions: bonded forces would not act and "
                             "bonded pairs would still collide; use atoms without bonds (e.g. atom_style sphere)");
+  // A hybrid style that holds hardsphere next to others would add forces the fix never applies.
+  if (force->pair_match("hardsphere", 1) && force->pair_style && std::string(force->pair_style) != "hardsphere")
+    error->all(FLERR, std::string("fix hardsphere: pair_style ") + force->pair_style +
+                          " combines hardsphere with other pair styles, whose forces fix hardsphere would never "
+                          "apply (hard spheres move by collisions only); use 'pair_style hardsphere' alone");
   if (!force->pair_match("hardsphere", 1))
     error->all(FLERR,
                "fix hardsphere needs 'pair_style hardsphere' and 'pair_coeff * *' (contact distances and the "

@@ -80,6 +80,11 @@ void PairHardSphere::coeff(int narg, char **arg) {
 void PairHardSphere::init_style() {
   if (!atom->radius_flag || !atom->rmass_flag)
     error->all(FLERR, "pair_style hardsphere needs per-atom radius and mass: use 'atom_style sphere'");
+  if (force->pair != this)
+    error->all(FLERR, std::string("pair_style hardsphere cannot be a sub-style of pair_style ") +
+                          (force->pair_style ? force->pair_style : "hybrid") +
+                          ": fix hardsphere would never apply the other styles' forces; use 'pair_style "
+                          "hardsphere' alone");
   if (modify->find_fix_by_style("^hardsphere$") < 0 && !hardsphere_rerun_in_progress(lmp))
     error->all(FLERR,
                "pair_style hardsphere only provides contact distances: add 'fix ID all hardsphere' "

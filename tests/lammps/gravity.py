@@ -29,6 +29,16 @@ def falling(ctx, case):
 
 
 @cases.case
+def spherical(ctx, case):
+    """LAMMPS's own idiom for -z, 'spherical 0.0 -180.0', whose x component is -1.2e-16 from
+    rounding: the same run as 'vector 0 0 -1', not a gravity along the periodic x."""
+    ref = bed(ctx)
+    rows = ctx.lammps("gravity/bed.lmp", vars=dict(data="bed.data", boundary="p p f", dt=0.005, g=1.0,
+                                                    direction="spherical 0.0 -180.0")).rows
+    return {"collisions": rows[-1]["f_hs[1]"]}, dict(standalone=ref)
+
+
+@cases.case
 def varying_refused(ctx, case):
     bed(ctx)
     out = ctx.lammps("gravity/bed.lmp", vars=dict(data="bed.data", boundary="p p f", dt=0.005, g="v_m"),

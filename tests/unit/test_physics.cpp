@@ -1,0 +1,54 @@
+// The one physics configuration: validated() refuses what no engine can run, naming the value in
+// the adapter's words, and reads gravity components at rounding level as zero.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+#include <string>
+
+#include "hardsphere/errors.hpp"
+#include "hardsphere/physics.hpp"
+
+using namespace hardsphere;
+
+namespace {
+
+std::string refusal(const Physics& p, const std::array<bool, 3>& periodic, const PhysicsNames& names = {}) {
+  try {
+    validated(p, periodic, names);
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+}  // namespace
+
+TEST(Physics, RefusesRestitutionAndContactTimesNoRunCouldEnd) {
+  const std::array<bool, 3> walls{false, false, false};
+  EXPECT_NE(refusal({0.0, 1e-4, {0, 0, 0}}, walls).find("restitution 0 must be in (0, 1]"), std::string::npos);
+  EXPECT_NE(refusal({1.5, 1e-4, {0, 0, 0}}, walls).find("restitution 1.5"), std::string::npos);
+  EXPECT_NE(refusal({std::nan(""), 1e-4, {0, 0, 0}}, walls).find("restitution nan"), std::string::npos);
+  EXPECT_NE(refusal({0.9, -1, {0, 0, 0}}, walls).find("contact time -1 must be finite and >= 0"), std::string::npos);
+  EXPECT_NE(refusal({0.9, 0, {0, 0, 0}}, walls).find("inelastic collapse"), std::string::npos);
+  EXPECT_EQ(refusal({1.0, 0, {0, 0, 0}}, walls), "");  // elastic needs no contact time
+  // Each adapter's names in the message: the command line's options.
+  const PhysicsNames cli{"--restitution", "--contact-time", "--gravity", "walls on that axis (--boundary ...,w)"};
+  EXPECT_NE(refusal({0.9, 0, {0, 0, 0}}, walls, cli).find("--contact-time 0 with --restitution 0.9"),
+            std::string::npos);
+}
+
+TEST(Physics, GravityAlongPeriodicAxesIsRefusedButRoundingIsNot) {
+  const std::array<bool, 3> floor{true, true, false};
+  const std::string m = refusal({1, 0, {0, 0.5, -1}}, floor);
+  EXPECT_NE(m.find("gravity along periodic axis y (0.5)"), std::string::npos) << m;
+  EXPECT_NE(refusal({1, 0, {0, 0, std::numeric_limits<double>::infinity()}}, floor).find("must be finite"),
+            std::string::npos);
+  // LAMMPS's 'spherical 0.0 -180.0' is -z with an x component of -1.2e-16: that is -z.
+  const Physics down = validated({1, 0, {-1.2246467991473532e-16, 0, -1}}, floor);
+  EXPECT_EQ(down.gravity[0], 0.0);
+  EXPECT_EQ(down.gravity[2], -1.0);
+  // Huge magnitudes do not overflow the comparison; a real tilt is kept and refused.
+  EXPECT_EQ(validated({1, 0, {1e-290, 0, -1e300}}, floor).gravity[0], 0.0);
+  EXPECT_NE(refusal({1, 0, {1e-9, 0, -1}}, floor).find("periodic axis x"), std::string::npos);
+}
