@@ -14,6 +14,7 @@
 #include "fix.h"
 #include "hardsphere/errors.hpp"
 #include "hardsphere/particles.hpp"
+#include "neighbor.h"
 
 using namespace LAMMPS_NS;
 using hardsphere::Vec3d;
@@ -233,12 +234,30 @@ void GhostPath::sync_ghosts() {
 }
 
 void GhostPath::run_starts() {
+  setup_layout_ = box_layout();
   stale_ = epoch_ = check_start_ = true;
   build();
   refresh_v_ = true;
 }
 
+std::vector<double> GhostPath::box_layout() const {
+  std::vector<double> l(14);
+  for (int d = 0; d < 3; d++) {
+    l[std::size_t(4 * d)] = domain->boxlo[d], l[std::size_t(4 * d + 1)] = domain->boxhi[d];
+    l[std::size_t(4 * d + 2)] = double(domain->periodicity[d]), l[std::size_t(4 * d + 3)] = comm->cutghost[d];
+  }
+  l[12] = neighbor->skin, l[13] = comm->cutghostuser;
+  return l;
+}
+
 bool GhostPath::before_step(const StepStart &start) {
+  // LAMMPS's communication pattern (which faces are periodic, how far ghosts reach) is set up in
+  // a run's setup; commands between runs that change it need that setup on this path.
+  if (start.without_setup && box_layout() != setup_layout_)
+    error->all(FLERR,
+               "fix hardsphere: the box, its boundaries, the neighbour skin or the ghost cutoff changed since the "
+               "last run's setup (change_box, boundary, neighbor, comm_modify), which 'run ... pre no' skips; on "
+               "more than one rank or with 'path ghosts', start this run with its setup ('run N' without 'pre no')");
   if (start.without_setup)  // 'run ... pre no': commands in between may have changed atoms
     stale_ = check_start_ = unsure_ghosts_ = true;
   else if (start.others_acted)

@@ -72,6 +72,8 @@ class GhostPath : public StepPath, protected Pointers {
   StepTotals restart_globally(const std::string &source, const std::string &hint);
   //! From an engine over all atoms (step_globally): the owned atoms' collision virials.
   void take_owned_virial(hardsphere::StateExchange &exch);
+  //! The box, its periodicity, LAMMPS's ghost cutoffs and skin: what a run's setup fixes.
+  std::vector<double> box_layout() const;
   //! Whether any rank's owned atoms or sub-domain differ from those at the end of the last run.
   bool layout_changed() const;
   //! Whether the moves since the epoch began could let an atom that is not held reach an owned
@@ -88,6 +90,7 @@ class GhostPath : public StepPath, protected Pointers {
   std::string moved_source_;       //!< the fix that moved them, for an error message
   double *virial_rows_ = nullptr;  //!< this step's per-atom virial rows (see step())
   double virial_scale_ = 1.0;
+  std::vector<double> setup_layout_;       //!< box_layout() at the last run's setup
   bigint end_atoms_[2] = {-1, -1};         //!< owned atoms and the sum of their tags when the last run ended
   std::array<double, 6> end_subdomain_{};  //!< and the sub-domain's bounds
   OwnershipTally tally_;                   //!< the stepper's collisions weighted by ownership

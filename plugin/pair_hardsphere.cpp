@@ -85,7 +85,9 @@ void PairHardSphere::init_style() {
                           (force->pair_style ? force->pair_style : "hybrid") +
                           ": fix hardsphere would never apply the other styles' forces; use 'pair_style "
                           "hardsphere' alone");
-  if (modify->find_fix_by_style("^hardsphere$") < 0 && !hardsphere_rerun_in_progress(lmp))
+  // Only a run moves atoms: write_data, balance or velocity also initialise the styles, and the
+  // fix may still be defined before the run.
+  if (update->whichflag != 0 && modify->find_fix_by_style("^hardsphere$") < 0 && !hardsphere_rerun_in_progress(lmp))
     error->all(FLERR,
                "pair_style hardsphere only provides contact distances: add 'fix ID all hardsphere' "
                "to move the atoms (and no other time integrator)");
