@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <random>
 #include <tuple>
 #include <utility>
 
@@ -182,6 +183,29 @@ TEST(StepperAdapterApi, SphereVirialFollowsTheSpheresThroughRebuilds) {
   }
   EXPECT_GT(st->counters().rebuilds, 10);
   EXPECT_GT(collided_spheres, 1000);
+}
+
+TEST(Stepper, AutoDetectionFollowsSpeedsThatGrow) {
+  // A 50/50 mixture of masses 1 and 1e6 at equal speeds heads for equipartition: the light
+  // spheres speed up ~1000x. Auto starts in overlap mode (v_rms dt = 0.01 diameters) and must
+  // switch to sweeping once v_rms dt passes 0.1; it kept overlap for the whole run before.
+  ParticleSystem s;
+  const int k = 10;
+  const double a = std::cbrt(M_PI / 6 / 0.2);  // lattice spacing for phi 0.2
+  s.box = Box::from_lengths({k * a, k * a, k * a}, {true, true, true});
+  std::mt19937_64 rng(5);
+  std::normal_distribution<double> g(0, 1);
+  for (int i = 0; i < k * k * k; ++i) {
+    Vec3d v{g(rng), g(rng), g(rng)};
+    v = (1 / norm(v)) * v;
+    s.push_back(i + 1, 1, 0.5, i % 2 ? 1e6 : 1.0, {(i % k + 0.5) * a, (i / k % k + 0.5) * a, (i / k / k + 0.5) * a}, v);
+  }
+  StepperConfig cfg;
+  auto st = make_stepper(s, {}, cfg);
+  EXPECT_FALSE(st->sweep_detection());
+  st->run(1500);
+  EXPECT_TRUE(st->sweep_detection());
+  EXPECT_LT(max_overlap(st->state()), 1e-9);
 }
 
 TEST(StepperAdapterApi, Mv2SumIsTwiceTheKineticEnergyAsCollisionsAndGravityChangeIt) {

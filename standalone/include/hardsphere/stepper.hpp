@@ -32,7 +32,8 @@ Precision parse_precision(const std::string& s);
 //! that overlap now), plus a sweep of the neighbours of every colliding sphere so contacts are
 //! resolved in time order. Sweep: every candidate pair is tested for a contact anywhere within
 //! the step, so grazes and pass-throughs inside one step are caught too. Auto: sweep when steps
-//! are long enough for grazes to matter (v_rms dt > 0.1 of the smallest diameter), otherwise overlap.
+//! are long enough for grazes to matter (v_rms dt > 0.1 of the smallest diameter), otherwise overlap;
+//! decided again at every list rebuild, as the speeds change.
 enum class Detect { Overlap, Sweep, Auto };
 //! Auto sweeps when a sphere at the rms speed moves more than this many smallest diameters per
 //! step; overlap detection's missed grazes are measurable beyond it.

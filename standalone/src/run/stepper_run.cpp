@@ -155,11 +155,16 @@ void StepperRun::add_summary(nlohmann::json& j, const ParticleSystem& fin, doubl
       v2 += dot(fin.vel[i], fin.vel[i]), dmin = std::min(dmin, 2 * fin.radius[i]);
     const double move = fin.size() ? std::sqrt(v2 / double(fin.size())) * dt_ : 0.0;
     if (move > kOverlapDetectionLimit * dmin) {
+      // Auto decides at every list rebuild, so it can end a run in overlap mode just before
+      // switching; name what was in use and a remedy that changes it.
+      const bool automatic = spec_.stepper.detect == Detect::Auto;
       std::ostringstream m;
-      m << "--detect overlap with steps that move a sphere at the rms speed by " << move / dmin
-        << " diameters (more than " << kOverlapDetectionLimit
+      m << (automatic ? "--detect auto ended the run in overlap mode" : "--detect overlap")
+        << " with steps that move a sphere at the rms speed by " << move / dmin << " diameters (more than "
+        << kOverlapDetectionLimit
         << "): grazes within a step are missed (0.5-0.8% of the collisions at 0.14 diameters, more for longer "
-           "steps); use --detect sweep or auto";
+           "steps); "
+        << (automatic ? "use --detect sweep" : "use --detect sweep or auto");
       j["warnings"].push_back(m.str());
     }
   }

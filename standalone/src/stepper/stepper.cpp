@@ -71,21 +71,24 @@ class Stepper final : public StepperBase, public StateExchange {
   Stepper(const ParticleSystem& sys, const Physics& physics, const StepperConfig& cfg);
 
   void run(std::int64_t steps) override {
-    // Scene features select a specialised kernel once per run, not per pair.
-    const int key = (all_periodic_ ? 2 : 0) + (sweep_ ? 1 : 0);
-    switch (key) {
-      case 0:
-        run_impl<false, false>(steps);
-        break;
-      case 1:
-        run_impl<false, true>(steps);
-        break;
-      case 2:
-        run_impl<true, false>(steps);
-        break;
-      default:
-        run_impl<true, true>(steps);
-        break;
+    // Scene features select a specialised kernel for a stretch of steps, not per pair; Detect::Auto
+    // may change the detection mode at a rebuild, which ends the stretch.
+    while (steps > 0) {
+      const int key = (all_periodic_ ? 2 : 0) + (sweep_ ? 1 : 0);
+      switch (key) {
+        case 0:
+          steps -= run_impl<false, false>(steps);
+          break;
+        case 1:
+          steps -= run_impl<false, true>(steps);
+          break;
+        case 2:
+          steps -= run_impl<true, false>(steps);
+          break;
+        default:
+          steps -= run_impl<true, true>(steps);
+          break;
+      }
     }
   }
   ParticleSystem state() const override;
@@ -242,9 +245,21 @@ class Stepper final : public StepperBase, public StateExchange {
     }
   };
 
+  //! Runs steps while the detection mode stays Sweep; returns the steps taken.
   template <bool AllPeriodic, bool Sweep>
-  void run_impl(std::int64_t steps) {
-    for (std::int64_t s = 0; s < steps; ++s) step<AllPeriodic, Sweep>();
+  std::int64_t run_impl(std::int64_t steps) {
+    std::int64_t s = 0;
+    while (s < steps && sweep_ == Sweep) {
+      step<AllPeriodic, Sweep>();
+      ++s;
+    }
+    return s;
+  }
+  //! Detect::Auto's rule (detects_by_sweep) on the current speeds: v_rms dt against the limit.
+  bool sweep_wanted() const {
+    double v2 = 0;
+    for (const auto& v : vel_) v2 += double(dot(v, v));
+    return vel_.empty() ? sweep_ : std::sqrt(v2 / double(vel_.size())) * double(dt_) > sweep_above_;
   }
   template <bool AllPeriodic, bool Sweep>
   void step();
@@ -348,6 +363,10 @@ class Stepper final : public StepperBase, public StateExchange {
   std::array<double, 3> origin_{};
   CellGrid grid_;
   bool all_periodic_, sweep_;
+  // Detect::Auto decides again at every rebuild, as speeds change (a mixture heading for
+  // equipartition, a gas heated or cooled): sweep once v_rms dt exceeds sweep_above_.
+  bool detect_auto_ = false;
+  double sweep_above_ = 0;
   Real dt_, skin_;
   Real h_;  // the current sub-step (dt_ unless steps are split)
   // Sub-steps are at most this over the speed bound: a list built at a sub-step's end then
@@ -420,6 +439,12 @@ Stepper<Real, Mono>::Stepper(const ParticleSystem& sys, const Physics& physics, 
     throw InputError(m.str());
   }
   if (cfg.max_events_per_step < 1) throw InputError("max events per step must be >= 1");
+  detect_auto_ = cfg.detect == Detect::Auto;
+  if (detect_auto_) {
+    double smallest = std::numeric_limits<double>::infinity();
+    for (const double r : sys.radius) smallest = std::min(smallest, 2 * r);
+    sweep_above_ = kOverlapDetectionLimit * smallest;
+  }
   check_scene_numbers(sys, "stepper");
   check_engine_numbers<Real>(sys, cfg.dt, sizeof(Real) == sizeof(float) ? "stepper in single precision" : "stepper");
   const std::size_t n = sys.size();
@@ -598,6 +623,7 @@ void Stepper<Real, Mono>::rebuild() {
     for (std::size_t k = 0; k < n; ++k) speed_[k] = norm(vel_[k]);
   }
   bind_resolver();
+  if (detect_auto_) sweep_ = sweep_wanted();
   ++counters_.rebuilds;
 }
 
