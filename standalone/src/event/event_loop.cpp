@@ -1,0 +1,218 @@
+#include "event/event_loop.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+
+#include "event/centre_grid.hpp"
+#include "event/renumbering.hpp"
+#include "hardsphere/collision.hpp"
+#include "hardsphere/errors.hpp"
+#include "scene/size_classes.hpp"
+
+namespace hardsphere::event {
+
+namespace {
+constexpr double kInf = std::numeric_limits<double>::infinity();
+}  // namespace
+
+EventLoop::EventLoop(const ParticleSystem& sys, const Physics& physics_in, const EventConfig& cfg)
+    : max_events_(cfg.max_events) {
+  const std::size_t n = sys.size();
+  // Physics: validated, then the collision rule's parameters.
+  const Physics physics = validated(physics_in, sys.box.periodic);
+  restitution_ = physics.restitution;
+  contact_time_ = physics.contact_time;
+  if (!physics.elastic()) last_collision_.assign(n, -kInf);
+  pair_collisions_.assign(n, 0);
+  mono_ = sys.monodisperse();
+  mass0_ = n ? sys.mass[0] : 1.0;
+  // Geometry: the box, the shell and the cells, sized by the spheres filed in cells (validated).
+  const SizeSplit split = split_by_size(sys);
+  geometry_ = EventGeometry(sys, cfg, split);
+  // Spheres: numbered by cell (big ones last) for the first filing and lists.
+  std::vector<Vec3d> pos(n);
+  for (std::size_t i = 0; i < n; ++i) pos[i] = geometry_.wrapped(sys.pos[i]);
+  trajectories_ = Trajectories(sys, pos, CentreGrid::filing_order(geometry_, pos, split.big), physics);
+  // Lists: every list centre at its sphere's position.
+  std::vector<Centre> centres(n);
+  for (std::size_t k = 0; k < n; ++k)
+    centres[k] = Centre{trajectories_[k].x, trajectories_[k].y, trajectories_[k].z, trajectories_[k].r};
+  lists_ = NeighbourLists(geometry_, centres, split.big.size());
+  predictions_ = Predictions(geometry_, mono_, trajectories_);
+  // Predictions: every sphere's first events, once the spheres are numbered for locality.
+  renumber();
+  for (std::size_t k = 0; k < n; ++k) predict(int(k));
+  calendar_.build(predictions_.next_times());
+  rebase_every_ = std::max<std::int64_t>(1000, cfg.rebase_events_per_sphere * std::int64_t(n));
+}
+
+void EventLoop::run_until(double t_end) {
+  // t_end is measured from construction; the calendar from `base_`.
+  while (!calendar_.empty() && calendar_.top_key() <= t_end - base_) {
+    if (++total_events_ > max_events_) refuse_more_events(t_end);
+    step();
+  }
+  now_ = t_end - base_;
+}
+
+void EventLoop::run_events(std::int64_t count) {
+  for (std::int64_t e = 0; e < count && !calendar_.empty() && calendar_.top_key() < kInf; ++e) step();
+}
+
+const EventCounters& EventLoop::counters() {
+  c_.sim_time = time() - reset_time_;
+  return c_;
+}
+
+void EventLoop::reset_counters() {
+  c_ = EventCounters{};
+  std::fill(pair_collisions_.begin(), pair_collisions_.end(), std::int64_t(0));
+  reset_time_ = time();
+}
+
+//! Processes the calendar's first entry.
+void EventLoop::step() {
+  const int i = int(calendar_.top());
+  now_ = calendar_.top_key();
+  ++c_.events;
+  if (predictions_.collision_first(i)) {
+    const int j = predictions_.partner(i);
+    // Most such entries are valid collisions: request the partner's lines with its counter.
+    prefetch(j);
+    if (predictions_.stale(i, j)) {
+      ++c_.stale_events;
+      if (!predictions_.promote_second(i)) predict(i);
+      schedule(i);
+    } else {
+      collide(i, j);
+    }
+  } else {
+    boundary_event(i);
+  }
+  if (++events_since_rebase_ >= rebase_every_) rebase();
+  // The next event's sphere: its lines load while the loop comes round.
+  if (calendar_.empty()) return;
+  prefetch(int(calendar_.top()));
+  // The event after that is most likely one of the root's children: a whole event's head start.
+  for (int k = 0; k < 4; ++k) {
+    const std::uint32_t q = calendar_.runner_up(k);
+    if (q < trajectories_.size()) prefetch(int(q));
+  }
+}
+
+void EventLoop::collide(int i, int j) {
+  // Both lists are requested before either is scanned, so their misses overlap. The neighbourhoods are
+  // not: each scan requests its partners itself, and doing it here too was slower (see docs/dev/performance.md).
+  lists_.prefetch(i);
+  lists_.prefetch(j);
+  predictions_.prefetch(j);
+  calendar_.prefetch(std::uint32_t(i));
+  calendar_.prefetch(std::uint32_t(j));
+  // Both references ahead of the syncs: with -march=native the compiler fuses multiply-adds by
+  // context, and this shape rounds a sync under gravity as the reference runs do.
+  Body& a = trajectories_.body(std::size_t(i));
+  Body& b = trajectories_.body(std::size_t(j));
+  trajectories_.sync(a, now_);
+  trajectories_.sync(b, now_);
+  Vec3d dr{a.x - b.x, a.y - b.y, a.z - b.z};
+  for (int d = 0; d < 3; ++d)  // at contact |dr| <= r_i + r_j < L/2: minimum image
+    if (geometry_.periodic(std::size_t(d)))
+      dr[d] -= geometry_.len(std::size_t(d)) * std::nearbyint(dr[d] / geometry_.len(std::size_t(d)));
+  Vec3d va{a.vx, a.vy, a.vz}, vb{b.vx, b.vy, b.vz};
+  double w;
+  if (restitution_ != 1.0) {
+    const double t = base_ + now_;
+    double& ti = last_collision_[trajectories_.input_index(std::size_t(i))];
+    double& tj = last_collision_[trajectories_.input_index(std::size_t(j))];
+    const double e = kernel::tc_elastic(t, ti, tj, contact_time_) ? 1.0 : restitution_;
+    w = mono_ ? mass0_ * kernel::collide_equal_mass(dr, va, vb, e)
+              : kernel::collide(dr, va, vb, trajectories_.mass(std::size_t(i)), trajectories_.mass(std::size_t(j)), e);
+    ti = tj = t;
+  } else {
+    w = mono_ ? mass0_ * kernel::collide_equal_mass(dr, va, vb)
+              : kernel::collide(dr, va, vb, trajectories_.mass(std::size_t(i)), trajectories_.mass(std::size_t(j)));
+  }
+  Trajectories::set_velocity(a, va);
+  Trajectories::set_velocity(b, vb);
+  c_.pair_virial += w;
+  ++c_.collisions;
+  predictions_.course_changed(i);
+  predictions_.course_changed(j);
+  ++pair_collisions_[trajectories_.input_index(std::size_t(i))];
+  ++pair_collisions_[trajectories_.input_index(std::size_t(j))];
+  predict(i);
+  predict(j);
+  schedule(i);
+  schedule(j);
+}
+
+void EventLoop::boundary_event(int i) {
+  Body& s = trajectories_.body(std::size_t(i));
+  trajectories_.sync(s, now_);
+  const int d = predictions_.wall_axis(i);
+  if (d < 0) return rebuild(i);
+  const double speed = trajectories_.reflect(s, std::size_t(d), geometry_);
+  c_.wall_impulse[std::size_t(d)] += 2 * trajectories_.mass(std::size_t(i)) * speed;
+  ++c_.wall_collisions;
+  predictions_.course_changed(i);
+  predict(i);
+  schedule(i);
+}
+
+//! Sphere i (synced) has left its shell: new list centre at its position (wrapped into the
+//! box) and new list. Its trajectory is unchanged, so its candidates stay valid and only the
+//! new members are scanned.
+void EventLoop::rebuild(int i) {
+  ++c_.neighbour_list_rebuilds;
+  const bool wrapped = trajectories_.wrap_into_box(std::size_t(i), geometry_);
+  const Body& s = trajectories_[std::size_t(i)];
+  predictions_.set_list_centre(i, s.x, s.y, s.z);
+  const std::vector<std::uint32_t>& fresh = lists_.rebuild(i, Centre{s.x, s.y, s.z, s.r}, wrapped);
+  if (predictions_.best_is_stale(i) && !predictions_.promote_second(i))
+    predict(i);
+  else
+    predictions_.predict_new_members(i, trajectories_, fresh.data(), int(fresh.size()), now_);
+  schedule(i);
+}
+
+//! Every event of sphere i predicted afresh.
+void EventLoop::predict(int i) {
+  ++c_.full_predictions;
+  trajectories_.sync(trajectories_.body(std::size_t(i)), now_);
+  predictions_.predict(i, trajectories_, lists_.entries(i), lists_.size(i), now_);
+}
+
+void EventLoop::schedule(int i) { calendar_.update(std::uint32_t(i), predictions_.next_time(i)); }
+
+//! Moves every sphere to the current time and shifts the clock so that now = 0.
+void EventLoop::rebase() {
+  events_since_rebase_ = 0;
+  if (now_ == 0) return;
+  trajectories_.rebase(now_);
+  predictions_.shift_times(now_);
+  calendar_.shift_keys(now_);
+  base_ += now_;
+  now_ = 0;
+  renumber();
+}
+
+//! Renumbers the spheres in the lists' locality order. Spheres wander away from their
+//! neighbours in memory as they diffuse; this restores locality. Any time will do: only indices
+//! change, not the physics.
+void EventLoop::renumber() {
+  const Renumbering r(lists_.locality_order());
+  trajectories_.permute(r);
+  predictions_.permute(r);
+  lists_.permute(r);
+  calendar_.build(predictions_.next_times());
+}
+
+void EventLoop::refuse_more_events(double t_end) const {
+  std::ostringstream m;
+  m << "event engine: the run needs more than " << max_events_ << " events (it had reached time " << base_ + now_
+    << " of " << t_end << "); shorten the run";
+  throw InputError(m.str());
+}
+
+}  // namespace hardsphere::event
