@@ -136,7 +136,8 @@ CommandLine parse_command_line(int argc, const char* const* argv) {
   std::string n_s = "1000", phi_s = "0.2", box_s, radius_s, mass_s, t_s, speed_s, dt_s, steps_s, equil_s;
   std::string boundary_s = "p", cells_s = "auto", precision_s = "double", init_s = "auto", json_s, detect_s = "auto";
   std::string read_data_s, write_data_s, dump_s, seed_s = "1", engine_s = "stepper", time_s, etime_s, blocks_s;
-  std::string dump_every_s, bins_s, restitution_s, contact_time_s, gravity_s, track_s, track_every_s, track_file_s;
+  std::string dump_every_s, bins_s, restitution_s, contact_time_s, resting_time_s, gravity_s, track_s, track_every_s,
+      track_file_s;
 
   auto* o_n = run->add_option("--n", n_s, "number of spheres (default 1000)")->type_name("INT");
   auto* o_phi =
@@ -177,6 +178,12 @@ CommandLine parse_command_line(int argc, const char* const* argv) {
                       "> 0 when --restitution is below 1)")
           ->type_name("FLOAT")
           ->needs(o_restitution);
+  auto* o_resting_time =
+      run->add_option("--resting-time", resting_time_s,
+                      "a wall contact slower than |g| times this rests on the wall for this time instead of bouncing "
+                      "(default: the stepper's sub-step, the event engine's 1e-3)")
+          ->type_name("FLOAT")
+          ->needs(o_gravity);
   auto* o_time = run->add_option("--time", time_s, "simulated time measured (event engine; stepper: steps = time/dt)")
                      ->type_name("FLOAT");
   auto* o_etime =
@@ -236,8 +243,10 @@ CommandLine parse_command_line(int argc, const char* const* argv) {
     const auto g = parse_list(gravity_s, "--gravity");
     spec.physics.gravity = {g[0], g[1], g[2]};
   }
-  spec.physics = validated(spec.physics, spec.periodic,
-                           {"--restitution", "--contact-time", "--gravity", "walls on that axis (--boundary ...,w)"});
+  if (o_resting_time->count()) spec.physics.resting_time = real("--resting-time", resting_time_s);
+  spec.physics = validated(
+      spec.physics, spec.periodic,
+      {"--restitution", "--contact-time", "--gravity", "walls on that axis (--boundary ...,w)", "--resting-time"});
   const double time = o_time->count() ? real("--time", time_s) : 0.0;
   const double etime = o_etime->count() ? real("--equilibrate-time", etime_s) : 0.0;
 

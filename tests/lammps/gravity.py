@@ -46,5 +46,19 @@ def varying_refused(ctx, case):
     return {"exit status": abs(out.returncode), "output": out.text}, {}
 
 
+@cases.case
+def resting(ctx, case):
+    """Spheres created at rest on the floor stay at rest on both paths (the serial or 2-rank one and
+    the owned + ghost one): heights above their contacts, the kinetic energy after 2000 steps."""
+    out = {}
+    for path in ("auto", "ghosts"):
+        last = ctx.lammps("gravity/rest.lmp", vars=dict(path=path)).rows[-1]
+        out[f"{path} path, highest height above the contact"] = max(last[k] for k in ("v_z1", "v_z2", "v_z3"))
+        out[f"{path} path, lowest height above the contact"] = min(last[k] for k in ("v_z1", "v_z2", "v_z3"))
+        out[f"{path} path, kinetic energy"] = last["KinEng"] * 3
+        out[f"{path} path, wall bounces"] = last["f_hs[5]"]
+    return out, {}
+
+
 if __name__ == "__main__":
     raise SystemExit(main(cases))

@@ -443,6 +443,51 @@ def overlap_warning(ctx):
 
 
 
+@case("class 10: resting contacts", "a sphere, a stack of two and a sphere at 1e-16 into the floor, at rest under "
+      "gravity 1, both engines for time 10: within 1e-4 of their contacts, floor force = weight to 0.1%")
+def resting(ctx):
+    atoms = [(2, 2, 0.5, 0, 0, 0), (6, 6, 0.5, 0, 0, 0), (6, 6, 1.5, 0, 0, 0), (2, 7, 0.5, 0, 0, -1e-16)]
+    data = write_data(ctx.work / "resting.data", atoms)
+    for engine in ("stepper", "event"):
+        step = ("--dt", 0.01) if engine == "stepper" else ()
+        j = ctx.json("--read-data", data, "--boundary", "p,p,w", "--gravity", "0,0,-1", "--engine", engine,
+                     "--time", 10, *step, label=f"{engine} resting")
+        f = j["_final"]
+        heights = f.pos[:, 2] - np.array([0.5, 0.5, 1.5, 0.5])
+        check(heights.min() >= -1e-12 and heights.max() <= 1e-4, f"{engine}: heights above contact {heights}")
+        weight_pressure = float(f.mass.sum()) / (2 * 10 * 10)  # floor force m g over both walls' area
+        check(abs(j["wall_pressure"][2] / weight_pressure - 1) < 1e-3,
+              f"{engine}: wall pressure {j['wall_pressure'][2]} against the weight's {weight_pressure}")
+        check(j["resting_contacts"] > 0 and j["wall_collisions"] == 0,
+              f"{engine}: {j['resting_contacts']} resting contacts, {j['wall_collisions']} bounces")
+
+
+@case("class 11: jammed contact chains", "two spheres pressed between walls two diameters apart, a simple cubic "
+      "lattice at contact: refused by both engines (exit 2, atoms named) within seconds")
+def jammed(ctx):
+    pressed = write_data(ctx.work / "pressed.data", [(2, 2, 0.5, 0.1, 0, 1), (2, 2, 1.5, 0, 0.2, -1)],
+                         box=((0, 4), (0, 4), (0, 2)))
+    rng = np.random.default_rng(3)
+    lattice = [(x + 0.5, y + 0.5, z + 0.5, *rng.normal(size=3)) for x in range(4) for y in range(4) for z in range(4)]
+    cubic = write_data(ctx.work / "cubic.data", lattice, box=((0, 4),) * 3)
+    for engine in ("stepper", "event"):
+        refused(ctx, "jammed spheres: atoms", "--read-data", pressed, "--boundary", "p,p,w", "--engine", engine,
+                "--time", 0.05)
+        refused(ctx, "jammed spheres: atoms", "--read-data", cubic, "--engine", engine, "--time", 0.05)
+
+
+@case("class 12: tiny restitution", "--restitution 1e-13 and 5e-324 at phi 0.3: both engines run, cool and keep "
+      "pairs apart")
+def tiny_restitution(ctx):
+    for e in ("1e-13", "5e-324"):
+        for engine in ("stepper", "event"):
+            j = ctx.json("--n", 500, "--phi", 0.3, "--restitution", e, "--engine", engine, "--time", 5,
+                         label=f"{engine} e = {e}")
+            check(j["max_overlap"] <= 1e-9 and nan_count(j) == 0, f"{engine}, e {e}: overlap {j['max_overlap']}")
+            check(j["kinetic_energy_final"] < 0.1 * j["kinetic_energy_initial"],
+                  f"{engine}, e {e}: kinetic energy {j['kinetic_energy_final']} of {j['kinetic_energy_initial']}")
+
+
 @case("class 1: initial states finish", "n = 9, 10, 12, 50, 60 and 4500 at phi 0.3 and 0.45, and phi 0.62: made "
       "within a minute each")
 def init_finishes(ctx):

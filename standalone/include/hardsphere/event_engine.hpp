@@ -64,9 +64,13 @@ struct EventConfig {
 };
 
 struct EventCounters {
-  double sim_time = 0;                          //!< simulated time since the last reset
-  std::int64_t collisions = 0;                  //!< pair collisions executed
-  std::int64_t wall_collisions = 0;             //!< wall reflections executed
+  double sim_time = 0;                //!< simulated time since the last reset
+  std::int64_t collisions = 0;        //!< pair collisions executed
+  std::int64_t wall_collisions = 0;   //!< wall reflections executed
+  std::int64_t resting_contacts = 0;  //!< wall contacts too slow to bounce (Physics::resting_time)
+  //! Pair contacts approaching below the rounding of their velocities (no impulse changes them):
+  //! set a hair apart instead of collided.
+  std::int64_t unresolvable_contacts = 0;
   std::int64_t cell_crossings = 0;              //!< always 0: cells hold list centres, which never cross
   std::int64_t neighbour_list_rebuilds = 0;     //!< spheres that left their shell and were re-listed
   std::int64_t stale_events = 0;                //!< calendar entries found stale and re-predicted

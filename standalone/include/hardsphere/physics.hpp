@@ -14,6 +14,9 @@ constexpr double kDefaultContactTime = 1e-4;
 //! ~1e-16) and counts as zero.
 constexpr double kGravityRounding = 1e-12;
 
+//! The event engine's resting time when none is given (the stepper takes its sub-step).
+constexpr double kDefaultRestingTime = 1e-3;
+
 struct Physics {
   //! Normal restitution of sphere-sphere collisions, in (0, 1]; walls stay elastic.
   double restitution = 1.0;
@@ -24,6 +27,12 @@ struct Physics {
   //! Uniform acceleration, allowed along wall axes only: flights are parabolas, relative motion
   //! of pairs stays straight. Potential energy -m g.(x - lo).
   std::array<double, 3> gravity{0, 0, 0};
+  //! Resting contacts under gravity: a wall contact slower than |g_d| resting_time along an axis
+  //! whose gravity pulls into that wall does not bounce but rests (a sphere at rest on a floor
+  //! would bounce at once again, without end): it leaves at half the speed gravity builds over
+  //! the resting time (the stepper: the rest of its sub-step), so it is back on the wall after
+  //! it. 0: the stepper's sub-step, the event engine's kDefaultRestingTime.
+  double resting_time = 0;
 
   bool elastic() const { return restitution == 1.0; }
   bool has_gravity() const { return gravity != std::array<double, 3>{0, 0, 0}; }
@@ -38,6 +47,7 @@ struct PhysicsNames {
   std::string contact_time = "contact time";
   std::string gravity = "gravity";
   std::string walls = "walls on that axis";  //!< the remedy for gravity along a periodic axis
+  std::string resting_time = "resting time";
 };
 
 //! `p` checked against boxes with these periodic axes, with gravity components at rounding level

@@ -21,9 +21,10 @@ struct RunTotals {
   std::int64_t collisions = 0, wall_collisions = 0;
   double pair_virial = 0;
   std::array<double, 3> wall_impulse{0, 0, 0};
+  std::int64_t resting_contacts = 0;  //!< wall contacts too slow to bounce (Physics::resting_time)
 };
 
-//! Keys n, packing_fraction, box, collisions, wall_collisions, collision_rate_per_particle,
+//! Keys n, packing_fraction, box, collisions, wall_collisions, resting_contacts, collision_rate_per_particle,
 //! kinetic_energy_*, energy_rel_drift, momentum_*, temperature, com_removed, pair_virial,
 //! compressibility_factor, pressure, wall_pressure, max_overlap, speed_ks_distance,
 //! speed_histogram, seed, overlap_tolerance, warnings (documented in docs/cli.md). T in Z is the mean

@@ -24,9 +24,11 @@ void check_scene_numbers(const ParticleSystem& sys, const std::string& source,
 //! What an engine computing in a type with machine epsilon `eps` and largest value `largest`
 //! (coordinates relative to the box corner) needs on top: speeds, masses and sizes within
 //! its range, final overlaps from rounding below 1e-3 of the smallest diameter, and, for a
-//! time step dt > 0, a step that moves a sphere at the rms speed by at least 100 roundings of
-//! a coordinate. `what` names the engine and precision in messages.
-void check_engine_numbers(const ParticleSystem& sys, double eps, double largest, double dt, const std::string& what);
+//! time step dt > 0, a step that moves a sphere at the rms speed (and under an acceleration of
+//! magnitude `gravity`) by at least 100 roundings of a coordinate. `what` names the engine and
+//! precision in messages.
+void check_engine_numbers(const ParticleSystem& sys, double eps, double largest, double dt, const std::string& what,
+                          double gravity = 0);
 
 //! Wall bounces per unit time the spheres' straight flights between opposite walls imply,
 //! sum over spheres and wall axes of |v_d| / (L_d - 2 r): in a gap barely wider than a sphere
@@ -35,6 +37,6 @@ double wall_bounce_rate(const ParticleSystem& sys);
 
 //! The same for a type T (float or double).
 template <class T>
-void check_engine_numbers(const ParticleSystem& sys, double dt, const std::string& what);
+void check_engine_numbers(const ParticleSystem& sys, double dt, const std::string& what, double gravity = 0);
 
 }  // namespace hardsphere

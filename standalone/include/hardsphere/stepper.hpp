@@ -77,8 +77,11 @@ struct StepperConfig {
 struct StepCounters {
   std::int64_t steps = 0;
   double sim_time = 0;
-  std::int64_t collisions = 0;        //!< pair collisions resolved
-  std::int64_t wall_collisions = 0;   //!< wall reflections
+  std::int64_t collisions = 0;       //!< pair collisions resolved
+  std::int64_t wall_collisions = 0;  //!< wall reflections
+  //! Wall contacts under gravity too slow to bounce (slower than gravity speeds a sphere up in one
+  //! sub-step): the sphere rests on the wall to the end of the sub-step, which carries its weight.
+  std::int64_t resting_contacts = 0;
   std::int64_t rebuilds = 0;          //!< cell sorts + pair-list builds
   std::int64_t unresolved_steps = 0;  //!< steps that hit max_events_per_step with contacts left
   //! Sub-steps taken: a step in which the fastest sphere would move half the skin or more is

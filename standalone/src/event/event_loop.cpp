@@ -14,6 +14,22 @@ namespace hardsphere::event {
 
 namespace {
 constexpr double kInf = std::numeric_limits<double>::infinity();
+
+//! The time the smallest sphere takes to cross its diameter at the rms speed, or to fall it
+//! under gravity (1 for a scene at rest without gravity): events closer than a tiny part of it
+//! count as one instant.
+double time_scale(const ParticleSystem& sys, const Physics& physics) {
+  double d = kInf, v2 = 0;
+  for (std::size_t i = 0; i < sys.size(); ++i) {
+    d = std::min(d, 2 * sys.radius[i]);
+    v2 += dot(sys.vel[i], sys.vel[i]);
+  }
+  const Vec3d g{physics.gravity[0], physics.gravity[1], physics.gravity[2]};
+  double t = kInf;
+  if (v2 > 0) t = d / std::sqrt(v2 / double(sys.size()));
+  if (physics.has_gravity()) t = std::min(t, std::sqrt(d / std::sqrt(dot(g, g))));
+  return t < kInf ? t : 1.0;
+}
 }  // namespace
 
 EventLoop::EventLoop(const ParticleSystem& sys, const Physics& physics_in, const EventConfig& cfg)
@@ -23,8 +39,11 @@ EventLoop::EventLoop(const ParticleSystem& sys, const Physics& physics_in, const
   const Physics physics = validated(physics_in, sys.box.periodic);
   restitution_ = physics.restitution;
   contact_time_ = physics.contact_time;
+  resting_time_ = physics.resting_time > 0 ? physics.resting_time : kDefaultRestingTime;
   if (!physics.elastic()) last_collision_.assign(n, -kInf);
   pair_collisions_.assign(n, 0);
+  ids_ = sys.id;
+  jam_ = JamGuard(1e-10 * time_scale(sys, physics), n);
   mono_ = sys.monodisperse();
   mass0_ = n ? sys.mass[0] : 1.0;
   // Geometry: the box, the shell and the cells, sized by the spheres filed in cells (validated).
@@ -76,6 +95,7 @@ void EventLoop::step() {
   const int i = int(calendar_.top());
   now_ = calendar_.top_key();
   ++c_.events;
+  if (jam_.jammed(base_ + now_)) refuse_jam(i);
   if (predictions_.collision_first(i)) {
     const int j = predictions_.partner(i);
     // Most such entries are valid collisions: request the partner's lines with its counter.
@@ -120,6 +140,7 @@ void EventLoop::collide(int i, int j) {
     if (geometry_.periodic(std::size_t(d)))
       dr[d] -= geometry_.len(std::size_t(d)) * std::nearbyint(dr[d] / geometry_.len(std::size_t(d)));
   Vec3d va{a.vx, a.vy, a.vz}, vb{b.vx, b.vy, b.vz};
+  const Vec3d va0 = va, vb0 = vb;
   double w;
   if (restitution_ != 1.0) {
     const double t = base_ + now_;
@@ -133,14 +154,22 @@ void EventLoop::collide(int i, int j) {
     w = mono_ ? mass0_ * kernel::collide_equal_mass(dr, va, vb)
               : kernel::collide(dr, va, vb, trajectories_.mass(std::size_t(i)), trajectories_.mass(std::size_t(j)));
   }
-  Trajectories::set_velocity(a, va);
-  Trajectories::set_velocity(b, vb);
-  c_.pair_virial += w;
-  ++c_.collisions;
+  if (va.x == va0.x && va.y == va0.y && va.z == va0.z && vb.x == vb0.x && vb.y == vb0.y && vb.z == vb0.z) {
+    // The impulse is below the rounding of both velocities (an approach at rounding level, e.g.
+    // left by a restitution ~1e-13): it would be predicted again now, without end. The pair
+    // slides; its separation is set a hair beyond contact, where its path no longer meets it.
+    Trajectories::part(a, b, dr, a.r + b.r);
+    ++c_.unresolvable_contacts;
+  } else {
+    Trajectories::set_velocity(a, va);
+    Trajectories::set_velocity(b, vb);
+    c_.pair_virial += w;
+    ++c_.collisions;
+    ++pair_collisions_[trajectories_.input_index(std::size_t(i))];
+    ++pair_collisions_[trajectories_.input_index(std::size_t(j))];
+  }
   predictions_.course_changed(i);
   predictions_.course_changed(j);
-  ++pair_collisions_[trajectories_.input_index(std::size_t(i))];
-  ++pair_collisions_[trajectories_.input_index(std::size_t(j))];
   predict(i);
   predict(j);
   schedule(i);
@@ -152,9 +181,20 @@ void EventLoop::boundary_event(int i) {
   trajectories_.sync(s, now_);
   const int d = predictions_.wall_axis(i);
   if (d < 0) return rebuild(i);
-  const double speed = trajectories_.reflect(s, std::size_t(d), geometry_);
-  c_.wall_impulse[std::size_t(d)] += 2 * trajectories_.mass(std::size_t(i)) * speed;
-  ++c_.wall_collisions;
+  const double g = trajectories_.gravity()[std::size_t(d)], v = d == 0 ? s.vx : (d == 1 ? s.vy : s.vz);
+  // Moving into the wall gravity pulls it to, slower than gravity builds over the resting time:
+  // a resting contact, which leaves at half that speed and is back after the resting time (the
+  // bounces of a sphere at rest would follow each other without end).
+  if (g != 0 && g * v >= 0 && std::abs(v) <= std::abs(g) * resting_time_) {
+    const double leave = -0.5 * g * resting_time_;
+    const double speed = trajectories_.rest(s, std::size_t(d), leave, geometry_);
+    c_.wall_impulse[std::size_t(d)] += trajectories_.mass(std::size_t(i)) * (speed + std::abs(leave));
+    ++c_.resting_contacts;
+  } else {
+    const double speed = trajectories_.reflect(s, std::size_t(d), geometry_);
+    c_.wall_impulse[std::size_t(d)] += 2 * trajectories_.mass(std::size_t(i)) * speed;
+    ++c_.wall_collisions;
+  }
   predictions_.course_changed(i);
   predict(i);
   schedule(i);
@@ -213,6 +253,12 @@ void EventLoop::refuse_more_events(double t_end) const {
   m << "event engine: the run needs more than " << max_events_ << " events (it had reached time " << base_ + now_
     << " of " << t_end << "); shorten the run";
   throw InputError(m.str());
+}
+
+void EventLoop::refuse_jam(int i) const {
+  const bool pair = predictions_.collision_first(i);
+  const auto id = [this](int k) { return ids_[trajectories_.input_index(std::size_t(k))]; };
+  jam_.refuse("event engine", id(i), pair ? id(predictions_.partner(i)) : -1);
 }
 
 }  // namespace hardsphere::event

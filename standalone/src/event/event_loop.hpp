@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "common/always_inline.hpp"
+#include "common/jam_guard.hpp"
 #include "event/event_calendar.hpp"
 #include "event/geometry.hpp"
 #include "event/neighbour_lists.hpp"
@@ -59,6 +60,7 @@ class EventLoop {
   void rebase();
   void renumber();
   [[noreturn]] void refuse_more_events(double t_end) const;
+  [[noreturn]] void refuse_jam(int i) const;
 
   EventGeometry geometry_;
   Trajectories trajectories_;
@@ -69,8 +71,11 @@ class EventLoop {
   bool mono_ = true;
   double mass0_ = 1;
   double restitution_ = 1.0, contact_time_ = 0.0;
+  double resting_time_ = kDefaultRestingTime;  // Physics::resting_time
   std::vector<double> last_collision_;         // input index: time of the last collision (restitution < 1)
   std::vector<std::int64_t> pair_collisions_;  // input index: pair collisions since reset_counters()
+  std::vector<std::int64_t> ids_;              // input index: atom id, for messages
+  JamGuard jam_;
 
   double now_ = 0, base_ = 0, reset_time_ = 0;
   std::int64_t events_since_rebase_ = 0, rebase_every_ = 0;

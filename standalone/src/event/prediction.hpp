@@ -248,7 +248,11 @@ class Predictions {
         const double t_lo = kernel::wall_back_time(pos[d], -v, gd, lo + s.r, +1, kInf);
         const double t_hi = kernel::wall_back_time(pos[d], -v, gd, hi - s.r, -1, kInf);
         // Forward in time is backward with the velocity reversed; the side flips with it.
-        const double tl = t_lo >= 0 ? t_lo : kInf, th = t_hi >= 0 ? t_hi : kInf;
+        double tl = t_lo >= 0 ? t_lo : kInf, th = t_hi >= 0 ? t_hi : kInf;
+        // On the contact plane (or a hair beyond it) and not leaving: touching now, also at rest
+        // with gravity pulling into the wall, where the parabola's double root counts as no crossing.
+        if (pos[d] <= lo + s.r && (v < 0 || (v == 0 && gd < 0))) tl = 0;
+        if (pos[d] >= hi - s.r && (v > 0 || (v == 0 && gd > 0))) th = 0;
         t = std::min(tl, th);
         if (t < best) {
           best = t;

@@ -8,6 +8,7 @@
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
+#include <limits>
 #include <vector>
 
 #include "common/always_inline.hpp"
@@ -44,6 +45,16 @@ class Trajectories {
   //! Sphere i, for the event handling that brings it to a time (sync) or changes its course.
   Body& body(std::size_t i) { return body_[i]; }
   static void set_velocity(Body& s, const Vec3d& v) { s.vx = v.x, s.vy = v.y, s.vz = v.z; }
+  //! Moves a and b (synced, at contact separation dr = a - b, minimum image) apart along dr, each
+  //! by half, until they are a few roundings beyond contact sigma: for a pair whose approach is
+  //! below the rounding of their velocities, which no impulse can resolve.
+  static void part(Body& a, Body& b, const Vec3d& dr, double sigma) {
+    const double len = std::sqrt(dr.x * dr.x + dr.y * dr.y + dr.z * dr.z);
+    const double half = 0.5 * (sigma * (1 + 8 * std::numeric_limits<double>::epsilon()) - len) / len;
+    if (!(half > 0)) return;
+    a.x += half * dr.x, a.y += half * dr.y, a.z += half * dr.z;
+    b.x -= half * dr.x, b.y -= half * dr.y, b.z -= half * dr.z;
+  }
   //! Brings s, one of these spheres, to time `now`.
   void sync(Body& s, double now) const {
     const double dt = now - s.t;
@@ -57,6 +68,16 @@ class Trajectories {
       s.z += s.vz * dt;
     }
     s.t = now;
+  }
+  //! Sets the velocity of s (synced, touching a wall of axis d) along d to `leave`, on the contact
+  //! plane exactly; returns the speed along d it had.
+  double rest(Body& s, std::size_t d, double leave, const EventGeometry& geo) const {
+    double* vel = d == 0 ? &s.vx : (d == 1 ? &s.vy : &s.vz);
+    double* x = d == 0 ? &s.x : (d == 1 ? &s.y : &s.z);
+    const double speed = std::abs(*vel), hi = geo.lo(d) + geo.len(d);
+    *vel = leave;
+    *x = leave > 0 ? geo.lo(d) + s.r : hi - s.r;
+    return speed;
   }
   //! Reverses the velocity of s (synced, touching a wall of axis d); returns the speed along d
   //! it had.

@@ -37,9 +37,9 @@ static_assert(std::atomic<int>::is_always_lock_free, "the signal handler reads s
 // Every signal whose default action ends the process and that can be caught: the warnings of
 // batch systems (SIGUSR1, SIGUSR2, SIGALRM before a wall-time limit), a closed pipe, abort(),
 // and faults, whose handler only unlinks (async-signal-safe) before the default action.
-constexpr int kCleanupSignals[] = {SIGHUP,  SIGINT,    SIGQUIT, SIGILL,  SIGTRAP, SIGABRT, SIGBUS,  SIGFPE,
-                                   SIGUSR1, SIGSEGV,   SIGUSR2, SIGPIPE, SIGALRM, SIGTERM, SIGXCPU, SIGXFSZ,
-                                   SIGVTALRM, SIGPROF, SIGPOLL, SIGPWR,  SIGSYS};
+constexpr int kCleanupSignals[] = {SIGHUP,  SIGINT,  SIGQUIT,   SIGILL,  SIGTRAP, SIGABRT, SIGBUS,
+                                   SIGFPE,  SIGUSR1, SIGSEGV,   SIGUSR2, SIGPIPE, SIGALRM, SIGTERM,
+                                   SIGXCPU, SIGXFSZ, SIGVTALRM, SIGPROF, SIGPOLL, SIGPWR,  SIGSYS};
 
 int register_temporary(const std::string& tmp, const std::string& shown) {
   if (tmp.size() >= kSlotPath) throw InputError("cannot write '" + shown + "': path is too long");

@@ -31,6 +31,7 @@ nlohmann::json physics_summary(const ParticleSystem& fin, const RunTotals& t, bo
   j["box"] = {{"lo", fin.box.lo}, {"hi", fin.box.hi}, {"boundary", boundary_string(fin.box.periodic)}};
   j["collisions"] = t.collisions;
   j["wall_collisions"] = t.wall_collisions;
+  j["resting_contacts"] = t.resting_contacts;
   j["collision_rate_per_particle"] = t.sim_time > 0 && n ? 2.0 * double(t.collisions) / (double(n) * t.sim_time) : 0.0;
   j["kinetic_energy_initial"] = e0;
   j["kinetic_energy_final"] = e1;

@@ -88,7 +88,8 @@ class EventRun final : public EngineRun {
   double measure(const RunOutputs& out) override;
   RunTotals totals(double kinetic0, const Vec3d& momentum0) const override {
     const EventCounters& c = engine_->counters();
-    return {kinetic0, momentum0, c.sim_time, c.collisions, c.wall_collisions, c.pair_virial, c.wall_impulse};
+    return {kinetic0,          momentum0,     c.sim_time,     c.collisions,
+            c.wall_collisions, c.pair_virial, c.wall_impulse, c.resting_contacts};
   }
   double rounding_epsilon() const override { return std::numeric_limits<double>::epsilon(); }
   void add_summary(nlohmann::json& j, const ParticleSystem& fin, double cpu) const override;

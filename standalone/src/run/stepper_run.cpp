@@ -52,7 +52,8 @@ class StepperRun final : public EngineRun {
   double measure(const RunOutputs& out) override;
   RunTotals totals(double kinetic0, const Vec3d& momentum0) const override {
     const StepCounters& c = engine_->counters();
-    return {kinetic0, momentum0, c.sim_time, c.collisions, c.wall_collisions, c.pair_virial, c.wall_impulse};
+    return {kinetic0,          momentum0,     c.sim_time,     c.collisions,
+            c.wall_collisions, c.pair_virial, c.wall_impulse, c.resting_contacts};
   }
   double rounding_epsilon() const override {
     return spec_.precision == Precision::Float ? double(std::numeric_limits<float>::epsilon())

@@ -25,6 +25,8 @@ Physics validated(Physics p, const std::array<bool, 3>& periodic, const PhysicsN
     throw InputError(names.contact_time + " 0 with " + names.restitution + " " + e +
                      ": an inelastic collapse (infinitely many collisions in finite time) would never end; give " +
                      names.contact_time + " a value > 0");
+  if (!(p.resting_time >= 0 && std::isfinite(p.resting_time)))
+    throw InputError(names.resting_time + " " + format_number(p.resting_time) + " must be finite and >= 0");
   for (int d = 0; d < 3; ++d) {
     const double g = p.gravity[std::size_t(d)];
     if (!std::isfinite(g))

@@ -120,7 +120,8 @@ void check_scene_numbers(const ParticleSystem& sys, const std::string& source, c
   }
 }
 
-void check_engine_numbers(const ParticleSystem& sys, double eps, double largest, double dt, const std::string& what) {
+void check_engine_numbers(const ParticleSystem& sys, double eps, double largest, double dt, const std::string& what,
+                          double gravity) {
   if (sys.size() == 0) return;
   // Squares and products of speeds, masses and lengths must stay inside the type's range.
   const double big = std::cbrt(largest) / 1e3, small = 1 / big;
@@ -151,10 +152,10 @@ void check_engine_numbers(const ParticleSystem& sys, double eps, double largest,
     fail("a box ", len, " long resolves spheres of diameter ", dmin, " to only ", 16 * eps * len / dmin,
          " of a diameter in this precision (at most 1e-3); use double precision");
   if (dt > 0 && v2sum > 0) {
-    const double v_rms = std::sqrt(v2sum / m_sum);
-    if (v_rms * dt < 100 * eps * len)
-      fail("time step dt = ", dt, " moves a sphere at the rms speed ", v_rms, " by ", v_rms * dt,
-           ", less than 100 roundings (", 100 * eps * len, ") of a coordinate in a box ", len,
+    const double v_rms = std::sqrt(v2sum / m_sum), moved = v_rms * dt + 0.5 * gravity * dt * dt;
+    if (moved < 100 * eps * len)
+      fail("time step dt = ", dt, " moves a sphere at the rms speed ", v_rms, gravity > 0 ? " under gravity" : "",
+           " by ", moved, ", less than 100 roundings (", 100 * eps * len, ") of a coordinate in a box ", len,
            " long: positions would not resolve the motion; use a longer dt", eps > 1e-10 ? " or double precision" : "");
   }
 }
@@ -170,10 +171,11 @@ double wall_bounce_rate(const ParticleSystem& sys) {
 }
 
 template <class T>
-void check_engine_numbers(const ParticleSystem& sys, double dt, const std::string& what) {
-  check_engine_numbers(sys, double(std::numeric_limits<T>::epsilon()), double(std::numeric_limits<T>::max()), dt, what);
+void check_engine_numbers(const ParticleSystem& sys, double dt, const std::string& what, double gravity) {
+  check_engine_numbers(sys, double(std::numeric_limits<T>::epsilon()), double(std::numeric_limits<T>::max()), dt, what,
+                       gravity);
 }
-template void check_engine_numbers<float>(const ParticleSystem&, double, const std::string&);
-template void check_engine_numbers<double>(const ParticleSystem&, double, const std::string&);
+template void check_engine_numbers<float>(const ParticleSystem&, double, const std::string&, double);
+template void check_engine_numbers<double>(const ParticleSystem&, double, const std::string&, double);
 
 }  // namespace hardsphere

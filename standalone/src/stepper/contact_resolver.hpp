@@ -22,6 +22,7 @@
 #include <vector>
 
 #include "common/always_inline.hpp"
+#include "common/jam_guard.hpp"
 #include "common/neighbour_entry.hpp"
 #include "common/xyz4.hpp"
 #include "hardsphere/collision.hpp"
@@ -65,6 +66,7 @@ struct ContactArrays {
 struct ContactTally {
   std::int64_t collisions = 0;
   std::int64_t unresolved_steps = 0;  //!< steps that hit the event limit with contacts left
+  std::int64_t resting_contacts = 0;  //!< wall contacts too slow to bounce (see bounce())
   std::int64_t wall_collisions = 0;
   std::array<double, 3> wall_impulse{0, 0, 0};  //!< sum of |m dv| of wall bounces, per axis
   double virial = 0;                            //!< sum over collisions of r_ij . dp_i at contact
@@ -170,6 +172,8 @@ class ContactResolver {
 
   //! A uniform acceleration (gravity) along the wall axes: flights are parabolas, so wall
   //! contacts are found on them. Pair contacts need nothing: relative motion stays straight.
+  //! Physics::resting_time (0: the sub-step).
+  void set_resting_time(Real t) { resting_time_ = t; }
   void set_gravity(const std::array<Real, 3>& g) {
     gravity_ = g;
     has_gravity_ = g[0] != Real(0) || g[1] != Real(0) || g[2] != Real(0);
@@ -368,6 +372,7 @@ class ContactResolver {
     };
     std::size_t next = start_run();
     std::int64_t events = 0;
+    JamGuard jam(1e-9 * double(dt_), change_.size());
     Real cut = kWholeStep;
     while (next < sorted_.size() || !queue_.empty()) {
       Candidate c;
@@ -379,6 +384,7 @@ class ContactResolver {
       }
       const bool wall = Walls && c.j == kWall;
       if (c.count_i != change_[c.i].count || (!wall && c.count_j != change_[c.j].count)) continue;  // stale
+      if (jam.jammed(-double(c.back))) jam.refuse("stepper", id(c.i), wall ? -1 : id(c.j));
       if (++events > max_events_) {
         ++tally.unresolved_steps;
         settle_walls(hooks, tally);
@@ -491,20 +497,46 @@ class ContactResolver {
     const Real g = gravity_[std::size_t(d)];
     // The velocity at contact, whose reversal is the impulse the wall takes.
     const Real v_before = v - g * c.back;
+    double impulse = 2.0 * std::abs(double(v_before));  // per unit mass
+    bool rested = false;
     if (has_gravity_ && g != Real(0)) {
       const Real s = c.back;
       const Real x_contact = a_.pos[c.i][d] - v * s + Real(0.5) * g * s * s;
       const Real lo = lo_[std::size_t(d)] + radius(c.i), hi = hi_[std::size_t(d)] - radius(c.i);
       const Real w = std::abs(x_contact - lo) <= std::abs(x_contact - hi) ? lo : hi;
-      kernel::reflect_in_flight(a_.pos[c.i][d], v, g, w, s);
+      if (resting_contact(v_before, g, w == lo)) {
+        // Resting contact: bounces this slow would follow each other without end (a sphere at
+        // rest on a floor bounces at once again). It leaves the wall at half the speed gravity
+        // builds in the rest of the sub-step, so it is back on the wall exactly at its end: it
+        // rests on the wall at every sub-step's end, the wall carries its weight, and its flight
+        // stays the shared parabola of every other sphere.
+        a_.pos[c.i][d] = w;
+        v = Real(0.5) * g * s;  // leaving at -g s / 2, arriving at +g s / 2
+        impulse = std::abs(double(v_before)) + std::abs(double(v));
+        rested = true;
+      } else {
+        kernel::reflect_in_flight(a_.pos[c.i][d], v, g, w, s);
+      }
     } else {
       kernel::reflect_from_walls(a_.pos[c.i][d], v, lo_[std::size_t(d)], hi_[std::size_t(d)], radius(c.i));
     }
-    ++tally.wall_collisions;
-    if (a_.observer) a_.observer->bounce(c.i);
-    tally.wall_impulse[std::size_t(d)] += 2.0 * std::abs(double(Mono ? mass_ : a_.mass[c.i]) * double(v_before));
+    if (rested) {
+      ++tally.resting_contacts;
+    } else {
+      ++tally.wall_collisions;
+      if (a_.observer) a_.observer->bounce(c.i);
+    }
+    tally.wall_impulse[std::size_t(d)] += double(Mono ? mass_ : a_.mass[c.i]) * impulse;
     mark_changed(c.i, c.back);
     hooks.after_bounce(c.i);
+  }
+
+  //! A wall contact at normal speed v_before (towards the wall) under the acceleration g along that
+  //! axis is a resting contact when gravity pulls the sphere into that wall and it arrives no
+  //! faster than gravity speeds it up in one sub-step.
+  bool resting_contact(Real v_before, Real g, bool lower_wall) const {
+    return (lower_wall ? g < Real(0) : g > Real(0)) &&
+           std::abs(v_before) <= std::abs(g) * (resting_time_ > Real(0) ? resting_time_ : dt_);
   }
 
   //! When the event limit stops a step, spheres may still be beyond a wall: mirror them (their
@@ -636,6 +668,7 @@ class ContactResolver {
   std::array<Real, 3> lo_{}, hi_{};                        // wall positions
   std::array<Real, 3> gravity_{0, 0, 0};                   // uniform acceleration (wall axes only)
   bool has_gravity_ = false;
+  Real resting_time_ = 0;                           // see set_resting_time()
   int wall_axis_[3] = {0, 0, 0}, n_wall_axes_ = 0;  // the axes with walls
 };
 

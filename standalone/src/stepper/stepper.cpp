@@ -95,6 +95,7 @@ class Stepper final : public StepperBase, public StateExchange {
   const StepCounters& counters() const override {
     counters_.collisions = tally_.collisions;
     counters_.wall_collisions = tally_.wall_collisions;
+    counters_.resting_contacts = tally_.resting_contacts;
     counters_.wall_impulse = tally_.wall_impulse;
     counters_.pair_virial = tally_.virial;
     counters_.pair_virial_tensor = tally_.virial_tensor;
@@ -446,7 +447,10 @@ Stepper<Real, Mono>::Stepper(const ParticleSystem& sys, const Physics& physics, 
     sweep_above_ = kOverlapDetectionLimit * smallest;
   }
   check_scene_numbers(sys, "stepper");
-  check_engine_numbers<Real>(sys, cfg.dt, sizeof(Real) == sizeof(float) ? "stepper in single precision" : "stepper");
+  const double g_norm = std::sqrt(physics.gravity[0] * physics.gravity[0] + physics.gravity[1] * physics.gravity[1] +
+                                  physics.gravity[2] * physics.gravity[2]);
+  check_engine_numbers<Real>(sys, cfg.dt, sizeof(Real) == sizeof(float) ? "stepper in single precision" : "stepper",
+                             g_norm);
   const std::size_t n = sys.size();
   if (n > std::size_t(kMaxAdjIndex) + 1)
     throw InputError("too many particles for one stepper: " + std::to_string(n) + " (at most " +
@@ -547,6 +551,7 @@ Stepper<Real, Mono>::Stepper(const ParticleSystem& sys, const Physics& physics, 
   gravity_ = {Real(physics.gravity[0]), Real(physics.gravity[1]), Real(physics.gravity[2])};
   has_gravity_ = physics.has_gravity();
   resolver_.set_gravity(gravity_);
+  resolver_.set_resting_time(Real(physics.resting_time));
   pairs_.configure({&grid_, &box_, length_, image_shift_, skin_, sigma_, cell_radius_, max_radius_});
   // Threats are enumerated from the cells within two of a sphere's: every periodic axis needs
   // 3 cells (so a cell is at least sigma + skin wide).
