@@ -45,27 +45,13 @@ if [ -z "$suite" ]; then
   log "cannot determine the Debian suite from /etc/os-release"
   exit 1
 fi
-mirror=${HS_DEBIAN_MIRROR:-http://deb.debian.org/debian}
-
+# shellcheck source=scripts/private_apt.sh
+. "$(dirname "${BASH_SOURCE[0]}")/private_apt.sh"
 apt_dir=$cache_root/apt
-mkdir -p "$apt_dir/lists/partial" "$apt_dir/archives/partial" "$apt_dir/sources.list.d" "$tree"
-cat >"$apt_dir/sources.list" <<EOF
-# private to hardsphere/scripts/fetch_lammps_source.sh; not used by the system's apt
-deb-src $mirror $suite main
-deb-src $mirror $suite-updates main
-EOF
-apt_opts=(
-  -o "Dir::Etc::SourceList=$apt_dir/sources.list"
-  -o "Dir::Etc::SourceParts=$apt_dir/sources.list.d"
-  -o "Dir::State::Lists=$apt_dir/lists"
-  -o "Dir::Cache=$apt_dir"
-  -o "Dir::Cache::archives=$apt_dir/archives"
-  -o "Dir::Cache::pkgcache="
-  -o "Dir::Cache::srcpkgcache="
-  -o "APT::Sandbox::User=$(id -un)"
-  -o "Acquire::Languages=none"
-  -q
-)
+mkdir -p "$tree"
+hs_private_apt "$apt_dir" "$suite" fetch_lammps_source.sh
+apt_opts=("${HS_APT_OPTS[@]}")
+mirror=${HS_DEBIAN_MIRROR:-http://deb.debian.org/debian}
 
 log "fetching Debian source $src_pkg $version for $suite into $tree"
 if ! apt-get "${apt_opts[@]}" update >&2; then
