@@ -85,7 +85,7 @@ void FixHardSphere::check_timestep() const {
 }
 
 void FixHardSphere::check_input() {
-  if (!atom->sphere_flag || !atom->radius_flag || !atom->rmass_flag)
+  if (!atom->style_match("sphere") || !atom->radius_flag || !atom->rmass_flag)
     error->all(FLERR, "fix hardsphere needs per-atom radius and mass: use 'atom_style sphere'");
   if (igroup != 0)
     error->all(FLERR, std::string("fix hardsphere must act on group 'all', not '") + group->names[igroup] +

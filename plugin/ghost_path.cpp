@@ -14,6 +14,7 @@
 #include "fix.h"
 #include "hardsphere/errors.hpp"
 #include "hardsphere/particles.hpp"
+#include "lammps_compat.h"
 #include "neighbor.h"
 
 using namespace LAMMPS_NS;
@@ -556,7 +557,7 @@ void GhostPath::forward_comm_learning_swaps() {
 void GhostPath::forward_comm(int mode) {
   comm_mode_ = mode;
   swap_ = 0;
-  comm->forward_comm_fix(fix_, kForwardSize);
+  hs_compat::forward_comm(comm, fix_, kForwardSize);
   comm_mode_ = 0;
 }
 

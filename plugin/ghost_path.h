@@ -26,6 +26,8 @@ namespace LAMMPS_NS {
 class GhostPath : public StepPath, protected Pointers {
  public:
   GhostPath(LAMMPS *lmp, class Fix *fix, PartTimer &timer) : Pointers(lmp), fix_(fix), timer_(timer) {}
+  //! noexcept as StepPath's: newer LAMMPS declares ~Pointers() noexcept(false).
+  ~GhostPath() noexcept override = default;
   void configure(const hardsphere::StepperConfig &c, const hardsphere::Physics &p) override {
     config_ = c;
     physics_ = p;

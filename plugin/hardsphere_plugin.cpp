@@ -1,5 +1,6 @@
 // Plugin entry for LAMMPS builds with the PLUGIN package: `plugin load hardsphereplugin.so`.
 #include "fix_hardsphere.h"
+#include "lammps_compat.h"
 #include "lammpsplugin.h"
 #include "pair_hardsphere.h"
 #include "version.h"
@@ -12,6 +13,7 @@ void *make_fix(void *lmp, int narg, char **arg) { return new FixHardSphere(stati
 }  // namespace
 
 extern "C" void lammpsplugin_init(void *lmp, void *handle, void *regfunc) {
+  hs_compat::check_loaded_into(static_cast<LAMMPS *>(lmp));
   auto reg = (lammpsplugin_regfunc)regfunc;
   lammpsplugin_t p;
   p.version = LAMMPS_VERSION;

@@ -11,6 +11,7 @@
 #include "error.h"
 #include "force.h"
 #include "input.h"
+#include "lammps_compat.h"
 #include "memory.h"
 #include "modify.h"
 #include "update.h"
@@ -87,7 +88,7 @@ void PairHardSphere::init_style() {
                           "hardsphere' alone");
   // Only a run moves atoms: write_data, balance or velocity also initialise the styles, and the
   // fix may still be defined before the run.
-  if (update->whichflag != 0 && modify->find_fix_by_style("^hardsphere$") < 0 && !hardsphere_rerun_in_progress(lmp))
+  if (update->whichflag != 0 && !hs_compat::has_fix_style(modify, "^hardsphere$") && !hardsphere_rerun_in_progress(lmp))
     error->all(FLERR,
                "pair_style hardsphere only provides contact distances: add 'fix ID all hardsphere' "
                "to move the atoms (and no other time integrator)");

@@ -21,6 +21,8 @@ namespace LAMMPS_NS {
 class SerialPath : public StepPath, protected Pointers {
  public:
   SerialPath(LAMMPS *lmp, PartTimer &timer, const OtherFixes &others) : Pointers(lmp), timer_(timer), others_(others) {}
+  //! noexcept as StepPath's: newer LAMMPS declares ~Pointers() noexcept(false).
+  ~SerialPath() noexcept override = default;
   void configure(const hardsphere::StepperConfig &config, const hardsphere::Physics &physics) override {
     config_ = config;
     physics_ = physics;

@@ -27,6 +27,22 @@ if [ "${HS_WITH_LAMMPS:-1}" = 1 ] && dpkg-query -W -f='${Status}' liblammps-dev 
     echo "setup: LAMMPS source not available; building without the LAMMPS styles" >&2
   fi
 fi
+# The test run also checks the styles as a plugin in the newest LAMMPS Debian's source packages
+# offer (label lammps_versions): built once into a cache outside the repository (~20-30 min on 2
+# cores the first time, then reused). HS_LAMMPS_VERSIONS: others to build as well (e.g.
+# "trixie newest"), or "none".
+if [ "$mode" = test ] && [ "${HS_WITH_LAMMPS:-1}" = 1 ]; then
+  roots=()
+  for v in ${HS_LAMMPS_VERSIONS:-newest}; do
+    [ "$v" = none ] && continue
+    if prefix=$(bash "$root/scripts/build_lammps.sh" "$v"); then
+      roots+=("$prefix")
+    else
+      echo "setup: LAMMPS '$v' could not be built (above); its lammps_versions checks are skipped" >&2
+    fi
+  done
+  lammps_args+=("-DHS_LAMMPS_ROOT=$(IFS=';'; echo "${roots[*]}")")
+fi
 cmake -S "$root" -B "$build" -DCMAKE_BUILD_TYPE=Release -DHS_NATIVE=${HS_NATIVE:-ON} -DPython3_EXECUTABLE=/usr/bin/python3 "${lammps_args[@]}" >/dev/null
 cmake --build "$build" -j"$(nproc)"
 

@@ -39,8 +39,8 @@ ok = coll > 100 and lmp.get_natoms() == 256
 lmp.close()
 
 # The PLUGIN-package entry (Debian's LAMMPS has no `plugin load`): call lammpsplugin_init of
-# hardsphereplugin.so with a recording register function, in this process where liblammps is
-# loaded, and check both styles are offered.
+# hardsphereplugin.so with a live LAMMPS (it checks the version it runs in) and a recording
+# register function, and check both styles are offered.
 if len(sys.argv) > 2:
     class Plugin(ctypes.Structure):
         _fields_ = [("version", ctypes.c_char_p), ("style", ctypes.c_char_p), ("name", ctypes.c_char_p),
@@ -50,7 +50,10 @@ if len(sys.argv) > 2:
     REG = ctypes.CFUNCTYPE(None, ctypes.POINTER(Plugin), ctypes.c_void_p)
     reg = REG(lambda p, lmp: seen.append((p.contents.style.decode(), p.contents.name.decode(), bool(p.contents.creator))))
     plug = ctypes.CDLL(sys.argv[2], mode=ctypes.RTLD_GLOBAL)
-    plug.lammpsplugin_init(None, None, ctypes.cast(reg, ctypes.c_void_p))
+    host = lammps(cmdargs=["-log", "none", "-screen", "none"])
+    plug.lammpsplugin_init.argtypes = [ctypes.c_void_p, ctypes.c_void_p, ctypes.c_void_p]
+    plug.lammpsplugin_init(host.lmp, None, ctypes.cast(reg, ctypes.c_void_p))
+    host.close()
     print("plugin registers", seen)
     ok = ok and sorted(seen) == [("fix", "hardsphere", True), ("pair", "hardsphere", True)]
 sys.exit(0 if ok else 1)

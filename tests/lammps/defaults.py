@@ -4,6 +4,8 @@ and the standalone stepper's. With newton on the fix skips LAMMPS's reverse comm
 ghost forces during runs, says so once and restores the setting. Allowed fixes change nothing;
 per-atom diameters work for mixed pairs, also after a restart.
 Groups: neighbour, newton, allowed, mixture."""
+import re
+
 from tests.lammps.lammps_runner import Cases, main, thermo_rows
 
 cases = Cases(__file__)
@@ -23,8 +25,24 @@ def neighbour_lists(ctx, case):
     deck, neigh = case["deck"], case.get("neigh")
     out = ctx.lammps(deck, vars=dict(data="init.data", **({"neigh": neigh} if neigh else {})))
     notes = out.lines(case["note"]["mpi" if ctx.mpi else "serial"])
-    return {"collisions": out.last["f_hs[1]"], "notes": len(notes), "note": notes[0] if notes else ""}, \
-        dict(standalone=ref)
+    default = lammps_neighbour_defaults(ctx)
+    # Serial runs need 'every 1 delay 0 check yes': a LAMMPS whose default it is gets no note.
+    default_notes = 1 if ctx.mpi or default != "every 1 delay 0 check yes" else 0
+    note = notes[0] if notes else ""
+    return {"collisions": out.last["f_hs[1]"], "notes": len(notes), "note": note,
+            "note names LAMMPS's defaults": f"(were '{default}')" in note if default_notes else not note}, \
+        dict(standalone=ref, default_notes=default_notes)
+
+
+def lammps_neighbour_defaults(ctx):
+    """LAMMPS's own neighbour settings as the fix's note spells them ('every 1 delay 10 check yes'
+    before LAMMPS 2022, 'every 1 delay 0 check yes' since), from the settings a run without the
+    fix prints."""
+    text = ctx.lammps("defaults/lammps_neighbour_defaults.lmp", np=1).text
+    m = re.search(r"update:? every =? ?(\d+) steps, delay =? ?(\d+) steps, check =? ?(\w+)", text)
+    if not m:
+        raise ValueError("no neighbour settings in LAMMPS's output")
+    return "every {} delay {} check {}".format(*m.groups())
 
 
 @cases.case

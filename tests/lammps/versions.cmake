@@ -1,0 +1,32 @@
+# ctest label lammps_versions: the LAMMPS checks against each further LAMMPS build of
+# HS_LAMMPS_ROOT (plugin/CMakeLists.txt), its stock lmp loading build/lammps-DATE/hardsphereplugin.so
+# with `plugin load` (the runner's --plugin). One test per feature, serial and on 2 ranks:
+# lammps_vDATE_FEATURE_serial | _mpi2. The LAMMPS `python` command finds its module in the
+# build's source tree (build_lammps.sh keeps source/python beside the prefix).
+foreach(_entry ${HS_LAMMPS_PLUGINS})
+  string(REPLACE "|" ";" _parts "${_entry}")
+  list(GET _parts 0 _version)
+  list(GET _parts 1 _lmp)
+  list(GET _parts 2 _plugin)
+  get_filename_component(_prefix "${_lmp}" DIRECTORY)
+  get_filename_component(_python "${_prefix}/../../source/python" ABSOLUTE)
+  set(_env "PYTHONPATH=${PROJECT_SOURCE_DIR}:${_python}")
+  set(_args --lmp ${_lmp} --plugin ${_plugin} --hs $<TARGET_FILE:hardsphere>)
+  foreach(_feature identical conservation errors runs defaults outputs restitution gravity units)
+    set(_name lammps_v${_version}_${_feature})
+    add_test(NAME ${_name}_serial COMMAND ${Python3_EXECUTABLE} -m tests.lammps.${_feature} ${_args})
+    set_tests_properties(${_name}_serial PROPERTIES LABELS lammps_versions TIMEOUT 900 ENVIRONMENT "${_env}")
+    if(MPIEXEC_EXECUTABLE)
+      add_test(NAME ${_name}_mpi2 COMMAND ${Python3_EXECUTABLE} -m tests.lammps.${_feature} ${_args} --np 2
+                                          --mpirun ${MPIEXEC_EXECUTABLE})
+      set_tests_properties(${_name}_mpi2 PROPERTIES LABELS "lammps_versions;mpi" TIMEOUT 900 PROCESSORS 2
+                           ENVIRONMENT "${_env}")
+    endif()
+  endforeach()
+  if(MPIEXEC_EXECUTABLE)
+    add_test(NAME lammps_v${_version}_decompositions_mpi
+             COMMAND ${Python3_EXECUTABLE} -m tests.lammps.decompositions ${_args} --mpirun ${MPIEXEC_EXECUTABLE})
+    set_tests_properties(lammps_v${_version}_decompositions_mpi PROPERTIES LABELS "lammps_versions;mpi" TIMEOUT 900
+                         PROCESSORS 2 ENVIRONMENT "${_env}")
+  endif()
+endforeach()
