@@ -181,7 +181,7 @@ CommandLine parse_command_line(int argc, const char* const* argv) {
   auto* o_resting_time =
       run->add_option("--resting-time", resting_time_s,
                       "a wall contact slower than |g| times this rests on the wall for this time instead of bouncing "
-                      "(default: the stepper's sub-step, the event engine's 1e-3)")
+                      "(default: the stepper's sub-step; the event engine's 0.01 sqrt(d/|g|), d the smallest diameter)")
           ->type_name("FLOAT")
           ->needs(o_gravity);
   auto* o_time = run->add_option("--time", time_s, "simulated time measured (event engine; stepper: steps = time/dt)")

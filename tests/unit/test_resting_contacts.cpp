@@ -15,7 +15,7 @@ using namespace hardsphere;
 
 namespace {
 
-constexpr double kG = 1.0, kDt = 0.01;
+constexpr double kG = 1.0, kDt = 0.01;  // unit spheres: the event engine's tau = kRestingTimeFraction
 
 Physics falling() {
   Physics p;
@@ -76,7 +76,7 @@ TEST(RestingContacts, StepperSphereAndStackStayAtRestAndTheFloorCarriesTheirWeig
 }
 
 TEST(RestingContacts, EventEngineSphereAndStackStayAtRestAndTheFloorCarriesTheirWeight) {
-  const double tau = kDefaultRestingTime;
+  const double tau = kRestingTimeFraction;
   for (int n : {1, 2, 5}) {
     EventEngine e = event_engine_for(stack(n));
     e.advance(10.0);
@@ -101,8 +101,8 @@ TEST(RestingContacts, SpeedAtRoundingLevelIntoTheFloorRestsInBothEngines) {
     EXPECT_LE(st->counters().resting_contacts, 201);
     EventEngine e = event_engine_for(stack(1, vz));
     e.advance(1.0);
-    expect_at_rest(e.state(), kG * kDefaultRestingTime * kDefaultRestingTime);
-    EXPECT_LE(e.counters().events, 2 * std::int64_t(1.0 / kDefaultRestingTime) + 4);
+    expect_at_rest(e.state(), kG * kRestingTimeFraction * kRestingTimeFraction);
+    EXPECT_LE(e.counters().events, 2 * std::int64_t(1.0 / kRestingTimeFraction) + 4);
   }
 }
 

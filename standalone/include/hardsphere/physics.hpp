@@ -14,8 +14,10 @@ constexpr double kDefaultContactTime = 1e-4;
 //! ~1e-16) and counts as zero.
 constexpr double kGravityRounding = 1e-12;
 
-//! The event engine's resting time when none is given (the stepper takes its sub-step).
-constexpr double kDefaultRestingTime = 1e-3;
+//! The event engine's resting time when none is given, as a fraction of the time a sphere of the
+//! smallest diameter d takes to fall d from rest, sqrt(d / |g|): hops of 1e-5 d (the stepper
+//! takes its sub-step).
+constexpr double kRestingTimeFraction = 0.01;
 
 struct Physics {
   //! Normal restitution of sphere-sphere collisions, in (0, 1]; walls stay elastic.
@@ -31,7 +33,7 @@ struct Physics {
   //! whose gravity pulls into that wall does not bounce but rests (a sphere at rest on a floor
   //! would bounce at once again, without end): it leaves at half the speed gravity builds over
   //! the resting time (the stepper: the rest of its sub-step), so it is back on the wall after
-  //! it. 0: the stepper's sub-step, the event engine's kDefaultRestingTime.
+  //! it. 0: the stepper's sub-step, the event engine's kRestingTimeFraction sqrt(d / |g|).
   double resting_time = 0;
 
   bool elastic() const { return restitution == 1.0; }

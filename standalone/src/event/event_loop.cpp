@@ -30,6 +30,14 @@ double time_scale(const ParticleSystem& sys, const Physics& physics) {
   if (physics.has_gravity()) t = std::min(t, std::sqrt(d / std::sqrt(dot(g, g))));
   return t < kInf ? t : 1.0;
 }
+
+//! kRestingTimeFraction of the time the smallest sphere takes to fall its diameter.
+double default_resting_time(const ParticleSystem& sys, const Physics& physics) {
+  if (!physics.has_gravity() || sys.size() == 0) return 1.0;  // no wall contact rests
+  const double d = 2 * *std::min_element(sys.radius.begin(), sys.radius.end());
+  const Vec3d g{physics.gravity[0], physics.gravity[1], physics.gravity[2]};
+  return kRestingTimeFraction * std::sqrt(d / std::sqrt(dot(g, g)));
+}
 }  // namespace
 
 EventLoop::EventLoop(const ParticleSystem& sys, const Physics& physics_in, const EventConfig& cfg)
@@ -39,7 +47,7 @@ EventLoop::EventLoop(const ParticleSystem& sys, const Physics& physics_in, const
   const Physics physics = validated(physics_in, sys.box.periodic);
   restitution_ = physics.restitution;
   contact_time_ = physics.contact_time;
-  resting_time_ = physics.resting_time > 0 ? physics.resting_time : kDefaultRestingTime;
+  resting_time_ = physics.resting_time > 0 ? physics.resting_time : default_resting_time(sys, physics);
   if (!physics.elastic()) last_collision_.assign(n, -kInf);
   pair_collisions_.assign(n, 0);
   ids_ = sys.id;

@@ -71,7 +71,7 @@ class EventLoop {
   bool mono_ = true;
   double mass0_ = 1;
   double restitution_ = 1.0, contact_time_ = 0.0;
-  double resting_time_ = kDefaultRestingTime;  // Physics::resting_time
+  double resting_time_ = 0;                    // Physics::resting_time (or its default)
   std::vector<double> last_collision_;         // input index: time of the last collision (restitution < 1)
   std::vector<std::int64_t> pair_collisions_;  // input index: pair collisions since reset_counters()
   std::vector<std::int64_t> ids_;              // input index: atom id, for messages
