@@ -284,22 +284,27 @@ PYBIND11_MODULE(_hardsphere, m) {
           "masses"_a = 1.0, "ids"_a = py::none(), "types"_a = py::none(), "images"_a = py::none(),
           "System(box, positions, velocities=None, radii=0.5, masses=1.0, ids=None, types=None, images=None): "
           "checked as a data file is (no overlaps, inside walls, ...); periodic coordinates are wrapped.");
-  const auto gen = [](InitMethod method) {
-    return [method](std::int64_t n, std::optional<double> phi, py::object box, std::uint64_t seed, double radius,
-                    double mass, double temperature, std::optional<double> speed, const std::string& boundary) {
-      return generate(method, n, phi, box, seed, radius, mass, temperature, speed, boundary);
-    };
-  };
-  const auto gen_args = [](auto& c, const char* name, auto f, const char* doc) {
-    c.def_static(name, f, "n"_a = 1000, "phi"_a = py::none(), "box"_a = py::none(), "seed"_a = 1, "radius"_a = 0.5,
-                 "mass"_a = 1.0, "temperature"_a = 1.0, "speed"_a = py::none(), "boundary"_a = "p", doc);
-  };
-  gen_args(sys, "random", gen(InitMethod::Random),
-           "Random insertion (the CLI's --init random): n spheres at packing fraction phi (default 0.2) or in "
-           "box (lengths), Maxwell-Boltzmann velocities at temperature (or one speed), momentum zeroed.");
-  gen_args(sys, "dense", gen(InitMethod::Dense), "Amorphous quench and compression (--init dense), up to phi 0.64.");
-  gen_args(sys, "lattice", gen(InitMethod::Lattice), "FCC lattice melted and compressed (--init lattice), to 0.55.");
-  gen_args(sys, "generate", gen(InitMethod::Auto), "The CLI's --init auto: random, lattice or dense by phi.");
+  sys.def_static(
+      "random",
+      [](std::int64_t n, std::optional<double> phi, py::object box, std::uint64_t seed, double radius, double mass,
+         double temperature, std::optional<double> speed, const std::string& boundary, const std::string& method) {
+        return generate(parse_init_method(method), n, phi, box, seed, radius, mass, temperature, speed, boundary);
+      },
+      "n"_a = 1000, "phi"_a = py::none(), "box"_a = py::none(), "seed"_a = 1, "radius"_a = 0.5, "mass"_a = 1.0,
+      "temperature"_a = 1.0, "speed"_a = py::none(), "boundary"_a = "p", "method"_a = "auto",
+      "A generated state as the CLI's --n/--phi/--box/--init make it: n spheres at packing fraction phi "
+      "(default 0.2) or in a box of these lengths, Maxwell-Boltzmann velocities at temperature (or one speed), "
+      "momentum zeroed. method: auto (random insertion up to phi 0.25, lattice up to 0.55, dense up to 0.64), "
+      "random, lattice or dense (docs/initial_states.md).");
+  sys.def_static(
+      "dense",
+      [](std::int64_t n, std::optional<double> phi, py::object box, std::uint64_t seed, double radius, double mass,
+         double temperature, std::optional<double> speed, const std::string& boundary) {
+        return generate(InitMethod::Dense, n, phi, box, seed, radius, mass, temperature, speed, boundary);
+      },
+      "n"_a = 1000, "phi"_a = py::none(), "box"_a = py::none(), "seed"_a = 1, "radius"_a = 0.5, "mass"_a = 1.0,
+      "temperature"_a = 1.0, "speed"_a = py::none(), "boundary"_a = "p",
+      "System.random(..., method='dense'): an amorphous quench and compression (--init dense), up to phi 0.64.");
   sys.def_static("from_data", &from_data, "path"_a, "boundary"_a = "p", "precision"_a = "double",
                  "Reads a LAMMPS data file (atom_style sphere) as --read-data does; overlaps up to the rounding of "
                  "an engine of this precision are accepted. OSError if unreadable, ValueError (file:line) if "

@@ -90,7 +90,7 @@ def test_generated_state_equals_cli(cli, tmp_path):
     out = tmp_path / "cli.data"
     summary = json.loads(cli("run", "--n", 300, "--phi", 0.2, "--init", "random", "--seed", 5, "--steps", 100,
                              "--json", "-", "--write-data", out).stdout)
-    sim = hs.Stepper(hs.System.random(n=300, phi=0.2, seed=5))
+    sim = hs.Stepper(hs.System.random(n=300, phi=0.2, seed=5, method="random"))
     sim.run(steps=100)
     o = sim.observables()
     assert o["com_removed"] is True and o["seed"] == 5

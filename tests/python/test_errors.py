@@ -115,7 +115,12 @@ def test_bad_run_lengths(gas):
 def test_bad_init(cli):
     with pytest.raises(ValueError) as err:
         hs.System.random(n=100, phi=0.7)
-    assert str(err.value) == cli_error(cli("run", "--n", 100, "--phi", 0.7, "--init", "random", check=False))
+    assert str(err.value) == cli_error(cli("run", "--n", 100, "--phi", 0.7, check=False))
+    with pytest.raises(ValueError) as err:
+        hs.System.random(n=500, phi=0.35, method="random")
+    assert str(err.value) == cli_error(cli("run", "--n", 500, "--phi", 0.35, "--init", "random", check=False))
+    with pytest.raises(ValueError, match="unknown init method 'hexagonal'"):
+        hs.System.random(n=10, method="hexagonal")
 
 
 def test_unwritable_outputs_leave_nothing(gas, tmp_path):
