@@ -84,6 +84,7 @@ void run_stepper(StepperSim& sim, py::object self, std::optional<std::int64_t> s
   while (done < total) {
     const std::int64_t k = std::min({chunk, total - done, next_call - done});
     {
+      Simulation::Running running(sim);
       py::gil_scoped_release release;
       sim.run(k);
     }
@@ -108,8 +109,12 @@ void run_event(EventSim& sim, py::object self, std::optional<std::int64_t> steps
     throw InputError("every = " + number(*every) + " must be positive and finite (simulated time)");
   if (!callback.is_none() && !every) throw InputError("callback needs every=T (simulated time between calls)");
   const double t0 = sim.time(), target = t0 + *time;
-  // Chunks of about kChunkWork events, from the event rate of the last chunk.
-  double chunk = *time / 1000;
+  // Chunks of about kChunkWork events, from the event rate of the last chunk; the first from the
+  // neighbour-list events alone (one per half shell moved), times a margin for the collisions.
+  double speeds = 0;
+  for (const Vec3d& v : sim.state()->vel) speeds += norm(v);
+  const double rate = 4 * speeds / (0.5 * sim.engine().shell());
+  double chunk = rate > 0 ? std::min(*time, kChunkWork / rate) : *time;
   std::int64_t calls = 0;
   auto next_call = [&] {
     if (!every) return target;
@@ -125,6 +130,7 @@ void run_event(EventSim& sim, py::object self, std::optional<std::int64_t> steps
     if (end >= target && x < 0.5 * target) end = 0.75 * target;
     const std::int64_t e0 = sim.events();
     {
+      Simulation::Running running(sim);
       py::gil_scoped_release release;
       sim.run_until(end);
     }

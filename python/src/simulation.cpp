@@ -14,7 +14,12 @@
 
 namespace hardsphere::python {
 
+void Simulation::check_idle() const {
+  if (running_) throw InputError("the engine is running in another thread; wait for its run() to return");
+}
+
 std::shared_ptr<const ParticleSystem> Simulation::state() const {
+  check_idle();
   if (!snapshot_) snapshot_ = std::make_shared<const ParticleSystem>(engine_state());
   return snapshot_;
 }
@@ -28,6 +33,7 @@ void Simulation::start_measurement() {
 }
 
 void Simulation::reset_counters() {
+  check_idle();
   engine_reset();
   start_measurement();
 }

@@ -2,6 +2,7 @@
 //! The engines as the Python module holds them: a shared snapshot of the current state (the
 //! arrays Python sees), the observables as the CLI's JSON summary reports them, and the CLI's
 //! outputs. Plain C++ over the public headers; the Python glue is in module.cpp and run_loop.cpp.
+#include <atomic>
 #include <cstdint>
 #include <memory>
 #include <nlohmann/json.hpp>
@@ -41,6 +42,19 @@ class Simulation {
   void add_cpu(double seconds) { cpu_ += seconds; }
   virtual double sim_time() const = 0;
   const SystemData& origin() const { return origin_; }
+  //! Refuses (InputError) to touch an engine that another thread is running (its GIL is released).
+  void check_idle() const;
+  //! Marks the engine as running for the lifetime of the object.
+  class Running {
+   public:
+    explicit Running(Simulation& s) : s_(s) { s_.check_idle(), s_.running_ = true; }
+    ~Running() { s_.running_ = false; }
+    Running(const Running&) = delete;
+    Running& operator=(const Running&) = delete;
+
+   private:
+    Simulation& s_;
+  };
 
  protected:
   void changed() { snapshot_.reset(); }
@@ -59,6 +73,7 @@ class Simulation {
 
  private:
   mutable std::shared_ptr<const ParticleSystem> snapshot_;
+  std::atomic<bool> running_{false};
   double kinetic0_ = 0, potential0_ = 0;
   Vec3d momentum0_;
   double cpu_ = 0;
@@ -70,9 +85,9 @@ class StepperSim final : public Simulation {
   const char* name() const override { return "stepper"; }
   void run(std::int64_t steps);
   double dt() const { return cfg_.dt; }
-  std::int64_t steps() const { return engine_->counters().steps; }
-  double sim_time() const override { return engine_->counters().sim_time; }
-  const StepperBase& engine() const { return *engine_; }
+  std::int64_t steps() const { return engine().counters().steps; }
+  double sim_time() const override { return engine().counters().sim_time; }
+  const StepperBase& engine() const { return check_idle(), *engine_; }
 
  private:
   ParticleSystem engine_state() const override { return engine_->state(); }
@@ -94,10 +109,10 @@ class EventSim final : public Simulation {
   const char* name() const override { return "event"; }
   //! Runs to the absolute time `t_end` (since construction).
   void run_until(double t_end);
-  double time() const { return engine_->time(); }
-  std::int64_t events() const { return engine_->counters().events; }
-  double sim_time() const override { return engine_->counters().sim_time; }
-  const EventEngine& engine() const { return *engine_; }
+  double time() const { return engine().time(); }
+  std::int64_t events() const { return engine().counters().events; }
+  double sim_time() const override { return engine().counters().sim_time; }
+  const EventEngine& engine() const { return check_idle(), *engine_; }
 
  private:
   ParticleSystem engine_state() const override { return engine_->state(); }

@@ -99,3 +99,27 @@ def test_sigint_stops_between_chunks(engine):
     out, err = p.communicate(timeout=60)
     assert p.returncode == 0, err
     assert out.strip() == "interrupted, ran again"
+
+
+def test_engine_busy_in_another_thread_is_refused(gas):
+    """While one thread runs an engine (GIL released), another thread's access is refused, not a race."""
+    import threading
+    sim = hs.Stepper(hs.System.random(n=2000, phi=0.25, seed=1))
+    stop = threading.Event()
+    worker = threading.Thread(target=lambda: sim.run(steps=10**9, callback=lambda s: not stop.is_set(), every=1))
+    worker.start()
+    refused = 0
+    try:
+        for _ in range(2000):
+            try:
+                sim.positions
+            except ValueError as e:
+                assert str(e) == "the engine is running in another thread; wait for its run() to return"
+                refused += 1
+                if refused >= 3:
+                    break
+    finally:
+        stop.set()
+        worker.join()
+    assert refused >= 3
+    sim.run(steps=1)  # usable after
