@@ -7,6 +7,7 @@
 #include <pybind11/stl.h>
 
 #include <cmath>
+#include <filesystem>
 #include <fstream>
 #include <limits>
 #include <vector>
@@ -118,7 +119,8 @@ std::shared_ptr<SystemData> generate(InitMethod method, std::int64_t n, std::opt
   } else {
     const double p = phi.value_or(0.2);
     if (!(p > 0)) throw InputError("phi " + std::to_string(p) + " must be positive");
-    const double l = std::cbrt(double(n) * 4.0 / 3.0 * M_PI * radius * radius * radius / p);
+    // n < 1: any box, make_initial_state refuses the count with its own message.
+    const double l = n < 1 ? 1.0 : std::cbrt(double(n) * 4.0 / 3.0 * M_PI * radius * radius * radius / p);
     spec.box = Box::from_lengths({l, l, l}, periodic);
   }
   auto data = std::make_shared<SystemData>();
@@ -138,7 +140,9 @@ std::shared_ptr<SystemData> from_data(const std::string& path, const std::string
   const auto periodic = parse_boundary(boundary);
   auto data = std::make_shared<SystemData>();
   data->rounding_eps = eps;
-  if (!std::ifstream(path)) file_call([&] { return read_data(path, periodic, eps); });  // throws, naming the cause
+  // A file that cannot be opened (or is a directory): read_data's refusal, as an OSError.
+  if (!std::ifstream(path) || std::filesystem::is_directory(path))
+    file_call([&] { return read_data(path, periodic, eps); });
   data->sys = read_data(path, periodic, eps);
   return data;
 }

@@ -67,6 +67,9 @@ def test_unreadable_data_file(cli, tmp_path):
         hs.System.from_data(missing)
     assert str(err.value) == cli_error(cli("run", "--read-data", missing, check=False))
     assert "cannot open data file" in str(err.value)
+    with pytest.raises(OSError) as err:
+        hs.System.from_data(str(tmp_path))
+    assert str(err.value) == cli_error(cli("run", "--read-data", tmp_path, check=False))
 
 
 def test_malformed_data_file(cli, gas_file, tmp_path):
@@ -119,6 +122,9 @@ def test_bad_init(cli):
     with pytest.raises(ValueError) as err:
         hs.System.random(n=500, phi=0.35, method="random")
     assert str(err.value) == cli_error(cli("run", "--n", 500, "--phi", 0.35, "--init", "random", check=False))
+    with pytest.raises(ValueError) as err:
+        hs.System.random(n=0)
+    assert str(err.value) == "number of particles n = 0 must be >= 1"
     with pytest.raises(ValueError, match="unknown init method 'hexagonal'"):
         hs.System.random(n=10, method="hexagonal")
 
