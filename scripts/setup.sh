@@ -9,7 +9,8 @@ root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 build=${HS_BUILD_DIR:-$root/build}
 
 packages=(cmake g++ make libgtest-dev libgmock-dev libbenchmark-dev libcli11-dev nlohmann-json3-dev
-          python3-numpy python3-scipy python3-matplotlib python3-pytest python3-yaml)
+          python3-numpy python3-scipy python3-matplotlib python3-pytest python3-yaml
+          python3-pybind11 python3-dev python3-mdanalysis python3-tqdm)
 # The test run checks that every C++ file is formatted (.clang-format).
 [ "$mode" = test ] && packages+=(clang-format)
 if [ "${HS_WITH_LAMMPS:-1}" = 1 ]; then
@@ -53,7 +54,16 @@ case "$mode" in
     "$build/standalone/hardsphere" run --n 4000 --phi 0.3 --init-speed 1.7320508075688772 --steps 2000 --dt 0.01 \
       --json "$out/summary.json" --write-data "$out/final.data" --dump "$out/trajectory.dump" --dump-every 500
     PYTHONPATH="$root" /usr/bin/python3 -m compare.plot_speeds "$out/final.data" "$out/speed_distribution.png"
-    echo "setup: results in $out (summary.json, final.data, trajectory.dump, speed_distribution.png)"
+    # The final state drawn by the Python module from the build tree (docs/python.md).
+    if [ -f "$build/python/hardsphere/__init__.py" ] && ls "$build"/python/hardsphere/_hardsphere*.so >/dev/null 2>&1; then
+      PYTHONPATH="$build/python" /usr/bin/python3 -c 'import sys, hardsphere as hs
+hs.render(hs.System.from_data(sys.argv[1]), sys.argv[2], color="speed")' "$out/final.data" "$out/snapshot.png"
+      snapshot=", snapshot.png"
+    else
+      echo "setup: the Python module was not built (python3-pybind11 missing?): no snapshot.png" >&2
+      snapshot=""
+    fi
+    echo "setup: results in $out (summary.json, final.data, trajectory.dump, speed_distribution.png$snapshot)"
     ;;
   test)
     cd "$build" && ctest --output-on-failure -j"$(nproc)" ${HS_CTEST_ARGS:-}

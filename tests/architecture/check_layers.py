@@ -3,8 +3,8 @@
 
 Private headers live in standalone/src/<layer>/ and are included by their owner's name
 ("stepper/list_guard.hpp"); public headers in standalone/include/hardsphere/ belong to a layer
-each (PUBLIC below). A file may include its own layer and the layers below it only. The CLI and the
-LAMMPS styles are adapters: they see public headers only.
+each (PUBLIC below). A file may include its own layer and the layers below it only. The CLI, the
+LAMMPS styles and the Python module (python/src/) are adapters: they see public headers only.
 """
 import argparse
 import re
@@ -63,7 +63,7 @@ def main():
             problems.append(f"{p}: public header without a layer (add it to PUBLIC in {__file__})")
             continue
         files.append((p, PUBLIC[p.name]))
-    for d in ("standalone/cli", "plugin"):
+    for d in ("standalone/cli", "plugin", "python/src"):
         files += [(p, "adapter") for p in sorted((root / d).glob("*.[ch]*")) if p.suffix in (".cpp", ".hpp", ".h")]
     for path, layer in files:
         for inc in INCLUDE.findall(path.read_text()):

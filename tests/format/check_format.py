@@ -8,7 +8,7 @@ import subprocess
 import sys
 from pathlib import Path
 
-DIRS = ("standalone", "plugin", "bench", "tests")
+DIRS = ("standalone", "plugin", "python", "bench", "tests")
 SUFFIXES = {".cpp", ".hpp", ".h"}
 
 ap = argparse.ArgumentParser()

@@ -1,0 +1,150 @@
+// Chunks are short enough for Ctrl-C to answer at once and long enough that the GIL round trip
+// costs nothing measurable (bench/python_overhead.py); they change no result (each engine carries
+// its whole state across calls).
+#include "run_loop.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+
+#include "hardsphere/errors.hpp"
+#include "hardsphere/simulation.hpp"
+
+namespace py = pybind11;
+
+namespace hardsphere::python {
+
+namespace {
+
+//! Work per chunk: particle-steps for the stepper, events for the event engine.
+constexpr double kChunkWork = 1e6;
+
+//! Measures CPU time of the loop without the user's callbacks.
+class LoopClock {
+ public:
+  explicit LoopClock(Simulation& sim) : sim_(sim), t0_(process_cpu_seconds()) {}
+  ~LoopClock() { sim_.add_cpu(process_cpu_seconds() - t0_ - outside_); }
+  template <class F>
+  auto outside(F&& f) {
+    const double t = process_cpu_seconds();
+    struct Back {
+      LoopClock& c;
+      double t;
+      ~Back() { c.outside_ += process_cpu_seconds() - t; }
+    } back{*this, t};
+    return f();
+  }
+
+ private:
+  Simulation& sim_;
+  double t0_, outside_ = 0;
+};
+
+void check_signals() {
+  if (PyErr_CheckSignals() != 0) throw py::error_already_set();
+}
+
+//! The user's callback; returning False stops the run.
+bool call_back(LoopClock& clock, const py::object& callback, const py::object& self) {
+  if (callback.is_none()) return true;
+  const py::object r = clock.outside([&] { return callback(self); });
+  return !(py::isinstance<py::bool_>(r) && !r.cast<bool>());
+}
+
+void report(LoopClock& clock, const py::object& progress, double fraction, double sim_time) {
+  if (!progress.is_none()) clock.outside([&] { return progress(fraction, sim_time); });
+}
+
+std::string number(double x) {
+  std::ostringstream o;
+  o << x;
+  return o.str();
+}
+
+}  // namespace
+
+void run_stepper(StepperSim& sim, py::object self, std::optional<std::int64_t> steps, std::optional<double> time,
+                 py::object callback, std::optional<std::int64_t> every, py::object progress) {
+  if (steps && time) throw InputError("steps and time both set the run length; give one");
+  if (!steps && !time) throw InputError("run needs steps=N or time=T");
+  const double dt = sim.dt();
+  if (time) {
+    if (!(*time >= 0) || !std::isfinite(*time)) throw InputError("time " + number(*time) + " must be >= 0");
+    if (*time / dt > 1e15) throw InputError("time " + number(*time) + " / dt is more than 1e15 steps");
+    steps = std::llround(*time / dt);
+  }
+  if (*steps < 0) throw InputError("steps = " + std::to_string(*steps) + " must be >= 0");
+  if (every && *every < 1) throw InputError("every = " + std::to_string(*every) + " must be >= 1 (steps)");
+  if (!callback.is_none() && !every) throw InputError("callback needs every=K (steps between calls)");
+  const std::int64_t total = *steps;
+  const double n = double(std::max<std::size_t>(sim.state()->size(), 1));
+  const std::int64_t chunk = std::max<std::int64_t>(1, std::int64_t(kChunkWork / n));
+  LoopClock clock(sim);
+  std::int64_t done = 0, next_call = every ? std::min(*every, total) : total;
+  while (done < total) {
+    const std::int64_t k = std::min({chunk, total - done, next_call - done});
+    {
+      Simulation::Running running(sim);
+      py::gil_scoped_release release;
+      sim.run(k);
+    }
+    done += k;
+    check_signals();
+    if (every && done == next_call) {
+      next_call = std::min(next_call + *every, total);
+      if (done % *every == 0 && !call_back(clock, callback, self)) break;
+    }
+    report(clock, progress, double(done) / double(total), sim.sim_time());
+  }
+}
+
+void run_event(EventSim& sim, py::object self, std::optional<std::int64_t> steps, std::optional<double> time,
+               py::object callback, std::optional<double> every, py::object progress) {
+  if (steps) throw InputError("steps is a stepper option; the event engine runs for time (simulated time)");
+  if (!time) throw InputError("the event engine needs time=T (simulated time to run)");
+  if (!(*time > 0) || !std::isfinite(*time))
+    throw InputError("time = " + number(*time) +
+                     " must be positive and finite (event engine runs for a simulated time)");
+  if (every && (!(*every > 0) || !std::isfinite(*every)))
+    throw InputError("every = " + number(*every) + " must be positive and finite (simulated time)");
+  if (!callback.is_none() && !every) throw InputError("callback needs every=T (simulated time between calls)");
+  const double t0 = sim.time(), target = t0 + *time;
+  // Chunks of about kChunkWork events, from the event rate of the last chunk; the first from the
+  // neighbour-list events alone (one per half shell moved), times a margin for the collisions.
+  double speeds = 0;
+  for (const Vec3d& v : sim.state()->vel) speeds += norm(v);
+  const double rate = 4 * speeds / (0.5 * sim.engine().shell());
+  double chunk = rate > 0 ? std::min(*time, kChunkWork / rate) : *time;
+  std::int64_t calls = 0;
+  auto next_call = [&] {
+    if (!every) return target;
+    const double t = t0 + double(calls + 1) * *every;
+    return t >= target - 1e-9 * *every ? target : t;
+  };
+  LoopClock clock(sim);
+  while (sim.time() < target) {
+    const double x = sim.time(), call_at = next_call();
+    double end = std::min({x + chunk, call_at, target});
+    // The last chunk ends at `target` exactly only if it starts past half of it (Sterbenz), so
+    // the final state does not depend on where the chunks ended.
+    if (end >= target && x < 0.5 * target) end = 0.75 * target;
+    const std::int64_t e0 = sim.events();
+    {
+      Simulation::Running running(sim);
+      py::gil_scoped_release release;
+      sim.run_until(end);
+    }
+    const double ran = sim.time() - x;
+    const std::int64_t ev = sim.events() - e0;
+    chunk = ev > 0 ? std::clamp(ran * kChunkWork / double(ev), 0.5 * ran, 4 * ran) : 4 * std::max(ran, chunk);
+    check_signals();
+    if (every && end == call_at) {
+      ++calls;
+      if (!call_back(clock, callback, self)) break;
+    }
+    report(clock, progress, std::min(1.0, (sim.time() - t0) / *time), sim.sim_time());
+    if (end >= target) break;
+  }
+}
+
+}  // namespace hardsphere::python

@@ -1,0 +1,24 @@
+#pragma once
+//! Simulation::run for Python: the engine runs in chunks with the GIL released; between chunks
+//! the GIL is taken back to look for signals (Ctrl-C raises KeyboardInterrupt and leaves the
+//! engine at the end of the last chunk, ready to run again), call the user's callback and report
+//! progress.
+#include <pybind11/pybind11.h>
+
+#include <cstdint>
+#include <optional>
+
+#include "simulation.hpp"
+
+namespace hardsphere::python {
+
+//! `steps` or `time` (steps = round(time / dt), as the CLI's --time); `callback(self)` after
+//! every `every` steps; `progress(fraction, sim_time)` after each chunk.
+void run_stepper(StepperSim& sim, pybind11::object self, std::optional<std::int64_t> steps, std::optional<double> time,
+                 pybind11::object callback, std::optional<std::int64_t> every, pybind11::object progress);
+
+//! `time` of simulated time; `callback(self)` after every `every` of it.
+void run_event(EventSim& sim, pybind11::object self, std::optional<std::int64_t> steps, std::optional<double> time,
+               pybind11::object callback, std::optional<double> every, pybind11::object progress);
+
+}  // namespace hardsphere::python

@@ -1,0 +1,173 @@
+// The engines behind the Python module, measured and summarised as the run driver does it
+// (standalone/src/run), so a Python run reports what the CLI reports for the same run.
+#include "simulation.hpp"
+
+#include <cmath>
+#include <limits>
+#include <optional>
+#include <vector>
+
+#include "hardsphere/atomic_file.hpp"
+#include "hardsphere/errors.hpp"
+#include "hardsphere/lammps_io.hpp"
+#include "hardsphere/observables.hpp"
+
+namespace hardsphere::python {
+
+void Simulation::check_idle() const {
+  if (running_) throw InputError("the engine is running in another thread; wait for its run() to return");
+}
+
+std::shared_ptr<const ParticleSystem> Simulation::state() const {
+  check_idle();
+  if (!snapshot_) snapshot_ = std::make_shared<const ParticleSystem>(engine_state());
+  return snapshot_;
+}
+
+void Simulation::start_measurement() {
+  const auto s = state();
+  kinetic0_ = kinetic_energy(*s);
+  potential0_ = potential_energy(*s, physics_.gravity);
+  momentum0_ = total_momentum(*s);
+  cpu_ = 0;
+}
+
+void Simulation::reset_counters() {
+  check_idle();
+  engine_reset();
+  start_measurement();
+}
+
+nlohmann::json Simulation::observables(int histogram_bins) const {
+  if (histogram_bins < 1) throw InputError("histogram_bins " + std::to_string(histogram_bins) + " must be >= 1");
+  const ParticleSystem& fin = *state();
+  RunTotals t = totals();
+  t.kinetic_energy_initial = kinetic0_;
+  t.momentum_initial = momentum0_;
+  nlohmann::json j = physics_summary(fin, t, origin_.com_removed, origin_.seed, histogram_bins,
+                                     overlap_tolerance(fin, rounding_epsilon()));
+  j["engine"] = name();
+  add_energy_summary(j, kinetic0_, potential0_, potential_energy(fin, physics_.gravity), physics_);
+  j["loop_cpu_seconds"] = cpu_;
+  add_summary(j);
+  return j;
+}
+
+void Simulation::write_data(const std::string& path) const {
+  check_output_paths({{"write_data", path}});
+  hardsphere::write_data(path, *state(), title());
+}
+
+void Simulation::write_dump(const std::string& path) const {
+  check_output_paths({{"write_dump", path}});
+  DumpWriter dump(path);
+  dump.write_frame(dump_timestep(), *state());
+  dump.commit();
+}
+
+// ---- stepper
+
+StepperSim::StepperSim(const SystemData& start, const Physics& physics, const StepperConfig& cfg, Precision precision)
+    : Simulation(start, physics), cfg_(cfg), precision_(precision) {
+  engine_ = make_stepper(start.sys, physics_, cfg_, precision_);
+  start_measurement();
+}
+
+void StepperSim::run(std::int64_t steps) {
+  changed();
+  engine_->run(steps);
+}
+
+RunTotals StepperSim::totals() const {
+  const StepCounters& c = engine_->counters();
+  RunTotals t;
+  t.sim_time = c.sim_time;
+  t.collisions = c.collisions;
+  t.wall_collisions = c.wall_collisions;
+  t.pair_virial = c.pair_virial;
+  t.wall_impulse = c.wall_impulse;
+  t.resting_contacts = c.resting_contacts;
+  return t;
+}
+
+double StepperSim::rounding_epsilon() const {
+  return precision_ == Precision::Float ? double(std::numeric_limits<float>::epsilon())
+                                        : std::numeric_limits<double>::epsilon();
+}
+
+std::string StepperSim::title() const { return "hardsphere state after " + std::to_string(steps()) + " steps"; }
+
+// The stepper's keys of the CLI's summary (standalone/src/run/stepper_run.cpp), without its warnings.
+void StepperSim::add_summary(nlohmann::json& j) const {
+  const StepCounters& c = engine_->counters();
+  const double cpu = loop_cpu_seconds();
+  j["steps"] = c.steps;
+  j["equilibrate_steps"] = 0;
+  j["dt"] = cfg_.dt;
+  j["sim_time"] = c.sim_time;
+  j["cells_per_dim"] = engine_->cells_per_dim();
+  j["skin"] = engine_->skin();
+  j["scene_kernel"] = engine_->scene_kernel();
+  j["detect"] = engine_->sweep_detection() ? "sweep" : "overlap";
+  j["precision"] = precision_ == Precision::Float ? "float" : "double";
+  j["particle_steps_per_second"] = cpu > 0 ? double(state()->size()) * double(c.steps) / cpu : 0.0;
+  j["list_rebuilds"] = c.rebuilds;
+  j["unresolved_steps"] = c.unresolved_steps;
+  j["substeps"] = c.substeps;
+  j["step_cuts"] = c.step_cuts;
+}
+
+// ---- event engine
+
+EventSim::EventSim(const SystemData& start, const Physics& physics, const EventConfig& cfg)
+    : Simulation(start, physics) {
+  engine_ = std::make_unique<EventEngine>(start.sys, physics_, cfg);
+  start_measurement();
+}
+
+void EventSim::run_until(double t_end) {
+  changed();
+  // t_end - time() + time() is t_end exactly when the chunk starts past half of it (run_loop.cpp).
+  engine_->advance(std::max(0.0, t_end - engine_->time()));
+}
+
+RunTotals EventSim::totals() const {
+  const EventCounters& c = engine_->counters();
+  RunTotals t;
+  t.sim_time = c.sim_time;
+  t.collisions = c.collisions;
+  t.wall_collisions = c.wall_collisions;
+  t.pair_virial = c.pair_virial;
+  t.wall_impulse = c.wall_impulse;
+  t.resting_contacts = c.resting_contacts;
+  return t;
+}
+
+double EventSim::rounding_epsilon() const { return std::numeric_limits<double>::epsilon(); }
+
+std::string EventSim::title() const {
+  return "hardsphere state after event-driven time " + std::to_string(engine_->counters().sim_time);
+}
+
+// The event engine's keys of the CLI's summary (standalone/src/run/event_run.cpp), without the
+// block error bars (a Python run has no blocks).
+void EventSim::add_summary(nlohmann::json& j) const {
+  const EventCounters& c = engine_->counters();
+  const double cpu = loop_cpu_seconds();
+  j["sim_time"] = c.sim_time;
+  j["equilibrate_time"] = 0.0;
+  j["cells_per_dim"] = engine_->cells_per_dim();
+  j["scene_kernel"] = engine_->scene_kernel();
+  j["precision"] = "double";
+  j["cell_crossings"] = c.cell_crossings;
+  j["neighbour_list_rebuilds"] = c.neighbour_list_rebuilds;
+  j["neighbour_shell"] = engine_->shell();
+  j["stale_events"] = c.stale_events;
+  j["events"] = c.events;
+  j["full_predictions"] = c.full_predictions;
+  j["collisions_per_second"] = cpu > 0 ? double(c.collisions) / cpu : 0.0;
+  j["events_per_second"] = cpu > 0 ? double(c.events) / cpu : 0.0;
+  j["cpu_seconds_per_unit_time"] = c.sim_time > 0 ? cpu / c.sim_time : 0.0;
+}
+
+}  // namespace hardsphere::python

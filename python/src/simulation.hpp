@@ -1,0 +1,129 @@
+#pragma once
+//! The engines as the Python module holds them: a shared snapshot of the current state (the
+//! arrays Python sees), the observables as the CLI's JSON summary reports them, and the CLI's
+//! outputs. Plain C++ over the public headers; the Python glue is in module.cpp and run_loop.cpp.
+#include <atomic>
+#include <cstdint>
+#include <memory>
+#include <nlohmann/json.hpp>
+#include <string>
+
+#include "hardsphere/event_engine.hpp"
+#include "hardsphere/particles.hpp"
+#include "hardsphere/physics.hpp"
+#include "hardsphere/run_summary.hpp"
+#include "hardsphere/stepper.hpp"
+
+namespace hardsphere::python {
+
+//! A state with what the CLI's summary needs to know of its origin.
+struct SystemData {
+  ParticleSystem sys;
+  std::uint64_t seed = 1;    //!< the seed it was generated with (1, the CLI's default, otherwise)
+  bool com_removed = false;  //!< generated (momentum zeroed), not read or given
+  double rounding_eps = 0;   //!< overlaps accepted when read (an engine's rounding)
+};
+
+//! What both engines share: the measurement since construction or reset_counters().
+class Simulation {
+ public:
+  Simulation(const SystemData& start, const Physics& physics) : physics_(physics), origin_(start) {}
+  virtual ~Simulation() = default;
+  virtual const char* name() const = 0;
+  //! The current state in id order; shared, so arrays handed out stay valid after later runs.
+  std::shared_ptr<const ParticleSystem> state() const;
+  //! The CLI's JSON summary of the measurement so far.
+  nlohmann::json observables(int histogram_bins) const;
+  void reset_counters();
+  //! The CLI's --write-data and a one-frame --dump of the current state, as atomic files.
+  void write_data(const std::string& path) const;
+  void write_dump(const std::string& path) const;
+  double loop_cpu_seconds() const { return cpu_; }
+  void add_cpu(double seconds) { cpu_ += seconds; }
+  virtual double sim_time() const = 0;
+  const SystemData& origin() const { return origin_; }
+  //! Refuses (InputError) to touch an engine that another thread is running (its GIL is released).
+  void check_idle() const;
+  //! Marks the engine as running for the lifetime of the object.
+  class Running {
+   public:
+    explicit Running(Simulation& s) : s_(s) { s_.check_idle(), s_.running_ = true; }
+    ~Running() { s_.running_ = false; }
+    Running(const Running&) = delete;
+    Running& operator=(const Running&) = delete;
+
+   private:
+    Simulation& s_;
+  };
+
+ protected:
+  void changed() { snapshot_.reset(); }
+  //! The reference for energy and momentum changes: the state now.
+  void start_measurement();
+  virtual ParticleSystem engine_state() const = 0;
+  virtual void engine_reset() = 0;
+  virtual RunTotals totals() const = 0;
+  virtual double rounding_epsilon() const = 0;
+  virtual void add_summary(nlohmann::json& j) const = 0;
+  virtual std::string title() const = 0;
+  virtual std::int64_t dump_timestep() const = 0;
+
+  Physics physics_;
+  SystemData origin_;
+
+ private:
+  mutable std::shared_ptr<const ParticleSystem> snapshot_;
+  std::atomic<bool> running_{false};
+  double kinetic0_ = 0, potential0_ = 0;
+  Vec3d momentum0_;
+  double cpu_ = 0;
+};
+
+class StepperSim final : public Simulation {
+ public:
+  StepperSim(const SystemData& start, const Physics& physics, const StepperConfig& cfg, Precision precision);
+  const char* name() const override { return "stepper"; }
+  void run(std::int64_t steps);
+  double dt() const { return cfg_.dt; }
+  std::int64_t steps() const { return engine().counters().steps; }
+  double sim_time() const override { return engine().counters().sim_time; }
+  const StepperBase& engine() const { return check_idle(), *engine_; }
+
+ private:
+  ParticleSystem engine_state() const override { return engine_->state(); }
+  void engine_reset() override { engine_->reset_counters(); }
+  RunTotals totals() const override;
+  double rounding_epsilon() const override;
+  void add_summary(nlohmann::json& j) const override;
+  std::string title() const override;
+  std::int64_t dump_timestep() const override { return steps(); }
+
+  StepperConfig cfg_;
+  Precision precision_;
+  std::unique_ptr<StepperBase> engine_;
+};
+
+class EventSim final : public Simulation {
+ public:
+  EventSim(const SystemData& start, const Physics& physics, const EventConfig& cfg);
+  const char* name() const override { return "event"; }
+  //! Runs to the absolute time `t_end` (since construction).
+  void run_until(double t_end);
+  double time() const { return engine().time(); }
+  std::int64_t events() const { return engine().counters().events; }
+  double sim_time() const override { return engine().counters().sim_time; }
+  const EventEngine& engine() const { return check_idle(), *engine_; }
+
+ private:
+  ParticleSystem engine_state() const override { return engine_->state(); }
+  void engine_reset() override { engine_->reset_counters(); }
+  RunTotals totals() const override;
+  double rounding_epsilon() const override;
+  void add_summary(nlohmann::json& j) const override;
+  std::string title() const override;
+  std::int64_t dump_timestep() const override { return events(); }
+
+  std::unique_ptr<EventEngine> engine_;
+};
+
+}  // namespace hardsphere::python

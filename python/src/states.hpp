@@ -1,0 +1,64 @@
+#pragma once
+//! Python values into the library's inputs: boxes, states (given, generated, read), physics and
+//! cell grids, checked by the library's own validation. InputError is raised as ValueError,
+//! FileError as OSError (module.cpp).
+#include <pybind11/pybind11.h>
+
+#include <array>
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <stdexcept>
+#include <string>
+
+#include "hardsphere/box.hpp"
+#include "hardsphere/errors.hpp"
+#include "hardsphere/init.hpp"
+#include "hardsphere/physics.hpp"
+#include "simulation.hpp"
+
+namespace hardsphere::python {
+
+//! A refusal about a file (cannot open, cannot write): raised as OSError.
+struct FileError : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+//! Runs `f`, turning its InputErrors into FileErrors (for calls whose every refusal is a file's).
+template <class F>
+auto file_call(F&& f) {
+  try {
+    return f();
+  } catch (const FormatError&) {
+    throw;
+  } catch (const InputError& e) {
+    throw FileError(e.what());
+  }
+}
+
+//! hs.Box(lengths, boundary, lo): lengths and lo one number or three.
+Box make_box(const pybind11::object& lengths, const std::string& boundary, const pybind11::object& lo);
+
+//! hs.System(box, positions, ...), checked as a data file is.
+std::shared_ptr<SystemData> make_system(const Box& box, const pybind11::object& positions,
+                                        const pybind11::object& velocities, const pybind11::object& radii,
+                                        const pybind11::object& masses, const pybind11::object& ids,
+                                        const pybind11::object& types, const pybind11::object& images);
+
+//! A generated state as the CLI's --n/--phi/--box/... make it.
+std::shared_ptr<SystemData> generate(InitMethod method, std::int64_t n, std::optional<double> phi,
+                                     const pybind11::object& box, std::uint64_t seed, double radius, double mass,
+                                     double temperature, std::optional<double> speed, const std::string& boundary);
+
+//! A data file as --read-data reads it; FileError if it cannot be opened.
+std::shared_ptr<SystemData> from_data(const std::string& path, const std::string& boundary,
+                                      const std::string& precision);
+
+//! The physics keywords, validated with the keywords' names in messages.
+Physics physics_of(const Box& box, double restitution, std::optional<double> contact_time,
+                   std::optional<std::array<double, 3>> gravity, double resting_time);
+
+//! "auto", K or (Kx, Ky, Kz).
+std::array<int, 3> cells_of(const pybind11::object& cells);
+
+}  // namespace hardsphere::python

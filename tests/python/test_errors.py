@@ -1,0 +1,140 @@
+"""Every refusal class of the CLI raises with the CLI's message: ValueError for bad values and
+malformed files (with file:line), OSError for files that cannot be read or written."""
+import os
+
+import pytest
+
+import hardsphere as hs
+from conftest import cli_error
+
+
+@pytest.fixture(scope="module")
+def gas():
+    return hs.System.random(n=100, phi=0.1, seed=1)
+
+
+@pytest.fixture(scope="module")
+def gas_file(tmp_path_factory, gas):
+    p = tmp_path_factory.mktemp("e") / "gas.data"
+    gas.write_data(str(p))
+    return str(p)
+
+
+def same(cli_text, py_text, *names):
+    """The CLI's text with its option names as the keywords (--contact-time -> contact_time)."""
+    for n in names:
+        cli_text = cli_text.replace("--" + n, n.replace("-", "_"))
+    assert py_text == cli_text
+
+
+@pytest.mark.parametrize("engine", [hs.Stepper, hs.EventEngine])
+@pytest.mark.parametrize("e", [1.5, 0.0, -0.2])
+def test_bad_restitution(cli, gas_file, gas, engine, e):
+    with pytest.raises(ValueError) as err:
+        engine(gas, restitution=e)
+    same(cli_error(cli("run", "--read-data", gas_file, "--restitution", e, check=False)), str(err.value),
+         "restitution")
+
+
+def test_bad_contact_time(cli, gas_file, gas):
+    with pytest.raises(ValueError) as err:
+        hs.Stepper(gas, restitution=0.9, contact_time=-1.0)
+    same(cli_error(cli("run", "--read-data", gas_file, "--restitution", 0.9, "--contact-time", -1, check=False)),
+         str(err.value), "restitution", "contact-time")
+
+
+@pytest.mark.parametrize("engine", [hs.Stepper, hs.EventEngine])
+def test_gravity_along_periodic_axis(cli, gas_file, gas, engine):
+    with pytest.raises(ValueError) as err:
+        engine(gas, gravity=(0, 0, -1))
+    text = cli_error(cli("run", "--read-data", gas_file, "--gravity", "0,0,-1", check=False))
+    same(text.replace("(--boundary ...,w)", "(boundary ...,w)"), str(err.value), "gravity")
+
+
+@pytest.mark.parametrize("dt", [0.0, -0.01])
+def test_bad_dt(cli, gas_file, gas, dt):
+    with pytest.raises(ValueError) as err:
+        hs.Stepper(gas, dt=dt)
+    assert str(err.value) == cli_error(cli("run", "--read-data", gas_file, "--dt", dt, "--steps", 1, check=False))
+    # The CLI's parser refuses a NaN before the stepper sees it; here the stepper does.
+    with pytest.raises(ValueError, match="time step dt = nan must be positive and finite"):
+        hs.Stepper(gas, dt=float("nan"))
+
+
+def test_unreadable_data_file(cli, tmp_path):
+    missing = str(tmp_path / "missing.data")
+    with pytest.raises(OSError) as err:
+        hs.System.from_data(missing)
+    assert str(err.value) == cli_error(cli("run", "--read-data", missing, check=False))
+    assert "cannot open data file" in str(err.value)
+    with pytest.raises(OSError) as err:
+        hs.System.from_data(str(tmp_path))
+    assert str(err.value) == cli_error(cli("run", "--read-data", tmp_path, check=False))
+
+
+def test_malformed_data_file(cli, gas_file, tmp_path):
+    bad = tmp_path / "bad.data"
+    lines = open(gas_file).read().splitlines()
+    atoms = next(i for i, line in enumerate(lines) if line.startswith("Atoms"))
+    lines[atoms + 2] = "1 1 1.0 x 0 0 0"  # a row with a non-number
+    bad.write_text("\n".join(lines) + "\n")
+    with pytest.raises(ValueError) as err:
+        hs.System.from_data(str(bad))
+    assert str(err.value) == cli_error(cli("run", "--read-data", bad, check=False))
+    assert str(err.value).startswith(f"{bad}:{atoms + 3}: ")
+
+
+def test_overlapping_spheres(cli, tmp_path):
+    box = hs.Box(10.0)
+    with pytest.raises(ValueError, match="overlap"):
+        hs.System(box, [[1, 1, 1], [1.5, 1, 1]])
+    # The same pair in a data file: the CLI's and the module's reader say the same.
+    good = hs.System(box, [[1, 1, 1], [3, 1, 1]])
+    path = tmp_path / "pair.data"
+    good.write_data(str(path))
+    text = path.read_text().replace("3 1 1", "1.5 1 1", 1)
+    assert text != path.read_text()
+    path.write_text(text)
+    with pytest.raises(ValueError) as err:
+        hs.System.from_data(str(path))
+    assert str(err.value) == cli_error(cli("run", "--read-data", path, check=False))
+
+
+def test_bad_run_lengths(gas):
+    sim = hs.Stepper(gas)
+    with pytest.raises(ValueError, match="steps = -1 must be >= 0"):
+        sim.run(steps=-1)
+    with pytest.raises(ValueError, match="give one"):
+        sim.run(steps=1, time=1.0)
+    ev = hs.EventEngine(gas)
+    with pytest.raises(ValueError, match="stepper option"):
+        ev.run(steps=10)
+    with pytest.raises(ValueError, match="must be positive and finite"):
+        ev.run(time=-1.0)
+    with pytest.raises(ValueError, match="unknown|expected"):
+        hs.Stepper(gas, detect="sideways")
+
+
+def test_bad_init(cli):
+    with pytest.raises(ValueError) as err:
+        hs.System.random(n=100, phi=0.7)
+    assert str(err.value) == cli_error(cli("run", "--n", 100, "--phi", 0.7, check=False))
+    with pytest.raises(ValueError) as err:
+        hs.System.random(n=500, phi=0.35, method="random")
+    assert str(err.value) == cli_error(cli("run", "--n", 500, "--phi", 0.35, "--init", "random", check=False))
+    with pytest.raises(ValueError) as err:
+        hs.System.random(n=0)
+    assert str(err.value) == "number of particles n = 0 must be >= 1"
+    with pytest.raises(ValueError, match="unknown init method 'hexagonal'"):
+        hs.System.random(n=10, method="hexagonal")
+
+
+def test_unwritable_outputs_leave_nothing(gas, tmp_path):
+    sim = hs.Stepper(gas)
+    with pytest.raises(OSError):
+        sim.write_data(str(tmp_path / "no" / "such" / "dir.data"))
+    with pytest.raises(OSError):
+        sim.write_dump(str(tmp_path))  # a directory
+    sim.write_data(str(tmp_path / "ok.data"))
+    sim.write_dump(str(tmp_path / "ok.dump"))
+    assert sorted(os.listdir(tmp_path)) == ["ok.data", "ok.dump"]  # no temporaries left
