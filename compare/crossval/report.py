@@ -16,6 +16,18 @@ from compare.crossval import analysis as xv_analysis  # noqa: E402
 from compare.machine_info import cpu_model  # noqa: E402
 
 
+
+def save_panel(fig, ax, out, name, xlabel, ylabel, title):
+    """Labels one panel, writes the figure to out/name and closes it; returns name."""
+    ax.set_xlabel(xlabel)
+    ax.set_ylabel(ylabel)
+    ax.set_title(title)
+    ax.legend(fontsize=5)
+    fig.tight_layout()
+    fig.savefig(out / name, dpi=130)
+    plt.close(fig)
+    return name
+
 def _first_line(cmd, pattern):
     try:
         with tempfile.TemporaryDirectory() as d:  # liggghts -h writes log.liggghts into its directory
@@ -126,14 +138,8 @@ def fig_speeds(out, rows, curves, state):
         labelled = r["kind"] == "hard" or r["bh_shift"] == stiffest[r["engine"]]
         ax.step(0.5 * (bins[1:] + bins[:-1]), h, where="mid", lw=0.8, alpha=0.7,
                 label=f"{r['setting']} (p={r['ks_p']:.2f})" if labelled else None)
-    ax.set_xlabel("speed v sqrt(m/kT)")
-    ax.set_ylabel("probability density")
-    ax.set_title(f"Speeds, {state}")
-    ax.legend(fontsize=5)
-    fig.tight_layout()
-    fig.savefig(out / f"speeds_{state}.png", dpi=130)
-    plt.close(fig)
-    return f"speeds_{state}.png"
+    return save_panel(fig, ax, out, f"speeds_{state}.png", "speed v sqrt(m/kT)", "probability density",
+                      f"Speeds, {state}")
 
 
 def fig_rdf(out, rows, curves, state):
@@ -202,14 +208,8 @@ def fig_msd(out, rows, curves, state):
             continue
         tau, msd = curves[(state, r["setting"])]["msd"]
         ax.plot(tau, msd, lw=0.8, label=f"{r['setting']} D={fmt(r['D'])}")
-    ax.set_xlabel("t / tau")
-    ax.set_ylabel("MSD / sigma^2")
-    ax.set_title(f"Mean-squared displacement, {state}")
-    ax.legend(fontsize=5)
-    fig.tight_layout()
-    fig.savefig(out / f"msd_{state}.png", dpi=130)
-    plt.close(fig)
-    return f"msd_{state}.png"
+    return save_panel(fig, ax, out, f"msd_{state}.png", "t / tau", "MSD / sigma^2",
+                      f"Mean-squared displacement, {state}")
 
 
 def state_table(rows, state):
