@@ -209,10 +209,10 @@ PYBIND11_MODULE(_hardsphere, m) {
   ev.def(
       "_run",
       [](py::object self, std::optional<std::int64_t> steps, std::optional<double> time, py::object callback,
-         std::optional<double> every,
-         py::object progress) { run_event(self.cast<EventSim&>(), self, steps, time, callback, every, progress); },
+         std::optional<double> every, py::object progress,
+         int blocks) { run_event(self.cast<EventSim&>(), self, steps, time, callback, every, progress, blocks); },
       "steps"_a = py::none(), "time"_a = py::none(), "callback"_a = py::none(), "every"_a = py::none(),
-      "progress"_a = py::none());
+      "progress"_a = py::none(), "blocks"_a = 20);
   ev.def_property_readonly("time", &EventSim::time, "simulated time since construction");
   ev.def_property_readonly("events", &EventSim::events, "events since construction or reset_counters()");
   ev.def_property_readonly("shell", [](const EventSim& s) { return s.engine().shell(); });
