@@ -8,11 +8,12 @@
 """
 import numpy as _np
 
-from ._hardsphere import Box, EventEngine, Stepper, System
+from ._hardsphere import Box, DumpWriter, EventEngine, Stepper, System
 from .progress import progress_bar
 from .render import render
 
-__all__ = ["Box", "System", "Stepper", "EventEngine", "render", "progress_bar", "unwrapped_positions", "freud_box"]
+__all__ = ["Box", "System", "Stepper", "EventEngine", "DumpWriter", "render", "progress_bar", "unwrapped_positions",
+           "freud_box"]
 
 
 def _run(self, steps=None, time=None, *, callback=None, every=None, progress=None, **engine_options):

@@ -65,6 +65,31 @@ void Simulation::write_dump(const std::string& path) const {
   dump.commit();
 }
 
+DumpFile::DumpFile(const std::string& path) : path_(path) {
+  check_output_paths({{"DumpWriter", path}});
+  dump_.emplace(path);
+}
+
+DumpWriter& DumpFile::open() {
+  if (!dump_) throw InputError("DumpWriter '" + path_ + "' is closed");
+  return *dump_;
+}
+
+void DumpFile::write(const Simulation& sim) {
+  sim.write_frame(open());
+  ++frames_;
+}
+
+void DumpFile::close() {
+  if (!dump_) return;
+  // Committed or not, the writer is done: a failed commit leaves no file and no open temporary.
+  struct Done {
+    std::optional<DumpWriter>& d;
+    ~Done() { d.reset(); }
+  } done{dump_};
+  dump_->commit();
+}
+
 // ---- stepper
 
 StepperSim::StepperSim(const SystemData& start, const Physics& physics, const StepperConfig& cfg, Precision precision)

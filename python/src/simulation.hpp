@@ -10,6 +10,7 @@
 #include <string>
 
 #include "hardsphere/event_engine.hpp"
+#include "hardsphere/lammps_io.hpp"
 #include "hardsphere/particles.hpp"
 #include "hardsphere/physics.hpp"
 #include "hardsphere/run_summary.hpp"
@@ -40,6 +41,8 @@ class Simulation {
   //! The CLI's --write-data and a one-frame --dump of the current state, as atomic files.
   void write_data(const std::string& path) const;
   void write_dump(const std::string& path) const;
+  //! One frame of the current state, timestep the steps or events so far (as the CLI's frames).
+  void write_frame(DumpWriter& dump) const { dump.write_frame(dump_timestep(), *state()); }
   double loop_cpu_seconds() const { return cpu_; }
   void add_cpu(double seconds) { cpu_ += seconds; }
   virtual double sim_time() const = 0;
@@ -137,6 +140,25 @@ class EventSim final : public Simulation {
   EventConfig cfg_;
   std::unique_ptr<EventEngine> engine_;
   std::optional<BlockAverages> blocks_;  // of the measurement since construction or reset_counters()
+};
+
+//! hs.DumpWriter: the CLI's --dump, a frame per write(), the file committed by close() (until
+//! then it is a temporary, removed if the writer is discarded or the process dies).
+class DumpFile {
+ public:
+  explicit DumpFile(const std::string& path);
+  void write(const Simulation& sim);
+  void close();
+  void discard() { dump_.reset(); }
+  bool closed() const { return !dump_; }
+  std::int64_t frames() const { return frames_; }
+  const std::string& path() const { return path_; }
+
+ private:
+  DumpWriter& open();
+  std::string path_;
+  std::optional<DumpWriter> dump_;
+  std::int64_t frames_ = 0;
 };
 
 }  // namespace hardsphere::python
