@@ -8,15 +8,20 @@
 """
 import numpy as _np
 
-from ._hardsphere import Box, EventEngine, Stepper, System
+from ._hardsphere import Box, DumpWriter, EventEngine, Stepper, System
 from .progress import progress_bar
 from .render import render
 
-__all__ = ["Box", "System", "Stepper", "EventEngine", "render", "progress_bar", "unwrapped_positions", "freud_box"]
+__all__ = ["Box", "System", "Stepper", "EventEngine", "DumpWriter", "render", "progress_bar", "unwrapped_positions",
+           "freud_box"]
 
 
-def _run(self, steps=None, time=None, *, callback=None, every=None, progress=None):
+def _run(self, steps=None, time=None, *, callback=None, every=None, progress=None, **engine_options):
     """Runs `steps` steps or simulated `time` (Stepper: steps = round(time / dt); EventEngine: time only).
+
+    A run over the engine's work_limit is refused before it starts (ValueError, the CLI's message).
+    EventEngine.run(..., blocks=20): the run is measured in that many blocks, as the CLI's --blocks,
+    for the error bars in observables().
 
     The loop runs in C++ with the GIL released, in chunks; between chunks Ctrl-C raises
     KeyboardInterrupt and leaves the engine at the end of the last chunk, ready to run again.
@@ -29,7 +34,7 @@ def _run(self, steps=None, time=None, *, callback=None, every=None, progress=Non
         bar = progress_bar()
         progress = bar.update
     try:
-        self._run(steps=steps, time=time, callback=callback, every=every, progress=progress)
+        self._run(steps=steps, time=time, callback=callback, every=every, progress=progress, **engine_options)
     finally:
         if bar is not None:
             bar.close()

@@ -71,7 +71,8 @@ void add_simulation(py::class_<Sim>& c) {
       "Writes the current state as the CLI's --write-data does (LAMMPS data file, 17 digits, atomic).");
   c.def(
       "write_dump", [](Sim& s, const std::string& p) { file_call([&] { s.write_dump(p); }); }, "path"_a,
-      "Writes the current state as one frame of the CLI's --dump (LAMMPS text dump, atomic).");
+      "Writes the current state as one frame of the CLI's --dump (LAMMPS text dump, atomic); hs.DumpWriter "
+      "writes several.");
   c.def(
       "system",
       [](Sim& s) {
@@ -160,6 +161,43 @@ PYBIND11_MODULE(_hardsphere, m) {
           },
           "path"_a, "title"_a = "hardsphere state", "Writes a LAMMPS data file (17 digits, atomic).");
 
+  py::class_<DumpFile>(m, "DumpWriter",
+                       "A LAMMPS text dump as the CLI's --dump writes it, one frame per write(sim); the file appears "
+                       "complete at close() (a with block closes it, or discards it on an exception).")
+      .def(
+          py::init([](const std::string& path) { return file_call([&] { return std::make_unique<DumpFile>(path); }); }),
+          "path"_a)
+      .def(
+          "write",
+          [](DumpFile& d, py::object sim) {
+            if (d.closed()) throw InputError("DumpWriter '" + d.path() + "' is closed");
+            const Simulation* s = nullptr;
+            if (py::isinstance<StepperSim>(sim))
+              s = &sim.cast<const StepperSim&>();
+            else if (py::isinstance<EventSim>(sim))
+              s = &sim.cast<const EventSim&>();
+            else
+              throw py::type_error("DumpWriter.write takes a Stepper or an EventEngine");
+            file_call([&] { d.write(*s); });
+          },
+          "sim"_a,
+          "Appends a frame of the engine's current state (timestep: its steps or events so far, as the CLI's frames).")
+      .def(
+          "close", [](DumpFile& d) { file_call([&] { d.close(); }); },
+          "Commits the file (renamed into place); closing twice does nothing.")
+      .def("discard", &DumpFile::discard, "Removes the unfinished file; nothing is left.")
+      .def_property_readonly("closed", &DumpFile::closed)
+      .def_property_readonly("frames", &DumpFile::frames, "frames written")
+      .def_property_readonly("path", &DumpFile::path)
+      .def("__enter__", [](py::object self) { return self; })
+      .def("__exit__", [](DumpFile& d, py::object type, py::object, py::object) {
+        if (type.is_none())
+          file_call([&] { d.close(); });
+        else
+          d.discard();
+        return false;
+      });
+
   py::class_<StepperSim> st(m, "Stepper", "The time stepper (the CLI's default engine).");
   st.def(py::init([](const SystemData& s, double dt, double restitution, std::optional<double> contact_time,
                      std::optional<std::array<double, 3>> gravity, double resting_time, const std::string& detect,
@@ -209,10 +247,10 @@ PYBIND11_MODULE(_hardsphere, m) {
   ev.def(
       "_run",
       [](py::object self, std::optional<std::int64_t> steps, std::optional<double> time, py::object callback,
-         std::optional<double> every,
-         py::object progress) { run_event(self.cast<EventSim&>(), self, steps, time, callback, every, progress); },
+         std::optional<double> every, py::object progress,
+         int blocks) { run_event(self.cast<EventSim&>(), self, steps, time, callback, every, progress, blocks); },
       "steps"_a = py::none(), "time"_a = py::none(), "callback"_a = py::none(), "every"_a = py::none(),
-      "progress"_a = py::none());
+      "progress"_a = py::none(), "blocks"_a = 20);
   ev.def_property_readonly("time", &EventSim::time, "simulated time since construction");
   ev.def_property_readonly("events", &EventSim::events, "events since construction or reset_counters()");
   ev.def_property_readonly("shell", [](const EventSim& s) { return s.engine().shell(); });

@@ -77,6 +77,7 @@ void run_stepper(StepperSim& sim, py::object self, std::optional<std::int64_t> s
   if (every && *every < 1) throw InputError("every = " + std::to_string(*every) + " must be >= 1 (steps)");
   if (!callback.is_none() && !every) throw InputError("callback needs every=K (steps between calls)");
   const std::int64_t total = *steps;
+  sim.check_work(total);
   const double n = double(std::max<std::size_t>(sim.state()->size(), 1));
   const std::int64_t chunk = std::max<std::int64_t>(1, std::int64_t(kChunkWork / n));
   LoopClock clock(sim);
@@ -99,7 +100,7 @@ void run_stepper(StepperSim& sim, py::object self, std::optional<std::int64_t> s
 }
 
 void run_event(EventSim& sim, py::object self, std::optional<std::int64_t> steps, std::optional<double> time,
-               py::object callback, std::optional<double> every, py::object progress) {
+               py::object callback, std::optional<double> every, py::object progress, int blocks) {
   if (steps) throw InputError("steps is a stepper option; the event engine runs for time (simulated time)");
   if (!time) throw InputError("the event engine needs time=T (simulated time to run)");
   if (!(*time > 0) || !std::isfinite(*time))
@@ -108,6 +109,8 @@ void run_event(EventSim& sim, py::object self, std::optional<std::int64_t> steps
   if (every && (!(*every > 0) || !std::isfinite(*every)))
     throw InputError("every = " + number(*every) + " must be positive and finite (simulated time)");
   if (!callback.is_none() && !every) throw InputError("callback needs every=T (simulated time between calls)");
+  if (blocks < 1) throw InputError("blocks = " + std::to_string(blocks) + " must be >= 1");
+  sim.check_work(*time);
   const double t0 = sim.time(), target = t0 + *time;
   // Chunks of about kChunkWork events, from the event rate of the last chunk; the first from the
   // neighbour-list events alone (one per half shell moved), times a margin for the collisions.
@@ -121,30 +124,53 @@ void run_event(EventSim& sim, py::object self, std::optional<std::int64_t> steps
     const double t = t0 + double(calls + 1) * *every;
     return t >= target - 1e-9 * *every ? target : t;
   };
+  // Blocks end where event_run.cpp ends them: each a block after the last, the last at the end.
+  const double block = *time / blocks;
+  int closed = 0;
+  double block_start = t0;
+  auto block_end = [&] { return closed + 1 == blocks ? target : block_start + block; };
+  auto close_block = [&] {
+    sim.close_block(sim.time() - block_start);
+    block_start = sim.time();
+    ++closed;
+  };
+  // A run stopped early (callback, Ctrl-C, error) closes the block it is in, so the next block's
+  // counts start where this one's ended.
+  auto close_partial = [&] {
+    if (closed < blocks && sim.time() > block_start) close_block();
+  };
   LoopClock clock(sim);
-  while (sim.time() < target) {
-    const double x = sim.time(), call_at = next_call();
-    double end = std::min({x + chunk, call_at, target});
-    // The last chunk ends at `target` exactly only if it starts past half of it (Sterbenz), so
-    // the final state does not depend on where the chunks ended.
-    if (end >= target && x < 0.5 * target) end = 0.75 * target;
-    const std::int64_t e0 = sim.events();
-    {
-      Simulation::Running running(sim);
-      py::gil_scoped_release release;
-      sim.run_until(end);
+  try {
+    while (sim.time() < target) {
+      const double x = sim.time(), call_at = next_call(), block_at = block_end();
+      const double stop = std::min({call_at, block_at, target});
+      double end = std::min(x + chunk, stop);
+      // A chunk ends at a stop exactly only if it starts past half of it (Sterbenz), so the
+      // state, blocks and callbacks do not depend on where the chunks ended.
+      if (end >= stop && x < 0.5 * stop) end = 0.75 * stop;
+      const std::int64_t e0 = sim.events();
+      {
+        Simulation::Running running(sim);
+        py::gil_scoped_release release;
+        sim.run_until(end, target);
+      }
+      const double ran = sim.time() - x;
+      const std::int64_t ev = sim.events() - e0;
+      chunk = ev > 0 ? std::clamp(ran * kChunkWork / double(ev), 0.5 * ran, 4 * ran) : 4 * std::max(ran, chunk);
+      if (end == block_at) close_block();
+      check_signals();
+      if (every && end == call_at) {
+        ++calls;
+        if (!call_back(clock, callback, self)) break;
+      }
+      report(clock, progress, std::min(1.0, (sim.time() - t0) / *time), sim.sim_time());
+      if (end >= target) break;
     }
-    const double ran = sim.time() - x;
-    const std::int64_t ev = sim.events() - e0;
-    chunk = ev > 0 ? std::clamp(ran * kChunkWork / double(ev), 0.5 * ran, 4 * ran) : 4 * std::max(ran, chunk);
-    check_signals();
-    if (every && end == call_at) {
-      ++calls;
-      if (!call_back(clock, callback, self)) break;
-    }
-    report(clock, progress, std::min(1.0, (sim.time() - t0) / *time), sim.sim_time());
-    if (end >= target) break;
+  } catch (...) {
+    close_partial();
+    throw;
   }
+  close_partial();
 }
 
 }  // namespace hardsphere::python

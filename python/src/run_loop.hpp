@@ -12,13 +12,15 @@
 
 namespace hardsphere::python {
 
-//! `steps` or `time` (steps = round(time / dt), as the CLI's --time); `callback(self)` after
-//! every `every` steps; `progress(fraction, sim_time)` after each chunk.
+//! `steps` or `time` (steps = round(time / dt), as the CLI's --time), refused over the work
+//! limit as the CLI refuses it; `callback(self)` after every `every` steps;
+//! `progress(fraction, sim_time)` after each chunk.
 void run_stepper(StepperSim& sim, pybind11::object self, std::optional<std::int64_t> steps, std::optional<double> time,
                  pybind11::object callback, std::optional<std::int64_t> every, pybind11::object progress);
 
-//! `time` of simulated time; `callback(self)` after every `every` of it.
+//! `time` of simulated time in `blocks` blocks (the CLI's --blocks, for the error bars);
+//! `callback(self)` after every `every` of it.
 void run_event(EventSim& sim, pybind11::object self, std::optional<std::int64_t> steps, std::optional<double> time,
-               pybind11::object callback, std::optional<double> every, pybind11::object progress);
+               pybind11::object callback, std::optional<double> every, pybind11::object progress, int blocks);
 
 }  // namespace hardsphere::python

@@ -65,12 +65,41 @@ void Simulation::write_dump(const std::string& path) const {
   dump.commit();
 }
 
+DumpFile::DumpFile(const std::string& path) : path_(path) {
+  check_output_paths({{"DumpWriter", path}});
+  dump_.emplace(path);
+}
+
+DumpWriter& DumpFile::open() {
+  if (!dump_) throw InputError("DumpWriter '" + path_ + "' is closed");
+  return *dump_;
+}
+
+void DumpFile::write(const Simulation& sim) {
+  sim.write_frame(open());
+  ++frames_;
+}
+
+void DumpFile::close() {
+  if (!dump_) return;
+  // Committed or not, the writer is done: a failed commit leaves no file and no open temporary.
+  struct Done {
+    std::optional<DumpWriter>& d;
+    ~Done() { d.reset(); }
+  } done{dump_};
+  dump_->commit();
+}
+
 // ---- stepper
 
 StepperSim::StepperSim(const SystemData& start, const Physics& physics, const StepperConfig& cfg, Precision precision)
     : Simulation(start, physics), cfg_(cfg), precision_(precision) {
   engine_ = make_stepper(start.sys, physics_, cfg_, precision_);
   start_measurement();
+}
+
+void StepperSim::check_work(std::int64_t steps) const {
+  check_stepper_work(engine(), cfg_, *state(), steps, cfg_.max_particle_steps);
 }
 
 void StepperSim::run(std::int64_t steps) {
@@ -97,7 +126,7 @@ double StepperSim::rounding_epsilon() const {
 
 std::string StepperSim::title() const { return "hardsphere state after " + std::to_string(steps()) + " steps"; }
 
-// The stepper's keys of the CLI's summary (standalone/src/run/stepper_run.cpp), without its warnings.
+// The stepper's keys of the CLI's summary (standalone/src/run/stepper_run.cpp).
 void StepperSim::add_summary(nlohmann::json& j) const {
   const StepCounters& c = engine_->counters();
   const double cpu = loop_cpu_seconds();
@@ -115,20 +144,26 @@ void StepperSim::add_summary(nlohmann::json& j) const {
   j["unresolved_steps"] = c.unresolved_steps;
   j["substeps"] = c.substeps;
   j["step_cuts"] = c.step_cuts;
+  add_stepper_warnings(j, *engine_, cfg_, *state());
 }
 
 // ---- event engine
 
 EventSim::EventSim(const SystemData& start, const Physics& physics, const EventConfig& cfg)
-    : Simulation(start, physics) {
+    : Simulation(start, physics), cfg_(cfg) {
   engine_ = std::make_unique<EventEngine>(start.sys, physics_, cfg);
+  blocks_.emplace(engine_->state());
   start_measurement();
 }
 
-void EventSim::run_until(double t_end) {
+void EventSim::run_until(double t_end, double run_end) {
   changed();
   // t_end - time() + time() is t_end exactly when the chunk starts past half of it (run_loop.cpp).
-  engine_->advance(std::max(0.0, t_end - engine_->time()));
+  engine_->advance(std::max(0.0, t_end - engine_->time()), run_end);
+}
+
+void EventSim::check_work(double duration) const {
+  check_event_work(*state(), engine().shell(), duration, cfg_.max_events, physics_.gravity);
 }
 
 RunTotals EventSim::totals() const {
@@ -149,8 +184,7 @@ std::string EventSim::title() const {
   return "hardsphere state after event-driven time " + std::to_string(engine_->counters().sim_time);
 }
 
-// The event engine's keys of the CLI's summary (standalone/src/run/event_run.cpp), without the
-// block error bars (a Python run has no blocks).
+// The event engine's keys of the CLI's summary (standalone/src/run/event_run.cpp).
 void EventSim::add_summary(nlohmann::json& j) const {
   const EventCounters& c = engine_->counters();
   const double cpu = loop_cpu_seconds();
@@ -168,6 +202,7 @@ void EventSim::add_summary(nlohmann::json& j) const {
   j["collisions_per_second"] = cpu > 0 ? double(c.collisions) / cpu : 0.0;
   j["events_per_second"] = cpu > 0 ? double(c.events) / cpu : 0.0;
   j["cpu_seconds_per_unit_time"] = c.sim_time > 0 ? cpu / c.sim_time : 0.0;
+  blocks_->add_summary(j);
 }
 
 }  // namespace hardsphere::python

@@ -6,12 +6,15 @@
 #include <cstdint>
 #include <memory>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <string>
 
 #include "hardsphere/event_engine.hpp"
+#include "hardsphere/lammps_io.hpp"
 #include "hardsphere/particles.hpp"
 #include "hardsphere/physics.hpp"
 #include "hardsphere/run_summary.hpp"
+#include "hardsphere/simulation.hpp"
 #include "hardsphere/stepper.hpp"
 
 namespace hardsphere::python {
@@ -38,6 +41,8 @@ class Simulation {
   //! The CLI's --write-data and a one-frame --dump of the current state, as atomic files.
   void write_data(const std::string& path) const;
   void write_dump(const std::string& path) const;
+  //! One frame of the current state, timestep the steps or events so far (as the CLI's frames).
+  void write_frame(DumpWriter& dump) const { dump.write_frame(dump_timestep(), *state()); }
   double loop_cpu_seconds() const { return cpu_; }
   void add_cpu(double seconds) { cpu_ += seconds; }
   virtual double sim_time() const = 0;
@@ -84,6 +89,8 @@ class StepperSim final : public Simulation {
   StepperSim(const SystemData& start, const Physics& physics, const StepperConfig& cfg, Precision precision);
   const char* name() const override { return "stepper"; }
   void run(std::int64_t steps);
+  //! Refuses (InputError, the CLI's message) `steps` more steps over the work limit.
+  void check_work(std::int64_t steps) const;
   double dt() const { return cfg_.dt; }
   std::int64_t steps() const { return engine().counters().steps; }
   double sim_time() const override { return engine().counters().sim_time; }
@@ -107,8 +114,12 @@ class EventSim final : public Simulation {
  public:
   EventSim(const SystemData& start, const Physics& physics, const EventConfig& cfg);
   const char* name() const override { return "event"; }
-  //! Runs to the absolute time `t_end` (since construction).
-  void run_until(double t_end);
+  //! Runs to the absolute time `t_end` (since construction), part of a run ending at `run_end`.
+  void run_until(double t_end, double run_end);
+  //! Refuses (InputError, the CLI's message) a run of `duration` over the work limit.
+  void check_work(double duration) const;
+  //! Ends a block of the measurement (the CLI's --blocks) `duration` long at the current counters.
+  void close_block(double duration) { blocks_->close_block(engine_->counters(), duration); }
   double time() const { return engine().time(); }
   std::int64_t events() const { return engine().counters().events; }
   double sim_time() const override { return engine().counters().sim_time; }
@@ -116,14 +127,38 @@ class EventSim final : public Simulation {
 
  private:
   ParticleSystem engine_state() const override { return engine_->state(); }
-  void engine_reset() override { engine_->reset_counters(); }
+  void engine_reset() override {
+    engine_->reset_counters();
+    blocks_.emplace(engine_->state());
+  }
   RunTotals totals() const override;
   double rounding_epsilon() const override;
   void add_summary(nlohmann::json& j) const override;
   std::string title() const override;
   std::int64_t dump_timestep() const override { return events(); }
 
+  EventConfig cfg_;
   std::unique_ptr<EventEngine> engine_;
+  std::optional<BlockAverages> blocks_;  // of the measurement since construction or reset_counters()
+};
+
+//! hs.DumpWriter: the CLI's --dump, a frame per write(), the file committed by close() (until
+//! then it is a temporary, removed if the writer is discarded or the process dies).
+class DumpFile {
+ public:
+  explicit DumpFile(const std::string& path);
+  void write(const Simulation& sim);
+  void close();
+  void discard() { dump_.reset(); }
+  bool closed() const { return !dump_; }
+  std::int64_t frames() const { return frames_; }
+  const std::string& path() const { return path_; }
+
+ private:
+  DumpWriter& open();
+  std::string path_;
+  std::optional<DumpWriter> dump_;
+  std::int64_t frames_ = 0;
 };
 
 }  // namespace hardsphere::python

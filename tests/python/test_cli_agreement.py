@@ -12,7 +12,9 @@ KEYS = ["n", "collisions", "wall_collisions", "compressibility_factor", "pressur
         "collision_rate_per_particle", "kinetic_energy_initial", "kinetic_energy_final", "energy_rel_drift",
         "momentum_initial", "momentum_final", "pair_virial", "max_overlap", "speed_ks_distance", "speed_histogram",
         "sim_time", "potential_energy_initial", "potential_energy_final", "dissipated_energy", "restitution",
-        "contact_time", "gravity", "packing_fraction", "box", "cells_per_dim", "scene_kernel"]
+        "contact_time", "gravity", "packing_fraction", "box", "cells_per_dim", "scene_kernel", "warnings",
+        # the event engine's block error bars (run(..., blocks=20) as --blocks 20)
+        "blocks", "compressibility_factor_error", "collision_rate_error"]
 
 
 def compare(sim, summary, cli_data, boundary):
@@ -63,6 +65,29 @@ def test_stepper_walls_gravity_restitution_equal_cli(cli, bed, tmp_path):
                      restitution=0.9, detect="sweep")
     sim.run(steps=300)
     compare(sim, summary, out, "p,p,w")
+
+
+def test_stepper_warnings_equal_cli(cli, gas, tmp_path):
+    """Long steps with overlap detection: the CLI's warning, word for word."""
+    out = tmp_path / "cli.data"
+    summary = json.loads(cli("run", "--read-data", gas, "--detect", "overlap", "--steps", 20, "--dt", 0.1,
+                             "--json", "-", "--write-data", out).stdout)
+    assert summary["warnings"] and summary["warnings"][-1].startswith("--detect overlap with steps")
+    sim = hs.Stepper(hs.System.from_data(str(gas)), dt=0.1, detect="overlap")
+    sim.run(steps=20)
+    compare(sim, summary, out, "p")
+
+
+@pytest.mark.parametrize("blocks", [7, 1])
+def test_event_engine_blocks_equal_cli(cli, gas, tmp_path, blocks):
+    """--blocks B and run(blocks=B), split by callbacks or not: the same error bars."""
+    out = tmp_path / "cli.data"
+    summary = json.loads(cli("run", "--read-data", gas, "--engine", "event", "--time", 1.7, "--blocks", blocks,
+                             "--json", "-", "--write-data", out).stdout)
+    assert summary["blocks"] == blocks and (summary["compressibility_factor_error"] > 0) == (blocks > 1)
+    sim = hs.EventEngine(hs.System.from_data(str(gas)))
+    sim.run(time=1.7, blocks=blocks, callback=lambda s: None, every=0.13)
+    compare(sim, summary, out, "p")
 
 
 @pytest.mark.parametrize("every", [None, 0.3, 1.1])

@@ -138,3 +138,38 @@ def test_unwritable_outputs_leave_nothing(gas, tmp_path):
     sim.write_data(str(tmp_path / "ok.data"))
     sim.write_dump(str(tmp_path / "ok.dump"))
     assert sorted(os.listdir(tmp_path)) == ["ok.data", "ok.dump"]  # no temporaries left
+
+
+@pytest.mark.parametrize("engine,length,cli_args", [
+    (hs.Stepper, {"steps": 2 * 10**13}, ["--steps", 2 * 10**13]),
+    (hs.EventEngine, {"time": 1e13}, ["--engine", "event", "--time", 1e13]),
+])
+def test_run_over_work_limit_refused_up_front(cli, gas_file, gas, engine, length, cli_args):
+    """The CLI's up-front refusal (default limit 1e15), before anything runs."""
+    sim = engine(gas)
+    with pytest.raises(ValueError) as err:
+        sim.run(**length)
+    assert str(err.value) == cli_error(cli("run", "--read-data", gas_file, *cli_args, check=False))
+    assert sim.sim_time == 0 and sim.observables()["collisions"] == 0
+
+
+def test_work_limit_keyword():
+    gas = hs.System.random(n=100, phi=0.1, seed=1)
+    with pytest.raises(ValueError, match=r"^the run would take 1000 particle-steps \(100 spheres, 10 steps\), "
+                                         r"more than the limit of 999; use fewer steps$"):
+        hs.Stepper(gas, work_limit=999).run(steps=10)
+    hs.Stepper(gas, work_limit=1000).run(steps=10)
+    # Past the up-front bound, the engine's own limit names the end of the requested run, not of
+    # the chunk the run loop was in (the first chunk ends at 3/4 of it).
+    ev = hs.EventEngine(gas, work_limit=1200)  # bound 1096, the run 1440
+    with pytest.raises(ValueError, match=r"^event engine: the run needs more than 1200 events \(it had reached "
+                                         r"time [0-9.e-]+ of 5\); shorten the run$"):
+        ev.run(time=5.0)
+
+
+def test_bad_blocks(gas):
+    ev = hs.EventEngine(gas)
+    with pytest.raises(ValueError, match="blocks = 0 must be >= 1"):
+        ev.run(time=1.0, blocks=0)
+    with pytest.raises(TypeError):
+        hs.Stepper(gas).run(steps=1, blocks=2)  # an event-engine option

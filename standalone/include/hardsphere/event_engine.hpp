@@ -24,6 +24,7 @@
 #include <cstdint>
 #include <limits>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -89,8 +90,9 @@ class EventEngine {
   EventEngine(const EventEngine&) = delete;
   EventEngine& operator=(const EventEngine&) = delete;
 
-  //! Runs all events up to `duration` later; the state is then exactly at that time.
-  void advance(double duration);
+  //! Runs all events up to `duration` later; the state is then exactly at that time. A caller
+  //! that splits a longer run passes its end as `run_end`, the time the work-limit refusal names.
+  void advance(double duration, std::optional<double> run_end = std::nullopt);
   //! Runs until the next `count` events have been processed (or nothing is left to happen).
   void advance_events(std::int64_t count);
 

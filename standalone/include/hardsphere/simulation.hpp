@@ -6,6 +6,7 @@
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "hardsphere/event_engine.hpp"
 #include "hardsphere/init.hpp"
@@ -71,5 +72,45 @@ ParticleSystem initial_state(const RunSpec& spec);
 
 //! CPU time of this process in seconds (what the seed paper measured).
 double process_cpu_seconds();
+
+// The pieces of a run that every adapter reports as the CLI does (the Python module uses them),
+// implemented once in the run layer.
+
+//! Refuses (InputError, the CLI's message) a stepper run of `steps` steps from `sys` on `engine`
+//! (made with `cfg`) that would take more than `work_limit` particle-steps (sub-steps and wall
+//! bounces included), or whose wall bounces alone would pass cfg.max_events_per_step.
+void check_stepper_work(const StepperBase& engine, const StepperConfig& cfg, const ParticleSystem& sys,
+                        std::int64_t steps, double work_limit);
+
+//! Refuses (InputError, the CLI's message) an event-engine run of simulated `time` from `sys`
+//! whose lower bound of events (neighbour-list events for `shell`, wall bounces, gravity) is
+//! more than `work_limit`.
+void check_event_work(const ParticleSystem& sys, double shell, double time, double work_limit,
+                      const std::array<double, 3>& gravity);
+
+//! Appends the stepper's warnings to j["warnings"]: steps that stopped at cfg.max_events_per_step
+//! with contacts unresolved, and overlap detection with steps long enough to miss grazes.
+void add_stepper_warnings(nlohmann::json& j, const StepperBase& engine, const StepperConfig& cfg,
+                          const ParticleSystem& final_state);
+
+//! The event engine's block averages (--blocks): Z and the collision rate per block of a
+//! measurement, whose standard errors of the mean are the summary's error bars.
+class BlockAverages {
+ public:
+  //! A measurement starting from `start`: its temperature is T in every block's Z.
+  explicit BlockAverages(const ParticleSystem& start);
+  //! Ends a block `duration` long at the counters `c` (counted since the measurement began).
+  void close_block(const EventCounters& c, double duration);
+  int blocks() const { return int(z_.size()); }
+  //! Sets blocks, compressibility_factor_error and collision_rate_error (0 with fewer than 2 blocks).
+  void add_summary(nlohmann::json& j) const;
+
+ private:
+  std::size_t n_;
+  double temperature_;
+  double virial_ = 0;
+  std::int64_t collisions_ = 0;
+  std::vector<double> z_, rate_;
+};
 
 }  // namespace hardsphere

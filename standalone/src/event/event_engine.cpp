@@ -73,10 +73,11 @@ EventEngine::EventEngine(const ParticleSystem& sys, const Physics& physics, cons
 
 EventEngine::~EventEngine() = default;
 
-void EventEngine::advance(double duration) {
+void EventEngine::advance(double duration, std::optional<double> run_end) {
   if (!(duration >= 0) || !std::isfinite(duration))
     throw InputError("event engine: run time " + std::to_string(duration) + " must be finite and >= 0");
-  impl_->loop.run_until(time() + duration);
+  const double end = time() + duration;
+  impl_->loop.run_until(end, run_end.value_or(end));
 }
 
 void EventEngine::advance_events(std::int64_t count) { impl_->loop.run_events(count); }

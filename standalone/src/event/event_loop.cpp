@@ -74,10 +74,10 @@ EventLoop::EventLoop(const ParticleSystem& sys, const Physics& physics_in, const
   rebase_every_ = std::max<std::int64_t>(1000, cfg.rebase_events_per_sphere * std::int64_t(n));
 }
 
-void EventLoop::run_until(double t_end) {
+void EventLoop::run_until(double t_end, double run_end) {
   // t_end is measured from construction; the calendar from `base_`.
   while (!calendar_.empty() && calendar_.top_key() <= t_end - base_) {
-    if (++total_events_ > max_events_) refuse_more_events(t_end);
+    if (++total_events_ > max_events_) refuse_more_events(run_end);
     step();
   }
   now_ = t_end - base_;

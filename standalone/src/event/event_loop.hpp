@@ -28,8 +28,8 @@ class EventLoop {
   EventLoop(const ParticleSystem& sys, const Physics& physics, const EventConfig& cfg);
 
   //! Runs every event up to t_end (time since construction); the state is then at t_end.
-  //! Throws InputError past EventConfig::max_events.
-  void run_until(double t_end);
+  //! Throws InputError past EventConfig::max_events, naming `run_end` as the end of the run.
+  void run_until(double t_end, double run_end);
   //! Runs the next `count` events, or fewer if nothing is left to happen.
   void run_events(std::int64_t count);
 

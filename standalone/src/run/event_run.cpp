@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <optional>
 #include <sstream>
 
 #include "hardsphere/errors.hpp"
@@ -28,34 +29,6 @@ std::pair<double, double> mean_error(const std::vector<double>& x) {
   return {m, std::sqrt(s / (n - 1) / n)};
 }
 
-//! A sphere re-lists its neighbours each time it has moved half the shell: at least
-//! sum |v_i| t / (shell / 2) events, whatever collisions add. Refuse up front what the engine's
-//! event limit would stop later.
-void refuse_too_many_events(const ParticleSystem& sys, double shell, double time, double limit,
-                            const std::array<double, 3>& gravity) {
-  double speeds = 0;
-  for (const Vec3d& v : sys.vel) speeds += norm(v);
-  double bounces = wall_bounce_rate(sys) * time;
-  // Under gravity a sphere falls across its gap G (at most the box) and bounces at least every
-  // 2 sqrt(2 G / g), reaching speeds up to sqrt(2 g G): more bounces and list events.
-  for (int d = 0; d < 3; ++d) {
-    const double g = std::abs(gravity[std::size_t(d)]);
-    if (g == 0) continue;
-    const double gap = std::max(sys.box.length(d) - 2 * sys.max_radius(), 1e-300);
-    bounces += double(sys.size()) * time * std::sqrt(g / (8 * gap));
-    speeds += double(sys.size()) * std::sqrt(2 * g * gap);
-  }
-  const double events = speeds * time / (0.5 * shell) + bounces;
-  if (events > limit) {
-    std::ostringstream m;
-    m << "the run would take at least " << events << " events (" << sys.size() << " spheres moving " << speeds * time
-      << " in all over time " << time << ", a neighbour-list event every " << 0.5 * shell;
-    if (bounces > 0) m << ", and " << bounces << " wall bounces";
-    m << "), more than the limit of " << limit << "; shorten --time, lower the speeds or the gravity";
-    throw InputError(m.str());
-  }
-}
-
 class EventRun final : public EngineRun {
  public:
   explicit EventRun(const RunSpec& spec) : spec_(spec) {
@@ -71,8 +44,8 @@ class EventRun final : public EngineRun {
     EventConfig cfg = spec_.event;
     cfg.max_events = spec_.work_limit;
     engine_ = std::make_unique<EventEngine>(sys, spec_.physics, cfg);
-    refuse_too_many_events(sys, engine_->shell(), spec_.time + spec_.equilibrate_time, spec_.work_limit,
-                           spec_.physics.gravity);
+    check_event_work(sys, engine_->shell(), spec_.time + spec_.equilibrate_time, spec_.work_limit,
+                     spec_.physics.gravity);
     n_ = sys.size();
   }
   const char* name() const override { return "event"; }
@@ -106,7 +79,7 @@ class EventRun final : public EngineRun {
   std::unique_ptr<EventEngine> engine_;
   std::size_t n_ = 0;
   double t_measure_ = 0;
-  double z_error_ = 0, rate_error_ = 0;
+  std::optional<BlockAverages> blocks_;
 };
 
 void EventRun::advance(double duration, Tracker* tracker) {
@@ -121,14 +94,11 @@ void EventRun::advance(double duration, Tracker* tracker) {
 }
 
 double EventRun::measure(const RunOutputs& out) {
-  // T in each block's Z is the initial temperature; a dump frame (if asked for) after each block.
-  const double t0_temp = n_ ? 2 * kinetic_energy(engine_->state()) / (3.0 * double(n_)) : 0.0;
+  // A dump frame (if asked for) after each block.
+  blocks_.emplace(engine_->state());
   double cpu = 0;
-  std::vector<double> z_block, rate_block;
   t_measure_ = engine_->time();
   const double block = spec_.time / spec_.blocks;
-  double w_prev = 0;
-  std::int64_t coll_prev = 0;
   for (int b = 0; b < spec_.blocks; ++b) {
     const double t_start = engine_->time();
     const double target = b + 1 == spec_.blocks ? spec_.time - engine_->counters().sim_time : block;
@@ -136,16 +106,10 @@ double EventRun::measure(const RunOutputs& out) {
     advance(target, out.tracker);
     cpu += process_cpu_seconds() - c0;
     const EventCounters& c = engine_->counters();
-    const double dt = engine_->time() - t_start;
-    z_block.push_back(compressibility_factor(c.pair_virial - w_prev, dt, n_, t0_temp));
-    rate_block.push_back(dt > 0 && n_ ? 2.0 * double(c.collisions - coll_prev) / (double(n_) * dt) : 0.0);
-    w_prev = c.pair_virial;
-    coll_prev = c.collisions;
+    blocks_->close_block(c, engine_->time() - t_start);
     if (out.dump) out.dump->write_frame(c.events, engine_->state());
     if (out.progress) (*out.progress)(double(b + 1) / spec_.blocks, c.sim_time);
   }
-  z_error_ = mean_error(z_block).second;
-  rate_error_ = mean_error(rate_block).second;
   return cpu;
 }
 
@@ -153,7 +117,6 @@ void EventRun::add_summary(nlohmann::json& j, const ParticleSystem&, double cpu)
   const EventCounters& c = engine_->counters();
   j["sim_time"] = c.sim_time;
   j["equilibrate_time"] = spec_.equilibrate_time;
-  j["blocks"] = spec_.blocks;
   j["cells_per_dim"] = engine_->cells_per_dim();
   j["scene_kernel"] = engine_->scene_kernel();
   j["precision"] = "double";
@@ -166,12 +129,55 @@ void EventRun::add_summary(nlohmann::json& j, const ParticleSystem&, double cpu)
   j["collisions_per_second"] = cpu > 0 ? double(c.collisions) / cpu : 0.0;
   j["events_per_second"] = cpu > 0 ? double(c.events) / cpu : 0.0;
   j["cpu_seconds_per_unit_time"] = c.sim_time > 0 ? cpu / c.sim_time : 0.0;
-  j["collision_rate_error"] = rate_error_;
-  j["compressibility_factor_error"] = z_error_;
+  if (blocks_) blocks_->add_summary(j);
 }
 
 }  // namespace
 
 std::unique_ptr<EngineRun> make_event_run(const RunSpec& spec) { return std::make_unique<EventRun>(spec); }
+
+//! A sphere re-lists its neighbours each time it has moved half the shell: at least
+//! sum |v_i| t / (shell / 2) events, whatever collisions add. Refuse up front what the engine's
+//! event limit would stop later.
+void check_event_work(const ParticleSystem& sys, double shell, double time, double limit,
+                      const std::array<double, 3>& gravity) {
+  double speeds = 0;
+  for (const Vec3d& v : sys.vel) speeds += norm(v);
+  double bounces = wall_bounce_rate(sys) * time;
+  // Under gravity a sphere falls across its gap G (at most the box) and bounces at least every
+  // 2 sqrt(2 G / g), reaching speeds up to sqrt(2 g G): more bounces and list events.
+  for (int d = 0; d < 3; ++d) {
+    const double g = std::abs(gravity[std::size_t(d)]);
+    if (g == 0) continue;
+    const double gap = std::max(sys.box.length(d) - 2 * sys.max_radius(), 1e-300);
+    bounces += double(sys.size()) * time * std::sqrt(g / (8 * gap));
+    speeds += double(sys.size()) * std::sqrt(2 * g * gap);
+  }
+  const double events = speeds * time / (0.5 * shell) + bounces;
+  if (events > limit) {
+    std::ostringstream m;
+    m << "the run would take at least " << events << " events (" << sys.size() << " spheres moving " << speeds * time
+      << " in all over time " << time << ", a neighbour-list event every " << 0.5 * shell;
+    if (bounces > 0) m << ", and " << bounces << " wall bounces";
+    m << "), more than the limit of " << limit << "; shorten --time, lower the speeds or the gravity";
+    throw InputError(m.str());
+  }
+}
+
+BlockAverages::BlockAverages(const ParticleSystem& start)
+    : n_(start.size()), temperature_(n_ ? 2 * kinetic_energy(start) / (3.0 * double(n_)) : 0.0) {}
+
+void BlockAverages::close_block(const EventCounters& c, double dt) {
+  z_.push_back(compressibility_factor(c.pair_virial - virial_, dt, n_, temperature_));
+  rate_.push_back(dt > 0 && n_ ? 2.0 * double(c.collisions - collisions_) / (double(n_) * dt) : 0.0);
+  virial_ = c.pair_virial;
+  collisions_ = c.collisions;
+}
+
+void BlockAverages::add_summary(nlohmann::json& j) const {
+  j["blocks"] = blocks();
+  j["collision_rate_error"] = mean_error(rate_).second;
+  j["compressibility_factor_error"] = mean_error(z_).second;
+}
 
 }  // namespace hardsphere

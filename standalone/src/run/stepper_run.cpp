@@ -28,7 +28,7 @@ class StepperRun final : public EngineRun {
     cfg.max_particle_steps = spec_.work_limit;
     cfg.count_per_sphere = cfg.count_per_sphere || spec_.track_id.has_value();
     engine_ = make_stepper(sys, spec_.physics, cfg, spec_.precision);
-    refuse_too_much_work(sys);
+    check_stepper_work(*engine_, spec_.stepper, sys, spec_.steps + spec_.equilibrate, spec_.work_limit);
   }
   const char* name() const override { return "stepper"; }
   double measured_time() const override { return double(spec_.steps) * dt_; }
@@ -65,41 +65,11 @@ class StepperRun final : public EngineRun {
   }
 
  private:
-  //! Refuses up front what the work limit would stop later (the engine also checks as it runs).
-  void refuse_too_much_work(const ParticleSystem& sys) const;
-
   const RunSpec& spec_;
   double dt_;
   std::unique_ptr<StepperBase> engine_;
   mutable std::int64_t track_steps_ = 0;
 };
-
-void StepperRun::refuse_too_much_work(const ParticleSystem& sys) const {
-  const double steps = double(spec_.steps) + double(spec_.equilibrate);
-  // Flights between walls barely wider than a sphere bounce many times per step: refuse steps
-  // that would run into the per-step event limit, and count the bounces as work.
-  const double bounces = wall_bounce_rate(sys) * dt_;
-  if (bounces > double(spec_.stepper.max_events_per_step)) {
-    std::ostringstream m;
-    m << "spheres between walls barely wider than them would bounce " << bounces << " times per step of dt = " << dt_
-      << ", more than the limit of " << spec_.stepper.max_events_per_step
-      << " events per step; use a smaller --dt or wider walls";
-    throw InputError(m.str());
-  }
-  const double substeps = engine_->substeps_per_step();
-  const double work = double(sys.size()) * steps * substeps + bounces * steps;
-  if (work > spec_.work_limit) {
-    std::ostringstream m;
-    m << "the run would take " << work << " particle-steps (" << sys.size() << " spheres, "
-      << spec_.steps + spec_.equilibrate << " steps";
-    if (substeps > 1)
-      m << " of " << substeps << " sub-steps each: with dt = " << dt_
-        << " the fastest sphere moves more than half the pair-list skin (" << engine_->skin() << ") per step";
-    m << "), more than the limit of " << spec_.work_limit << "; use fewer steps"
-      << (substeps > 1 ? " or a smaller dt" : "");
-    throw InputError(m.str());
-  }
-}
 
 double StepperRun::measure(const RunOutputs& out) {
   const std::int64_t steps = spec_.steps;
@@ -142,23 +112,59 @@ void StepperRun::add_summary(nlohmann::json& j, const ParticleSystem& fin, doubl
   j["particle_steps_per_second"] = cpu > 0 ? double(fin.size()) * double(c.steps) / cpu : 0.0;
   j["list_rebuilds"] = c.rebuilds;
   j["unresolved_steps"] = c.unresolved_steps;
-  if (c.unresolved_steps > 0)
-    j["warnings"].push_back(std::to_string(c.unresolved_steps) + " steps stopped at the limit of " +
-                            std::to_string(spec_.stepper.max_events_per_step) +
-                            " contact events per step with contacts left unresolved (spheres may overlap): the "
-                            "spheres are jammed or collapsing; use a smaller --dt or a less dense state");
   j["substeps"] = c.substeps;
   j["step_cuts"] = c.step_cuts;
-  if (!engine_->sweep_detection()) {
+  add_stepper_warnings(j, *engine_, spec_.stepper, fin);
+}
+
+}  // namespace
+
+std::unique_ptr<EngineRun> make_stepper_run(const RunSpec& spec) { return std::make_unique<StepperRun>(spec); }
+
+void check_stepper_work(const StepperBase& engine, const StepperConfig& cfg, const ParticleSystem& sys,
+                        std::int64_t steps, double work_limit) {
+  const double dt = cfg.dt;
+  // Flights between walls barely wider than a sphere bounce many times per step: refuse steps
+  // that would run into the per-step event limit, and count the bounces as work.
+  const double bounces = wall_bounce_rate(sys) * dt;
+  if (bounces > double(cfg.max_events_per_step)) {
+    std::ostringstream m;
+    m << "spheres between walls barely wider than them would bounce " << bounces << " times per step of dt = " << dt
+      << ", more than the limit of " << cfg.max_events_per_step
+      << " events per step; use a smaller --dt or wider walls";
+    throw InputError(m.str());
+  }
+  const double substeps = engine.substeps_per_step();
+  const double work = double(sys.size()) * double(steps) * substeps + bounces * double(steps);
+  if (work > work_limit) {
+    std::ostringstream m;
+    m << "the run would take " << work << " particle-steps (" << sys.size() << " spheres, " << steps << " steps";
+    if (substeps > 1)
+      m << " of " << substeps << " sub-steps each: with dt = " << dt
+        << " the fastest sphere moves more than half the pair-list skin (" << engine.skin() << ") per step";
+    m << "), more than the limit of " << work_limit << "; use fewer steps" << (substeps > 1 ? " or a smaller dt" : "");
+    throw InputError(m.str());
+  }
+}
+
+void add_stepper_warnings(nlohmann::json& j, const StepperBase& engine, const StepperConfig& cfg,
+                          const ParticleSystem& fin) {
+  const StepCounters& c = engine.counters();
+  if (c.unresolved_steps > 0)
+    j["warnings"].push_back(std::to_string(c.unresolved_steps) + " steps stopped at the limit of " +
+                            std::to_string(cfg.max_events_per_step) +
+                            " contact events per step with contacts left unresolved (spheres may overlap): the "
+                            "spheres are jammed or collapsing; use a smaller --dt or a less dense state");
+  if (!engine.sweep_detection()) {
     // Overlap detection misses grazes, more of them the further spheres move per step.
     double v2 = 0, dmin = std::numeric_limits<double>::infinity();
     for (std::size_t i = 0; i < fin.size(); ++i)
       v2 += dot(fin.vel[i], fin.vel[i]), dmin = std::min(dmin, 2 * fin.radius[i]);
-    const double move = fin.size() ? std::sqrt(v2 / double(fin.size())) * dt_ : 0.0;
+    const double move = fin.size() ? std::sqrt(v2 / double(fin.size())) * cfg.dt : 0.0;
     if (move > kOverlapDetectionLimit * dmin) {
       // Auto decides at every list rebuild, so it can end a run in overlap mode just before
       // switching; name what was in use and a remedy that changes it.
-      const bool automatic = spec_.stepper.detect == Detect::Auto;
+      const bool automatic = cfg.detect == Detect::Auto;
       std::ostringstream m;
       m << (automatic ? "--detect auto ended the run in overlap mode" : "--detect overlap")
         << " with steps that move a sphere at the rms speed by " << move / dmin << " diameters (more than "
@@ -170,9 +176,5 @@ void StepperRun::add_summary(nlohmann::json& j, const ParticleSystem& fin, doubl
     }
   }
 }
-
-}  // namespace
-
-std::unique_ptr<EngineRun> make_stepper_run(const RunSpec& spec) { return std::make_unique<StepperRun>(spec); }
 
 }  // namespace hardsphere
