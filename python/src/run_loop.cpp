@@ -110,6 +110,8 @@ void run_event(EventSim& sim, py::object self, std::optional<std::int64_t> steps
     throw InputError("every = " + number(*every) + " must be positive and finite (simulated time)");
   if (!callback.is_none() && !every) throw InputError("callback needs every=T (simulated time between calls)");
   if (blocks < 1) throw InputError("blocks = " + std::to_string(blocks) + " must be >= 1");
+  if (blocks > kMaxBlocks)
+    throw InputError("blocks = " + std::to_string(blocks) + " is more than " + std::to_string(kMaxBlocks));
   sim.check_work(*time);
   const double t0 = sim.time(), target = t0 + *time;
   // Chunks of about kChunkWork events, from the event rate of the last chunk; the first from the

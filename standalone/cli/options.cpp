@@ -22,8 +22,7 @@ namespace hardsphere::cli {
 
 namespace {
 
-constexpr std::int64_t kMaxBins = 1000000;    // speed histogram bins: more is a JSON of megabytes
-constexpr std::int64_t kMaxBlocks = 1000000;  // event-engine blocks: one vector entry and one advance each
+constexpr std::int64_t kMaxBins = 1000000;  // speed histogram bins: more is a JSON of megabytes
 
 //! A whole number written in decimal ("-?[0-9]+") within [lo, hi].
 std::int64_t whole(const std::string& option, const std::string& s, std::int64_t lo, std::int64_t hi,

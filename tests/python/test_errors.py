@@ -171,5 +171,7 @@ def test_bad_blocks(gas):
     ev = hs.EventEngine(gas)
     with pytest.raises(ValueError, match="blocks = 0 must be >= 1"):
         ev.run(time=1.0, blocks=0)
+    with pytest.raises(ValueError, match="blocks = 1000001 is more than 1000000"):  # the CLI's --blocks bound
+        ev.run(time=1.0, blocks=1000001)
     with pytest.raises(TypeError):
         hs.Stepper(gas).run(steps=1, blocks=2)  # an event-engine option

@@ -18,6 +18,9 @@ namespace hardsphere {
 enum class Engine { Stepper, Event };
 Engine parse_engine(const std::string& s);  //!< "stepper" or "event"; throws InputError
 
+//! Most event-engine blocks of a run: one stored value and one advance each.
+constexpr int kMaxBlocks = 1000000;
+
 struct RunSpec {
   // Initial state: generated from `init`, or read from a LAMMPS data file.
   InitSpec init;
@@ -36,7 +39,7 @@ struct RunSpec {
   EventConfig event;
   double time = 0;              //!< simulated time measured (event engine)
   double equilibrate_time = 0;  //!< simulated time run first, not measured (event engine)
-  int blocks = 20;              //!< block averages for the error bar of Z (event engine)
+  int blocks = 20;              //!< block averages for the error bar of Z (event engine), 1..kMaxBlocks
 
   //! The most work a run may take before it is refused: particle-steps for the stepper (sub-steps
   //! included), events for the event engine. The default refuses only runs that would take years.
