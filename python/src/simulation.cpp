@@ -107,17 +107,7 @@ void StepperSim::run(std::int64_t steps) {
   engine_->run(steps);
 }
 
-RunTotals StepperSim::totals() const {
-  const StepCounters& c = engine_->counters();
-  RunTotals t;
-  t.sim_time = c.sim_time;
-  t.collisions = c.collisions;
-  t.wall_collisions = c.wall_collisions;
-  t.pair_virial = c.pair_virial;
-  t.wall_impulse = c.wall_impulse;
-  t.resting_contacts = c.resting_contacts;
-  return t;
-}
+RunTotals StepperSim::totals() const { return run_totals(engine_->counters(), 0, {}); }
 
 double StepperSim::rounding_epsilon() const {
   return precision_ == Precision::Float ? double(std::numeric_limits<float>::epsilon())
@@ -126,25 +116,9 @@ double StepperSim::rounding_epsilon() const {
 
 std::string StepperSim::title() const { return "hardsphere state after " + std::to_string(steps()) + " steps"; }
 
-// The stepper's keys of the CLI's summary (standalone/src/run/stepper_run.cpp).
+// The stepper's keys of the CLI's summary (one implementation: hardsphere/simulation.hpp).
 void StepperSim::add_summary(nlohmann::json& j) const {
-  const StepCounters& c = engine_->counters();
-  const double cpu = loop_cpu_seconds();
-  j["steps"] = c.steps;
-  j["equilibrate_steps"] = 0;
-  j["dt"] = cfg_.dt;
-  j["sim_time"] = c.sim_time;
-  j["cells_per_dim"] = engine_->cells_per_dim();
-  j["skin"] = engine_->skin();
-  j["scene_kernel"] = engine_->scene_kernel();
-  j["detect"] = engine_->sweep_detection() ? "sweep" : "overlap";
-  j["precision"] = precision_ == Precision::Float ? "float" : "double";
-  j["particle_steps_per_second"] = cpu > 0 ? double(state()->size()) * double(c.steps) / cpu : 0.0;
-  j["list_rebuilds"] = c.rebuilds;
-  j["unresolved_steps"] = c.unresolved_steps;
-  j["substeps"] = c.substeps;
-  j["step_cuts"] = c.step_cuts;
-  add_stepper_warnings(j, *engine_, cfg_, *state());
+  add_stepper_summary(j, *engine_, cfg_, precision_, *state(), 0, loop_cpu_seconds());
 }
 
 // ---- event engine
@@ -166,17 +140,7 @@ void EventSim::check_work(double duration) const {
   check_event_work(*state(), engine().shell(), duration, cfg_.max_events, physics_.gravity);
 }
 
-RunTotals EventSim::totals() const {
-  const EventCounters& c = engine_->counters();
-  RunTotals t;
-  t.sim_time = c.sim_time;
-  t.collisions = c.collisions;
-  t.wall_collisions = c.wall_collisions;
-  t.pair_virial = c.pair_virial;
-  t.wall_impulse = c.wall_impulse;
-  t.resting_contacts = c.resting_contacts;
-  return t;
-}
+RunTotals EventSim::totals() const { return run_totals(engine_->counters(), 0, {}); }
 
 double EventSim::rounding_epsilon() const { return std::numeric_limits<double>::epsilon(); }
 
@@ -184,24 +148,9 @@ std::string EventSim::title() const {
   return "hardsphere state after event-driven time " + std::to_string(engine_->counters().sim_time);
 }
 
-// The event engine's keys of the CLI's summary (standalone/src/run/event_run.cpp).
+// The event engine's keys of the CLI's summary (one implementation: hardsphere/simulation.hpp).
 void EventSim::add_summary(nlohmann::json& j) const {
-  const EventCounters& c = engine_->counters();
-  const double cpu = loop_cpu_seconds();
-  j["sim_time"] = c.sim_time;
-  j["equilibrate_time"] = 0.0;
-  j["cells_per_dim"] = engine_->cells_per_dim();
-  j["scene_kernel"] = engine_->scene_kernel();
-  j["precision"] = "double";
-  j["cell_crossings"] = c.cell_crossings;
-  j["neighbour_list_rebuilds"] = c.neighbour_list_rebuilds;
-  j["neighbour_shell"] = engine_->shell();
-  j["stale_events"] = c.stale_events;
-  j["events"] = c.events;
-  j["full_predictions"] = c.full_predictions;
-  j["collisions_per_second"] = cpu > 0 ? double(c.collisions) / cpu : 0.0;
-  j["events_per_second"] = cpu > 0 ? double(c.events) / cpu : 0.0;
-  j["cpu_seconds_per_unit_time"] = c.sim_time > 0 ? cpu / c.sim_time : 0.0;
+  add_event_summary(j, *engine_, 0.0, loop_cpu_seconds());
   blocks_->add_summary(j);
 }
 

@@ -10,6 +10,7 @@
 
 #include "hardsphere/event_engine.hpp"
 #include "hardsphere/init.hpp"
+#include "hardsphere/run_summary.hpp"
 #include "hardsphere/stepper.hpp"
 
 namespace hardsphere {
@@ -95,6 +96,20 @@ void check_event_work(const ParticleSystem& sys, double shell, double time, doub
 //! with contacts unresolved, and overlap detection with steps long enough to miss grazes.
 void add_stepper_warnings(nlohmann::json& j, const StepperBase& engine, const StepperConfig& cfg,
                           const ParticleSystem& final_state);
+
+//! The stepper's keys of the run summary (docs/cli.md), its warnings included: steps, dt, grid,
+//! detection and precision in use, list rebuilds, sub-steps, and particle-steps per `loop_cpu` second.
+void add_stepper_summary(nlohmann::json& j, const StepperBase& engine, const StepperConfig& cfg, Precision precision,
+                         const ParticleSystem& final_state, std::int64_t equilibrate_steps, double loop_cpu);
+
+//! The event engine's keys of the run summary (docs/cli.md) but the block averages
+//! (BlockAverages::add_summary): time, grid, shell, event counts and rates per `loop_cpu` second.
+void add_event_summary(nlohmann::json& j, const EventEngine& engine, double equilibrate_time, double loop_cpu);
+
+//! The totals of the timed part from an engine's counters, with the initial kinetic energy and
+//! momentum of that part.
+RunTotals run_totals(const StepCounters& c, double kinetic0, const Vec3d& momentum0);
+RunTotals run_totals(const EventCounters& c, double kinetic0, const Vec3d& momentum0);
 
 //! The event engine's block averages (--blocks): Z and the collision rate per block of a
 //! measurement, whose standard errors of the mean are the summary's error bars.

@@ -60,9 +60,7 @@ class EventRun final : public EngineRun {
   void reset_counters() override { engine_->reset_counters(); }
   double measure(const RunOutputs& out) override;
   RunTotals totals(double kinetic0, const Vec3d& momentum0) const override {
-    const EventCounters& c = engine_->counters();
-    return {kinetic0,          momentum0,     c.sim_time,     c.collisions,
-            c.wall_collisions, c.pair_virial, c.wall_impulse, c.resting_contacts};
+    return run_totals(engine_->counters(), kinetic0, momentum0);
   }
   double rounding_epsilon() const override { return std::numeric_limits<double>::epsilon(); }
   void add_summary(nlohmann::json& j, const ParticleSystem& fin, double cpu) const override;
@@ -114,21 +112,7 @@ double EventRun::measure(const RunOutputs& out) {
 }
 
 void EventRun::add_summary(nlohmann::json& j, const ParticleSystem&, double cpu) const {
-  const EventCounters& c = engine_->counters();
-  j["sim_time"] = c.sim_time;
-  j["equilibrate_time"] = spec_.equilibrate_time;
-  j["cells_per_dim"] = engine_->cells_per_dim();
-  j["scene_kernel"] = engine_->scene_kernel();
-  j["precision"] = "double";
-  j["cell_crossings"] = c.cell_crossings;
-  j["neighbour_list_rebuilds"] = c.neighbour_list_rebuilds;
-  j["neighbour_shell"] = engine_->shell();
-  j["stale_events"] = c.stale_events;
-  j["events"] = c.events;
-  j["full_predictions"] = c.full_predictions;
-  j["collisions_per_second"] = cpu > 0 ? double(c.collisions) / cpu : 0.0;
-  j["events_per_second"] = cpu > 0 ? double(c.events) / cpu : 0.0;
-  j["cpu_seconds_per_unit_time"] = c.sim_time > 0 ? cpu / c.sim_time : 0.0;
+  add_event_summary(j, *engine_, spec_.equilibrate_time, cpu);
   if (blocks_) blocks_->add_summary(j);
 }
 

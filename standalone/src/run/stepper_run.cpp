@@ -51,9 +51,7 @@ class StepperRun final : public EngineRun {
   void reset_counters() override { engine_->reset_counters(); }
   double measure(const RunOutputs& out) override;
   RunTotals totals(double kinetic0, const Vec3d& momentum0) const override {
-    const StepCounters& c = engine_->counters();
-    return {kinetic0,          momentum0,     c.sim_time,     c.collisions,
-            c.wall_collisions, c.pair_virial, c.wall_impulse, c.resting_contacts};
+    return run_totals(engine_->counters(), kinetic0, momentum0);
   }
   double rounding_epsilon() const override {
     return spec_.precision == Precision::Float ? double(std::numeric_limits<float>::epsilon())
@@ -99,22 +97,7 @@ double StepperRun::measure(const RunOutputs& out) {
 }
 
 void StepperRun::add_summary(nlohmann::json& j, const ParticleSystem& fin, double cpu) const {
-  const StepCounters& c = engine_->counters();
-  j["steps"] = c.steps;
-  j["equilibrate_steps"] = spec_.equilibrate;
-  j["dt"] = dt_;
-  j["sim_time"] = c.sim_time;
-  j["cells_per_dim"] = engine_->cells_per_dim();
-  j["skin"] = engine_->skin();
-  j["scene_kernel"] = engine_->scene_kernel();
-  j["detect"] = engine_->sweep_detection() ? "sweep" : "overlap";  // the mode in use (auto resolved)
-  j["precision"] = spec_.precision == Precision::Float ? "float" : "double";
-  j["particle_steps_per_second"] = cpu > 0 ? double(fin.size()) * double(c.steps) / cpu : 0.0;
-  j["list_rebuilds"] = c.rebuilds;
-  j["unresolved_steps"] = c.unresolved_steps;
-  j["substeps"] = c.substeps;
-  j["step_cuts"] = c.step_cuts;
-  add_stepper_warnings(j, *engine_, spec_.stepper, fin);
+  add_stepper_summary(j, *engine_, spec_.stepper, spec_.precision, fin, spec_.equilibrate, cpu);
 }
 
 }  // namespace
