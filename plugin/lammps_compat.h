@@ -19,7 +19,7 @@
 namespace LAMMPS_NS::hs_compat {
 
 //! The LAMMPS releases the styles are tested against (ctest labels lammps and lammps_versions).
-constexpr bool tested(int version) { return version == 20210929 || version == 20250204 || version == 20260704; }
+constexpr int kTested[] = {20210929, 20250204, 20260704};
 
 //! At `plugin load`: a plugin built against another LAMMPS release is refused (the classes it
 //! shares with LAMMPS change layout between releases), an untested release gets a warning.
@@ -30,9 +30,15 @@ inline void check_loaded_into(LAMMPS *lmp) {
                                running +
                                ", whose classes differ: build it against this LAMMPS (cmake -DHS_LAMMPS_ROOT="
                                "<its install prefix>, see hardsphere's docs/lammps.md)");
-  if (!tested(lmp->num_ver) && lmp->comm->me == 0)
-    lmp->error->warning(FLERR, "hardsphere styles: LAMMPS " + running +
-                                   " is not among the tested releases (20210929, 20250204, 20260704); run the checks "
+  std::string tested;
+  bool known = false;
+  for (const int v : kTested) {
+    tested += (tested.empty() ? "" : ", ") + std::to_string(v);
+    known = known || v == lmp->num_ver;
+  }
+  if (!known && lmp->comm->me == 0)
+    lmp->error->warning(FLERR, "hardsphere styles: LAMMPS " + running + " is not among the tested releases (" + tested +
+                                   "); run the checks "
                                    "of hardsphere's docs/lammps.md before trusting results");
 }
 

@@ -34,15 +34,20 @@ def neighbour_lists(ctx, case):
         dict(standalone=ref, default_notes=default_notes)
 
 
+_NEIGHBOUR_DEFAULTS = {}  # per LAMMPS program: its defaults, asked once per process
+
+
 def lammps_neighbour_defaults(ctx):
     """LAMMPS's own neighbour settings as the fix's note spells them ('every 1 delay 10 check yes'
     before LAMMPS 2022, 'every 1 delay 0 check yes' since), from the settings a run without the
     fix prints."""
-    text = ctx.lammps("defaults/lammps_neighbour_defaults.lmp", np=1).text
-    m = re.search(r"update:? every =? ?(\d+) steps, delay =? ?(\d+) steps, check =? ?(\w+)", text)
-    if not m:
-        raise ValueError("no neighbour settings in LAMMPS's output")
-    return "every {} delay {} check {}".format(*m.groups())
+    if ctx.lmp not in _NEIGHBOUR_DEFAULTS:
+        text = ctx.lammps("defaults/lammps_neighbour_defaults.lmp", np=1).text
+        m = re.search(r"update:? every =? ?(\d+) steps, delay =? ?(\d+) steps, check =? ?(\w+)", text)
+        if not m:
+            raise ValueError("no neighbour settings in LAMMPS's output")
+        _NEIGHBOUR_DEFAULTS[ctx.lmp] = "every {} delay {} check {}".format(*m.groups())
+    return _NEIGHBOUR_DEFAULTS[ctx.lmp]
 
 
 @cases.case

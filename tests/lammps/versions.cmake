@@ -3,6 +3,7 @@
 # with `plugin load` (the runner's --plugin). One test per feature, serial and on 2 ranks:
 # lammps_vDATE_FEATURE_serial | _mpi2. The LAMMPS `python` command finds its module in the
 # build's source tree (build_lammps.sh keeps source/python beside the prefix).
+include(${CMAKE_CURRENT_LIST_DIR}/features.cmake)
 foreach(_entry ${HS_LAMMPS_PLUGINS})
   string(REPLACE "|" ";" _parts "${_entry}")
   list(GET _parts 0 _version)
@@ -12,7 +13,8 @@ foreach(_entry ${HS_LAMMPS_PLUGINS})
   get_filename_component(_python "${_prefix}/../../source/python" ABSOLUTE)
   set(_env "PYTHONPATH=${PROJECT_SOURCE_DIR}:${_python}")
   set(_args --lmp ${_lmp} --plugin ${_plugin} --hs $<TARGET_FILE:hardsphere>)
-  foreach(_feature identical conservation errors runs defaults outputs restitution gravity units)
+  foreach(_feature_entry ${HS_LAMMPS_FEATURES})
+    string(REGEX REPLACE ":.*" "" _feature ${_feature_entry})
     set(_name lammps_v${_version}_${_feature})
     add_test(NAME ${_name}_serial COMMAND ${Python3_EXECUTABLE} -m tests.lammps.${_feature} ${_args})
     set_tests_properties(${_name}_serial PROPERTIES LABELS lammps_versions TIMEOUT 900 ENVIRONMENT "${_env}")

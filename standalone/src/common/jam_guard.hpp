@@ -19,8 +19,6 @@ class JamGuard {
   //! `window`: events this close in time count as one instant; `n`: spheres in the scene.
   JamGuard(double window, std::size_t n) : window_(window), limit_(100 * std::int64_t(n) + 10000) {}
 
-  //! Starts afresh (the stepper: at each step, its times being back times within the step).
-  void reset() { count_ = 0, start_ = kFar; }
   //! Counts an event at time t: true when the instant has taken more events than the bound.
   bool jammed(double t) {
     if (!(t - start_ <= window_ && start_ - t <= window_)) {
@@ -29,7 +27,6 @@ class JamGuard {
     }
     return ++count_ > limit_;
   }
-  std::int64_t limit() const { return limit_; }
 
   //! The refusal, naming the last event's atoms (id_j < 0: a wall).
   [[noreturn]] void refuse(const std::string& engine, std::int64_t id_i, std::int64_t id_j) const {

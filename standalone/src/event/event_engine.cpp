@@ -63,8 +63,10 @@ ParticleSystem validated_spheres(const ParticleSystem& sys_in, const EventConfig
 
 struct EventEngine::Impl {
   Impl(const ParticleSystem& sys, const Physics& physics, const EventConfig& cfg)
-      : proto(sys), loop(sys, physics, cfg) {}
-  ParticleSystem proto;  // ids, types, radii, masses and input images in input order (positions unused)
+      : proto(sys), loop(proto, physics, cfg) {}
+  // ids, types, radii, masses and input images in input order (positions unused); before the
+  // loop, which names atoms by its ids.
+  ParticleSystem proto;
   event::EventLoop loop;
 };
 

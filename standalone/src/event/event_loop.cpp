@@ -15,28 +15,27 @@ namespace hardsphere::event {
 namespace {
 constexpr double kInf = std::numeric_limits<double>::infinity();
 
-//! The time the smallest sphere takes to cross its diameter at the rms speed, or to fall it
-//! under gravity (1 for a scene at rest without gravity): events closer than a tiny part of it
-//! count as one instant.
-double time_scale(const ParticleSystem& sys, const Physics& physics) {
-  double d = kInf, v2 = 0;
-  for (std::size_t i = 0; i < sys.size(); ++i) {
-    d = std::min(d, 2 * sys.radius[i]);
-    v2 += dot(sys.vel[i], sys.vel[i]);
-  }
-  const Vec3d g{physics.gravity[0], physics.gravity[1], physics.gravity[2]};
-  double t = kInf;
-  if (v2 > 0) t = d / std::sqrt(v2 / double(sys.size()));
-  if (physics.has_gravity()) t = std::min(t, std::sqrt(d / std::sqrt(dot(g, g))));
-  return t < kInf ? t : 1.0;
+double smallest_diameter(const ParticleSystem& sys) {
+  double d = kInf;
+  for (const double r : sys.radius) d = std::min(d, 2 * r);
+  return d;
 }
 
-//! kRestingTimeFraction of the time the smallest sphere takes to fall its diameter.
-double default_resting_time(const ParticleSystem& sys, const Physics& physics) {
-  if (!physics.has_gravity() || sys.size() == 0) return 1.0;  // no wall contact rests
-  const double d = 2 * *std::min_element(sys.radius.begin(), sys.radius.end());
+//! The time a sphere takes to fall a distance d from rest, sqrt(d / |g|) (+inf without gravity).
+double fall_time(double d, const Physics& physics) {
+  if (!physics.has_gravity()) return kInf;
   const Vec3d g{physics.gravity[0], physics.gravity[1], physics.gravity[2]};
-  return kRestingTimeFraction * std::sqrt(d / std::sqrt(dot(g, g)));
+  return std::sqrt(d / std::sqrt(dot(g, g)));
+}
+
+//! The time a sphere of diameter d takes to cross it at the rms speed or to fall it (`fall`),
+//! whichever is shorter (1 for a scene at rest without gravity): events closer than a tiny part
+//! of it count as one instant.
+double time_scale(const ParticleSystem& sys, double d, double fall) {
+  double v2 = 0;
+  for (const Vec3d& v : sys.vel) v2 += dot(v, v);
+  const double t = std::min(v2 > 0 ? d / std::sqrt(v2 / double(sys.size())) : kInf, fall);
+  return t < kInf ? t : 1.0;
 }
 }  // namespace
 
@@ -47,11 +46,14 @@ EventLoop::EventLoop(const ParticleSystem& sys, const Physics& physics_in, const
   const Physics physics = validated(physics_in, sys.box.periodic);
   restitution_ = physics.restitution;
   contact_time_ = physics.contact_time;
-  resting_time_ = physics.resting_time > 0 ? physics.resting_time : default_resting_time(sys, physics);
+  // The smallest diameter's fall time scales the default resting time (hops of ~1e-5 d) and,
+  // with the crossing time, the window the jam guard counts as one instant.
+  const double d = smallest_diameter(sys), fall = fall_time(d, physics);
+  resting_time_ = physics.resting_time > 0 ? physics.resting_time : (fall < kInf ? kRestingTimeFraction * fall : 1.0);
   if (!physics.elastic()) last_collision_.assign(n, -kInf);
   pair_collisions_.assign(n, 0);
-  ids_ = sys.id;
-  jam_ = JamGuard(1e-10 * time_scale(sys, physics), n);
+  ids_ = &sys.id;
+  jam_ = JamGuard(1e-10 * time_scale(sys, d, fall), n);
   mono_ = sys.monodisperse();
   mass0_ = n ? sys.mass[0] : 1.0;
   // Geometry: the box, the shell and the cells, sized by the spheres filed in cells (validated).
@@ -265,7 +267,7 @@ void EventLoop::refuse_more_events(double t_end) const {
 
 void EventLoop::refuse_jam(int i) const {
   const bool pair = predictions_.collision_first(i);
-  const auto id = [this](int k) { return ids_[trajectories_.input_index(std::size_t(k))]; };
+  const auto id = [this](int k) { return (*ids_)[trajectories_.input_index(std::size_t(k))]; };
   jam_.refuse("event engine", id(i), pair ? id(predictions_.partner(i)) : -1);
 }
 

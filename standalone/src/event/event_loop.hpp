@@ -24,7 +24,8 @@ namespace hardsphere::event {
 class EventLoop {
  public:
   //! The spheres of sys (in id order) at time 0 with their first events predicted. Throws
-  //! InputError for invalid physics or a box without room for the cells and a shell.
+  //! InputError for invalid physics or a box without room for the cells and a shell. sys must
+  //! outlive the loop: its ids name atoms in messages.
   EventLoop(const ParticleSystem& sys, const Physics& physics, const EventConfig& cfg);
 
   //! Runs every event up to t_end (time since construction); the state is then at t_end.
@@ -71,10 +72,10 @@ class EventLoop {
   bool mono_ = true;
   double mass0_ = 1;
   double restitution_ = 1.0, contact_time_ = 0.0;
-  double resting_time_ = 0;                    // Physics::resting_time (or its default)
-  std::vector<double> last_collision_;         // input index: time of the last collision (restitution < 1)
-  std::vector<std::int64_t> pair_collisions_;  // input index: pair collisions since reset_counters()
-  std::vector<std::int64_t> ids_;              // input index: atom id, for messages
+  double resting_time_ = 0;                         // Physics::resting_time (or its default)
+  std::vector<double> last_collision_;              // input index: time of the last collision (restitution < 1)
+  std::vector<std::int64_t> pair_collisions_;       // input index: pair collisions since reset_counters()
+  const std::vector<std::int64_t>* ids_ = nullptr;  // input index: atom id (the caller's), for messages
   JamGuard jam_;
 
   double now_ = 0, base_ = 0, reset_time_ = 0;
