@@ -53,6 +53,12 @@ FixHardSphere::FixHardSphere(LAMMPS *lmp, int narg, char **arg) : Fix(lmp, narg,
       physics.restitution = utils::numeric(FLERR, arg[a + 1], false, lmp);
     } else if (key == "contact_time") {
       physics.contact_time = utils::numeric(FLERR, arg[a + 1], false, lmp);
+    } else if (key == "tangential_restitution") {
+      physics.tangential_restitution = utils::numeric(FLERR, arg[a + 1], false, lmp);
+    } else if (key == "friction") {
+      physics.friction = utils::numeric(FLERR, arg[a + 1], false, lmp);
+    } else if (key == "inertia") {
+      physics.inertia = utils::numeric(FLERR, arg[a + 1], false, lmp);
     } else if (key == "ghost") {
       if (val == "auto")
         ghost_auto = true;
@@ -73,7 +79,8 @@ FixHardSphere::FixHardSphere(LAMMPS *lmp, int narg, char **arg) : Fix(lmp, narg,
         error->all(FLERR, "fix hardsphere: path must be 'auto' or 'ghosts', got '" + val + "'");
     } else {
       error->all(FLERR, "fix hardsphere: unknown keyword '" + key +
-                            "' (known: detect, max_events, restitution, contact_time, ghost, path, timing)");
+                            "' (known: detect, max_events, restitution, contact_time, tangential_restitution, "
+                            "friction, inertia, ghost, path, timing)");
     }
   }
   try {  // gravity comes from fix gravity at setup, checked there against the boundaries
@@ -81,12 +88,18 @@ FixHardSphere::FixHardSphere(LAMMPS *lmp, int narg, char **arg) : Fix(lmp, narg,
   } catch (const std::exception &e) {
     error->all(FLERR, std::string("fix hardsphere: ") + e.what());
   }
+  // Rough spheres carry LAMMPS's per-atom angular velocities (the atom style is set before
+  // any fix can be defined).
+  if (physics.rough() && !atom->omega_flag)
+    error->all(FLERR, std::string("fix hardsphere: tangential_restitution needs per-atom angular velocities, which "
+                                  "atom_style ") +
+                          atom->atom_style + " does not have: use 'atom_style sphere'");
   time_integrate = 1;
   vector_flag = 1;
   size_vector = kVectorSize;
   global_freq = 1;
   extvector = 0;
-  comm_forward = StepPath::kForwardSize;  // ghost velocities (owned + ghost path)
+  comm_forward = StepPath::forward_size(physics.rough());  // ghost velocities (owned + ghost path)
   virial_global_flag = 1;
   thermo_virial = 1;
   force_reneighbor = 1;

@@ -1,5 +1,6 @@
 #pragma once
 //! fix ID all hardsphere [detect overlap|sweep] [max_events N] [restitution e] [contact_time tc]
+//!                       [tangential_restitution beta] [friction mu] [inertia q]
 //!                       [ghost auto|user] [path auto|ghosts] [timing no|yes]
 //!
 //! Time integrator for hard spheres (instead of fix nve/sphere); user documentation in
@@ -74,16 +75,21 @@ class FixHardSphere : public Fix {
   bool gravity_changed() const;
   //! How the fix's messages name the physics settings.
   static hardsphere::PhysicsNames physics_names() {
-    return {"restitution", "contact_time", "fix gravity", "'boundary f' on that axis"};
+    hardsphere::PhysicsNames n;
+    n.restitution = "restitution", n.contact_time = "contact_time", n.gravity = "fix gravity";
+    n.walls = "'boundary f' on that axis";
+    n.tangential_restitution = "tangential_restitution", n.friction = "friction", n.inertia = "inertia";
+    return n;
   }
   //! 2 KE / (3 N) from the sum of m v^2 over this rank's atoms (the standalone's temperature:
   //! 3N degrees of freedom).
   double temperature_of(double local_mv2) const;
   //! The same from LAMMPS's rows.
   double temperature_now() const;
-  //! Gravity or inelastic collisions change the temperature inside the steps: it is measured
-  //! after every step, so <T> is the average of the steps' end temperatures, as LAMMPS's press.
-  bool temperature_varies() const { return !physics.elastic() || physics.has_gravity(); }
+  //! Gravity, inelastic collisions or rotation (energy moving between translation and rotation)
+  //! change the temperature inside the steps: it is measured after every step, so <T> is the
+  //! average of the steps' end temperatures, as LAMMPS's press.
+  bool temperature_varies() const { return !physics.elastic() || physics.has_gravity() || physics.rough(); }
   //! After another fix's step-end hooks: atoms it moved (compared with what was kept)?
   bool positions_moved() const;
   //! Names the fixes that may have moved atoms at the end of the last step, for an error.
@@ -96,8 +102,8 @@ class FixHardSphere : public Fix {
   bool ghost_auto = true;
   bool ghost_path_only = false;  //!< 'path ghosts': the owned + ghost path in serial too
   std::int64_t max_events = 100000000;
-  //! Restitution and contact time from the keywords, gravity from the fix gravity commands (read
-  //! at setup); validated at setup.
+  //! Restitution, contact time, tangential restitution, friction and inertia from the keywords,
+  //! gravity from the fix gravity commands (read at setup); validated at setup.
   hardsphere::Physics physics{1.0, hardsphere::kDefaultContactTime, {0, 0, 0}};
   PartTimer timing;  //!< 'timing yes': wall time per part, printed at the end of each run
 

@@ -175,7 +175,12 @@ void FixHardSphere::check_other_fixes() {
   // needs fix gravity, which would otherwise be named first).
   for (int i = 0; i < modify->nfix; i++) {
     Fix *f = modify->fix[i];
-    if (f != this && f->time_integrate) error->all(FLERR, "fix hardsphere is the time integrator: remove " + name(f));
+    if (f != this && f->time_integrate)
+      error->all(
+          FLERR,
+          std::string("fix hardsphere is the time integrator") +
+              (physics.rough() ? " of positions, velocities and angular velocities (tangential_restitution)" : "") +
+              ": remove " + name(f));
   }
   for (int i = 0; i < modify->nfix; i++)
     if (inserts_or_deletes_atoms(modify->fix[i]))

@@ -49,7 +49,7 @@ void GhostPath::check_owned_atoms() const {
   double **x = atom->x, **v = atom->v;
   for (int i = 0; i < nlocal; i++)
     sys.push_back(std::int64_t(atom->tag[i]), atom->type[i], atom->radius[i], atom->rmass[i],
-                  {x[i][0], x[i][1], x[i][2]}, {v[i][0], v[i][1], v[i][2]});
+                  {x[i][0], x[i][1], x[i][2]}, {v[i][0], v[i][1], v[i][2]}, {0, 0, 0}, omega_of(i));
   try {
     hardsphere::validate_and_wrap(sys, "fix hardsphere");
   } catch (const std::exception &e) {
@@ -141,7 +141,8 @@ void GhostPath::build() {
     const std::int64_t id = copies >= 0 ? extra_id++ : std::int64_t(tag);
     next_copy.push_back(copies);
     first_copy[std::size_t(tag)] = int(sys.size());
-    sys.push_back(id, atom->type[i], atom->radius[i], atom->rmass[i], p, {v[i][0], v[i][1], v[i][2]});
+    sys.push_back(id, atom->type[i], atom->radius[i], atom->rmass[i], p, {v[i][0], v[i][1], v[i][2]}, {0, 0, 0},
+                  omega_of(i));
     owned.push_back(i < nlocal ? 1 : 0);
     input_local_.push_back(i);
     input_shift_.push_back(Vec3d{x[i][0], x[i][1], x[i][2]} - p);
@@ -232,6 +233,7 @@ void GhostPath::sync_ghosts() {
     ghost_vel_[i] = v_owner_[std::size_t(g)];
   }
   hardsphere::state_exchange(*stepper_).set_spheres(ghosts.data(), n, ghost_pos_.data(), ghost_vel_.data());
+  if (physics_.rough()) sync_ghost_omegas();
 }
 
 void GhostPath::run_starts() {
@@ -315,6 +317,7 @@ StepTotals GhostPath::step(double *virial_rows, double scale) {
         const int g = int(slots_.rows()[k]);
         v_owner_[std::size_t(g)] = {v[g][0], v[g][1], v[g][2]};
       }
+      if (physics_.rough()) refresh_omegas();
     }
     sync_ghosts();
     timer_.charge(PartTimer::Ghosts);
@@ -336,6 +339,7 @@ StepTotals GhostPath::step(double *virial_rows, double scale) {
     if (slots_.stale(*stepper_)) map_slots();
     sent_vel_.resize(sent_slots_.size());
     hardsphere::state_exchange(*stepper_).copy_velocities(sent_slots_.data(), sent_slots_.size(), sent_vel_.data());
+    if (physics_.rough()) copy_sent_omegas();
   } else {
     agree_rebuild(false);  // the other ranks' steppers ask once per step
   }
@@ -350,6 +354,7 @@ StepTotals GhostPath::step(double *virial_rows, double scale) {
     timer_.charge(PartTimer::Rerun);
   } else if (stepper_) {
     hardsphere::state_exchange(*stepper_).scatter_state(slots_.owned_rows(), slots_.shifts(), x[0], v[0]);
+    if (physics_.rough()) hardsphere::state_exchange(*stepper_).scatter_omega(slots_.owned_rows(), atom->omega[0]);
     if (virial_rows_) {  // only owned rows: a ghost's share is its owner's
       std::fill(virial_rows_, virial_rows_ + 6 * atom->nlocal, 0.0);
       hardsphere::state_exchange(*stepper_).take_sphere_virial(slots_.owned_rows(), virial_scale_, virial_rows_);
@@ -395,6 +400,7 @@ bool GhostPath::ghosts_agree() {
   // copies' next step (sync_ghosts).
   const int nall = atom->nlocal + atom->nghost;
   v_owner_.resize(std::size_t(nall));
+  if (physics_.rough()) w_owner_.resize(std::size_t(nall));
   forward_comm(1);
   if (!stepper_) return true;
   auto &exch = hardsphere::state_exchange(*stepper_);
@@ -407,7 +413,7 @@ bool GhostPath::ghosts_agree() {
     const Vec3d &owner = v_owner_[slots_.rows()[met_slots_[i]]];
     if (!(std::sqrt(norm2(met_vel_[i] - owner)) <= 1e-9 * (1.0 + std::sqrt(norm2(owner))))) return false;
   }
-  return true;
+  return !physics_.rough() || omegas_agree();
 }
 
 StepTotals GhostPath::step_globally(bool check, const std::string &source, const std::string &hint) {
@@ -415,13 +421,15 @@ StepTotals GhostPath::step_globally(bool check, const std::string &source, const
   // so the result a complete ghost shell gives), on every rank from the gathered start state;
   // each rank keeps its own atoms. Rare.
   const int nlocal = atom->nlocal;
-  constexpr int kFields = 10;  // tag, type, radius, mass, x[3], v[3]
+  const bool rough = physics_.rough();
+  const int kFields = rough ? 13 : 10;  // tag, type, radius, mass, x[3], v[3], rough spheres' omega[3]
   std::vector<double> mine(std::size_t(nlocal) * kFields);
   for (int i = 0; i < nlocal; i++) {
     double *o = &mine[std::size_t(i) * kFields];
     const double *p = atom->x[i], *u = atom->v[i];  // still the step's start
     o[0] = double(atom->tag[i]), o[1] = atom->type[i], o[2] = atom->radius[i], o[3] = atom->rmass[i];
     o[4] = p[0], o[5] = p[1], o[6] = p[2], o[7] = u[0], o[8] = u[1], o[9] = u[2];
+    if (rough) o[10] = atom->omega[i][0], o[11] = atom->omega[i][1], o[12] = atom->omega[i][2];
   }
   const int nprocs = comm->nprocs;
   int count = nlocal * kFields;
@@ -438,7 +446,8 @@ StepTotals GhostPath::step_globally(bool check, const std::string &source, const
   }
   for (std::size_t k = 0; k < all.size(); k += kFields) {
     const double *o = &all[k];
-    sys.push_back(std::int64_t(o[0]), int(o[1]), o[2], o[3], {o[4], o[5], o[6]}, {o[7], o[8], o[9]});
+    sys.push_back(std::int64_t(o[0]), int(o[1]), o[2], o[3], {o[4], o[5], o[6]}, {o[7], o[8], o[9]}, {0, 0, 0},
+                  rough ? Vec3d{o[10], o[11], o[12]} : Vec3d{0, 0, 0});
   }
   if (check) {  // validates and wraps
     try {
@@ -476,6 +485,8 @@ StepTotals GhostPath::step_globally(bool check, const std::string &source, const
     const Vec3d p = start + d;
     x[i][0] = p.x, x[i][1] = p.y, x[i][2] = p.z;
     v[i][0] = out.vel[k].x, v[i][1] = out.vel[k].y, v[i][2] = out.vel[k].z;
+    if (rough)
+      atom->omega[i][0] = out.omega[k].x, atom->omega[i][1] = out.omega[k].y, atom->omega[i][2] = out.omega[k].z;
   }
   StepTotals t;
   t.rerun = true;
@@ -557,7 +568,7 @@ void GhostPath::forward_comm_learning_swaps() {
 void GhostPath::forward_comm(int mode) {
   comm_mode_ = mode;
   swap_ = 0;
-  hs_compat::forward_comm(comm, fix_, kForwardSize);
+  hs_compat::forward_comm(comm, fix_, forward_size(physics_.rough()));
   comm_mode_ = 0;
 }
 
@@ -586,6 +597,7 @@ int GhostPath::pack_forward(int n, int *list, double *buf, int pbc_flag, const i
     } else {
       buf[m++] = v[j][0], buf[m++] = v[j][1], buf[m++] = v[j][2];
     }
+    if (physics_.rough()) m = pack_omega(j, buf, m);
   }
   return m;
 }
@@ -605,10 +617,67 @@ void GhostPath::unpack_forward(int n, int first, double *buf) {
   ++swap_;
   if (skip) return;
   double **row = comm_mode_ == 2 ? atom->x : atom->v;
-  for (int i = first, m = 0; i < first + n; i++, m += 3) {
+  const bool omegas = comm_mode_ != 2 && physics_.rough();
+  for (int i = first, m = 0; i < first + n; i++, m += omegas ? 6 : 3) {
     if (comm_mode_ == 1)  // owners' results, kept apart from this rank's copies
       v_owner_[std::size_t(i)] = {buf[m], buf[m + 1], buf[m + 2]};
     else
       row[i][0] = buf[m], row[i][1] = buf[m + 1], row[i][2] = buf[m + 2];
+    if (omegas) unpack_omega(i, buf + m + 3);
   }
+}
+
+// Rough spheres: angular velocities travel with the velocities (LAMMPS's omega rows, the owners'
+// results in w_owner_), in the same communications and checks.
+
+Vec3d GhostPath::omega_of(int i) const {
+  if (!physics_.rough()) return {0, 0, 0};
+  const double *w = atom->omega[i];
+  return {w[0], w[1], w[2]};
+}
+
+void GhostPath::sync_ghost_omegas() {
+  const std::vector<std::uint32_t> &ghosts = slots_.ghost_slots();
+  ghost_w_.resize(ghosts.size());
+  for (std::size_t i = 0; i < ghosts.size(); i++) ghost_w_[i] = w_owner_[slots_.rows()[ghosts[i]]];
+  hardsphere::state_exchange(*stepper_).set_omega(ghosts.data(), ghosts.size(), ghost_w_.data());
+}
+
+void GhostPath::refresh_omegas() {
+  hardsphere::state_exchange(*stepper_).gather_omega(slots_.rows(), atom->omega[0]);
+  w_owner_.resize(std::size_t(atom->nlocal + atom->nghost));
+  for (const std::uint32_t k : slots_.ghost_slots()) w_owner_[slots_.rows()[k]] = omega_of(int(slots_.rows()[k]));
+}
+
+void GhostPath::copy_sent_omegas() {
+  sent_w_.resize(sent_slots_.size());
+  hardsphere::state_exchange(*stepper_).copy_omega(sent_slots_.data(), sent_slots_.size(), sent_w_.data());
+}
+
+bool GhostPath::omegas_agree() {
+  // As the velocities: the contact points' speeds a w, against the owner's to 1e-9.
+  met_w_.resize(met_slots_.size());
+  hardsphere::state_exchange(*stepper_).copy_omega(met_slots_.data(), met_slots_.size(), met_w_.data());
+  for (std::size_t i = 0; i < met_slots_.size(); i++) {
+    const std::uint32_t row = slots_.rows()[met_slots_[i]];
+    const Vec3d &owner = w_owner_[row];
+    const double a = atom->radius[row];
+    if (!(a * std::sqrt(norm2(met_w_[i] - owner)) <= 1e-9 * (1.0 + a * std::sqrt(norm2(owner))))) return false;
+  }
+  return true;
+}
+
+int GhostPath::pack_omega(int j, double *buf, int m) const {
+  const Vec3d w = comm_mode_ == 1
+                      ? (j < atom->nlocal ? sent_w_[std::size_t(row_sent_[std::size_t(j)])] : w_owner_[std::size_t(j)])
+                      : omega_of(j);
+  buf[m++] = w.x, buf[m++] = w.y, buf[m++] = w.z;
+  return m;
+}
+
+void GhostPath::unpack_omega(int i, const double *buf) {
+  if (comm_mode_ == 1)
+    w_owner_[std::size_t(i)] = {buf[0], buf[1], buf[2]};
+  else
+    atom->omega[i][0] = buf[0], atom->omega[i][1] = buf[1], atom->omega[i][2] = buf[2];
 }

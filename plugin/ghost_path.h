@@ -74,6 +74,14 @@ class GhostPath : public StepPath, protected Pointers {
   StepTotals restart_globally(const std::string &source, const std::string &hint);
   //! From an engine over all atoms (step_globally): the owned atoms' collision virials.
   void take_owned_virial(hardsphere::StateExchange &exch);
+  // Rough spheres' angular velocities, alongside the velocities (ghost_path.cpp's last part).
+  hardsphere::Vec3d omega_of(int row) const;  //!< LAMMPS's omega row (zero for smooth spheres)
+  void sync_ghost_omegas();                   //!< the ghost copies' omegas from their owners
+  void refresh_omegas();                      //!< every omega from LAMMPS's rows
+  void copy_sent_omegas();                    //!< the omegas of the owned atoms others hold as ghosts
+  bool omegas_agree();                        //!< the owner check of the ghosts' omegas
+  int pack_omega(int row, double *buf, int m) const;
+  void unpack_omega(int row, const double *buf);
   //! The box, its periodicity, LAMMPS's ghost cutoffs and skin: what a run's setup fixes.
   std::vector<double> box_layout() const;
   //! Whether any rank's owned atoms or sub-domain differ from those at the end of the last run.
@@ -107,6 +115,7 @@ class GhostPath : public StepPath, protected Pointers {
   std::vector<hardsphere::Vec3d> met_vel_;                //!< and this rank's velocities of them
   std::vector<hardsphere::Vec3d> x_ref_;                  //!< owned positions when LAMMPS last re-neighboured
   std::vector<hardsphere::Vec3d> v_owner_;                //!< per ghost: its owner's velocity after the step
+  std::vector<hardsphere::Vec3d> w_owner_, sent_w_, met_w_, ghost_w_;  //!< the same for rough spheres' omegas
   // Owned atoms that other ranks hold as ghosts (and this rank's own periodic images, if the
   // swaps were not recognised): LAMMPS's rows, recorded from its send lists at the build, their
   // slots, and their velocities after the step, sent before LAMMPS's own rows are written.

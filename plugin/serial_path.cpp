@@ -38,9 +38,13 @@ void SerialPath::make(const std::string &source, const std::string &hint) {
     sys.box.periodic[d] = domain->periodicity[d] != 0;
   }
   sys.reserve(std::size_t(nlocal));
+  const bool rough = physics_.rough();  // the fix checked that the atom style has omega
   for (int i = 0; i < nlocal; i++)
     sys.push_back(std::int64_t(atom->tag[i]), atom->type[i], atom->radius[i], atom->rmass[i],
-                  {atom->x[i][0], atom->x[i][1], atom->x[i][2]}, {atom->v[i][0], atom->v[i][1], atom->v[i][2]});
+                  {atom->x[i][0], atom->x[i][1], atom->x[i][2]}, {atom->v[i][0], atom->v[i][1], atom->v[i][2]},
+                  {0, 0, 0},
+                  rough ? hardsphere::Vec3d{atom->omega[i][0], atom->omega[i][1], atom->omega[i][2]}
+                        : hardsphere::Vec3d{0, 0, 0});
   try {
     hardsphere::validate_and_wrap(sys, source);  // overlaps, out-of-box atoms
     stepper_ = hardsphere::make_stepper(sys, physics_, config_);
@@ -64,10 +68,7 @@ void SerialPath::make(const std::string &source, const std::string &hint) {
   slots_dirty_ = true;
   lammps_moved_ = false;
   // Other fixes' setup may still change velocities: compare at the first step.
-  if (others_.any() && nlocal > 0)
-    v_written_.assign(atom->v[0], atom->v[0] + 3 * nlocal);
-  else
-    v_written_.clear();
+  keep_written();
   state_written_ = true;
 }
 
@@ -153,9 +154,24 @@ void SerialPath::follow_lammps() {
 
 void SerialPath::write() {
   map_if_stale();
-  if (slots_.size())
-    hardsphere::state_exchange(*stepper_).scatter_state(slots_.rows(), slots_.shifts(), atom->x[0], atom->v[0]);
+  auto &exch = hardsphere::state_exchange(*stepper_);
+  if (slots_.size()) exch.scatter_state(slots_.rows(), slots_.shifts(), atom->x[0], atom->v[0]);
+  // Rough spheres: compute erotate/sphere, temp/sphere and dumps read LAMMPS's omega.
+  if (slots_.size() && physics_.rough()) exch.scatter_omega(slots_.rows(), atom->omega[0]);
   state_written_ = true;
+}
+
+void SerialPath::keep_written() {
+  const int nlocal = atom->nlocal;
+  const bool keep = others_.any() && nlocal > 0;
+  if (keep)
+    v_written_.assign(atom->v[0], atom->v[0] + 3 * nlocal);
+  else
+    v_written_.clear();
+  if (keep && physics_.rough())
+    w_written_.assign(atom->omega[0], atom->omega[0] + 3 * nlocal);
+  else
+    w_written_.clear();
 }
 
 bool SerialPath::must_write() const {
@@ -173,6 +189,7 @@ bool SerialPath::before_step(const StepStart &start) {
   if (!start.moved_by.empty()) {  // made again from LAMMPS's atoms, checked as at a run's start
     make(start.moved_by, kMovedAtomsHint);
     v_written_.clear();
+    w_written_.clear();
     fresh = true;
   }
   if (lammps_moved_) follow_lammps();
@@ -189,6 +206,14 @@ bool SerialPath::before_step(const StepStart &start) {
       fresh = true;
     }
     v_written_.clear();
+  }
+  if (!w_written_.empty()) {  // the same for angular velocities (rough spheres)
+    const double *w = atom->omega[0];
+    if (w_written_.size() != std::size_t(3 * nlocal) || !std::equal(w, w + 3 * nlocal, w_written_.begin())) {
+      map_if_stale();
+      hardsphere::state_exchange(*stepper_).gather_omega(slots_.rows(), w);
+    }
+    w_written_.clear();
   }
   timer_.charge(PartTimer::Follow);
   return fresh;
@@ -214,7 +239,7 @@ StepTotals SerialPath::step(double *virial_rows, double scale) {
   state_written_ = false;
   if (must_write()) {
     write();
-    if (others_.any() && nlocal > 0) v_written_.assign(atom->v[0], atom->v[0] + 3 * nlocal);
+    keep_written();
   }
   timer_.charge(PartTimer::Write);
 

@@ -4,6 +4,7 @@
 //! result is the standalone stepper's by construction. LAMMPS keeps its own copy of x and v (for
 //! output, other fixes, restarts), written back through the slot map only on steps where LAMMPS
 //! or another fix reads them; velocities another fix changed are taken up before the next step.
+//! Rough spheres' angular velocities (LAMMPS's omega) are read, written and taken up with them.
 #include <array>
 #include <memory>
 #include <string>
@@ -47,6 +48,8 @@ class SerialPath : public StepPath, protected Pointers {
   //! LAMMPS re-neighboured: it may have wrapped atoms (image flags) or sorted them.
   void follow_lammps();
   void write();
+  //! What was just written, if other fixes may change it before the next step.
+  void keep_written();
   bool must_write() const;
 
   PartTimer &timer_;
@@ -64,6 +67,7 @@ class SerialPath : public StepPath, protected Pointers {
   std::vector<imageint> mapped_image_;                  //!< LAMMPS's image flags the shifts account for
   std::vector<hardsphere::Vec3d> slot_pos_, slot_vel_;  //!< scratch: the stepper's state while mapping
   std::vector<double> v_written_;                       //!< velocities last written, while other fixes may change them
+  std::vector<double> w_written_;                       //!< the same for angular velocities (rough spheres)
   bool slots_dirty_ = true;                             //!< the slot map needs map()
   bool lammps_moved_ = false;                           //!< LAMMPS re-neighboured since the last step
   bool state_written_ = true;                           //!< LAMMPS's x and v hold the stepper's current state

@@ -53,10 +53,12 @@ class StepPath {
   virtual bool needs_reneighbor() const = 0;
   //! A run ends: LAMMPS's rows hold the final state afterwards.
   virtual void run_ends() = 0;
-  //! LAMMPS's forward communication of the fix (the owned + ghost path's ghost velocities).
+  //! LAMMPS's forward communication of the fix (the owned + ghost path's ghost velocities, and
+  //! angular velocities for rough spheres).
   virtual int pack_forward(int, int *, double *, int, const int *) { return 0; }
   virtual void unpack_forward(int, int, double *) {}
   static constexpr int kForwardSize = 3;
+  static constexpr int forward_size(bool rough) { return rough ? 2 * kForwardSize : kForwardSize; }
 };
 
 }  // namespace LAMMPS_NS
