@@ -16,15 +16,15 @@ from tests.lammps.lammps_runner import Cases, main, read_data, read_dump_frames
 cases = Cases(__file__)
 
 
-def fix_keywords(beta, mu=None, e=None):
-    """The fix's keywords and the standalone's options of one collision law."""
-    fix, cli = f"tangential_restitution {beta}", ["--tangential-restitution", beta]
-    if mu is not None:
-        fix += f" friction {mu}"
-        cli += ["--friction", mu]
-    if e is not None:
-        fix += f" restitution {e}"
-        cli += ["--restitution", e]
+def fix_keywords(case):
+    """The fix's keywords and the standalone's options of a case's collision law: beta and, if
+    given, mu, e and q."""
+    fix, cli = f"tangential_restitution {case['beta']}", ["--tangential-restitution", case["beta"]]
+    for key, keyword, option in (("mu", "friction", "--friction"), ("e", "restitution", "--restitution"),
+                                 ("q", "inertia", "--inertia")):
+        if key in case:
+            fix += f" {keyword} {case[key]}"
+            cli += [option, case[key]]
     return fix, cli
 
 
@@ -40,7 +40,7 @@ def against_standalone(ctx, case, data, boundary=("p p p", "p,p,p"), fix_extra="
     """The deck rough/gas.lmp and `hardsphere run` from the same data file with the same law:
     the measured values (collisions, wall bounces, energies, state differences) and the
     standalone's JSON summary."""
-    fix, cli = fix_keywords(case["beta"], case.get("mu"), case.get("e"))
+    fix, cli = fix_keywords(case)
     steps, dt = case["steps"], case["dt"]
     name = case["name"]
     ref = ctx.standalone("--read-data", data, "--boundary", boundary[1], "--steps", steps, "--dt", dt, *cli,
@@ -69,9 +69,9 @@ def against_standalone(ctx, case, data, boundary=("p p p", "p,p,p"), fix_extra="
 @cases.case
 def periodic_gas(ctx, case):
     """A gas from `hardsphere run` with angular velocities at its temperature (the data file's
-    Velocities carry wx wy wz); both engines read it."""
+    Velocities carry wx wy wz; with the case's inertia); both engines read it."""
     case = dict(case, name=case.get("name", "gas"))
-    cli = fix_keywords(case["beta"], case.get("mu"))[1]
+    cli = fix_keywords(case)[1]
     data = ctx.state(f"rough_{case['name']}.data", "--n", case["n"], "--phi", case["phi"], *cli)
     return against_standalone(ctx, case, data, fix_extra=case.get("fix", ""))
 
@@ -80,7 +80,7 @@ def periodic_gas(ctx, case):
 def between_walls(ctx, case):
     """Walls on z: wall contacts take the tangential rule with the wall as an infinite mass."""
     case = dict(case, name="walls")
-    cli = fix_keywords(case["beta"], case.get("mu"))[1]
+    cli = fix_keywords(case)[1]
     ctx.state("rough_walls.data", "--n", 1000, "--phi", 0.3, "--boundary", "p,p,w", *cli)
     return against_standalone(ctx, case, "rough_walls.data", boundary=("p p f", "p,p,w"))
 
