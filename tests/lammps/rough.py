@@ -63,7 +63,8 @@ def against_standalone(ctx, case, data, boundary=("p p p", "p,p,p"), fix_extra="
             # compute temp/sphere: 3 translational and 3 rotational degrees of freedom per
             # sphere less the 3 of the centre of mass.
             "temp/sphere over the energies": last["c_tsph"] * (6 * n - 3) / 2 / (last["KinEng"] + last["c_rot"]),
-            "ghost reruns": last["f_hs[6]"]}, dict(standalone=ref, start=rows[0])
+            "ghost reruns": last["f_hs[6]"], "P": last["f_hs[10]"]}, \
+        dict(standalone=ref, start=rows[0], mean_press=last["f_pav"])
 
 
 @cases.case
