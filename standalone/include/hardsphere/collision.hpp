@@ -163,29 +163,25 @@ inline Vec3<T> tangential_impulse(Vec3<T> g_t, T reduced_mass, T jn, const Rough
 //! A rough pair collision at contact separation dr = r1 - r2 (radii a1, a2, angular velocities
 //! w1, w2): the normal impulse exactly as collide() (equal_mass: collide_equal_mass()), whose
 //! velocities it leaves bit for bit when beta = -1, then the tangential impulse J_t from the
-//! contact points' relative velocity before the collision, g = v1 - v2 - (a1 w1 + a2 w2) x n:
+//! contact points' relative velocity, g = v1 - v2 - (a1 w1 + a2 w2) x n:
 //! v1 += J_t/m1, v2 -= J_t/m2, w_k -= a_k (n x J_t)/I_k. Conserves momentum and the angular
 //! momentum about the contact point. Nothing changes for a receding pair (virial 0).
 template <class T>
-inline RoughOutcome<T> collide_rough(Vec3<T> dr, Vec3<T>& v1, Vec3<T>& v2, Vec3<T>& w1, Vec3<T>& w2, T m1, T m2, T a1,
-                                     T a2, T restitution, const Roughness<T>& k, bool equal_mass = false) {
+inline RoughOutcome<T> collide_rough(Vec3<T> dr, Vec3<T>& v1, Vec3<T>& v2, Vec3<T>& w1, Vec3<T>& w2, T m1, T m2,
+                                     T a1, T a2, T restitution, const Roughness<T>& k, bool equal_mass = false) {
   RoughOutcome<T> out;
-  const T r2 = dot(dr, dr);
-  const Vec3<T> dv = v1 - v2;
-  const T b = dot(dr, dv);
-  if (!(b < T(0)) || !(r2 > T(0))) return out;
-  const T len = std::sqrt(r2);
+  // The smooth kernel first and untouched (its result is the smooth one bit for bit); the normal
+  // impulse leaves the tangential relative velocity as it was, so g_t is taken after it.
+  out.virial = equal_mass ? m1 * collide_equal_mass(dr, v1, v2, restitution) : collide(dr, v1, v2, m1, m2, restitution);
+  if (!(out.virial > T(0))) return out;
+  const T len = std::sqrt(dot(dr, dr));
   const Vec3<T> n = (T(1) / len) * dr;
-  const Vec3<T> g = dv - cross(a1 * w1 + a2 * w2, n);
+  const Vec3<T> g = v1 - v2 - cross(a1 * w1 + a2 * w2, n);
   const Vec3<T> g_t = g - dot(g, n) * n;
   const T reduced_mass = m1 * m2 / (m1 + m2);
-  if (equal_mass)
-    out.virial = m1 * collide_equal_mass(dr, v1, v2, restitution);
-  else
-    out.virial = collide(dr, v1, v2, m1, m2, restitution);
-  const T gn = b / len;  // normal approach speed (< 0)
+  const T jn = out.virial / len;  // |J_n| = (1+e) mu_ij |g.n|
+  const T gn = jn / ((T(1) + restitution) * reduced_mass);
   out.dissipated_normal = T(0.5) * (T(1) - restitution * restitution) * reduced_mass * gn * gn;
-  const T jn = out.virial / len;
   const Vec3<T> j = detail::tangential_impulse(g_t, reduced_mass, jn, k, out.dissipated_tangential, out.sliding);
   v1 += (T(1) / m1) * j;
   v2 -= (T(1) / m2) * j;
