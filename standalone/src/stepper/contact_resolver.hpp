@@ -760,8 +760,7 @@ class ContactResolver {
 
   ContactArrays<Real> a_;
   Real dt_ = 0, sigma_ = 0, mass_ = 0;
-  Real restitution_ = 1;           // normal restitution (1: elastic)
-  kernel::Roughness<Real> rough_;  // tangential law while a_.omega is set
+  Real restitution_ = 1;  // normal restitution (1: elastic)
   double contact_time_ = 0, step_end_ = 0;
   double* last_collision_ = nullptr;  // id-indexed last collision times (restitution_ < 1 only)
   Real speed_bound_ = std::numeric_limits<Real>::infinity();
@@ -777,6 +776,7 @@ class ContactResolver {
   bool has_gravity_ = false;
   Real resting_time_ = 0;                           // see set_resting_time()
   int wall_axis_[3] = {0, 0, 0}, n_wall_axes_ = 0;  // the axes with walls
+  kernel::Roughness<Real> rough_;                   // tangential law while a_.omega is set
 };
 
 }  // namespace hardsphere
