@@ -167,8 +167,8 @@ inline Vec3<T> tangential_impulse(Vec3<T> g_t, T reduced_mass, T jn, const Rough
 //! v1 += J_t/m1, v2 -= J_t/m2, w_k -= a_k (n x J_t)/I_k. Conserves momentum and the angular
 //! momentum about the contact point. Nothing changes for a receding pair (virial 0).
 template <class T>
-inline RoughOutcome<T> collide_rough(Vec3<T> dr, Vec3<T>& v1, Vec3<T>& v2, Vec3<T>& w1, Vec3<T>& w2, T m1, T m2,
-                                     T a1, T a2, T restitution, const Roughness<T>& k, bool equal_mass = false) {
+inline RoughOutcome<T> collide_rough(Vec3<T> dr, Vec3<T>& v1, Vec3<T>& v2, Vec3<T>& w1, Vec3<T>& w2, T m1, T m2, T a1,
+                                     T a2, T restitution, const Roughness<T>& k, bool equal_mass = false) {
   RoughOutcome<T> out;
   // The smooth kernel first and untouched (its result is the smooth one bit for bit); the normal
   // impulse leaves the tangential relative velocity as it was, so g_t is taken after it.
