@@ -99,6 +99,8 @@ void GhostPath::build() {
       const bool wall_hi = !periodic && domain->subhi[d] == domain->boxhi[d];
       sys.box.lo[d] = wall_lo ? domain->boxlo[d] : domain->sublo[d] - margin;
       sys.box.hi[d] = wall_hi ? domain->boxhi[d] : domain->subhi[d] + margin;
+      // Walls in the margin are never reached before the next re-neighbouring: no wall tests.
+      config.unreached_walls[std::size_t(d)] = !wall_lo && !wall_hi;
     }
     sys.box.periodic[d] = whole[std::size_t(d)];
   }
@@ -201,6 +203,7 @@ void GhostPath::start_epoch(double shell, double dmax) {
     x_ref_[std::size_t(i)] = {x[i][0], x[i][1], x[i][2]};
     outside = std::max(outside, distance_outside(x[i], domain->sublo, domain->subhi));
   }
+  moved_bound_ = 0;
   reach_ = shell - 2 * dmax - outside;
   MPI_Allreduce(MPI_IN_PLACE, &reach_, 1, MPI_DOUBLE, MPI_MIN, world);
   if (!(reach_ > 0))
@@ -336,6 +339,7 @@ StepTotals GhostPath::step(double *virial_rows, double scale) {
       error->one(FLERR, std::string("fix hardsphere: ") + e.what());
     }
     timer_.charge(PartTimer::Steps);
+    moved_bound_ += stepper_->step_speed_bound() * config_.dt;
     if (slots_.stale(*stepper_)) map_slots();
     sent_vel_.resize(sent_slots_.size());
     hardsphere::state_exchange(*stepper_).copy_velocities(sent_slots_.data(), sent_slots_.size(), sent_vel_.data());
@@ -371,7 +375,7 @@ StepTotals GhostPath::step(double *virial_rows, double scale) {
     last_unresolved_ = unresolved;
   }
 
-  reneighbor_ = shell_used_up();
+  reneighbor_ = t.rerun ? shell_used_up() : shell_maybe_used_up();
   timer_.charge(PartTimer::Moves);
   return t;
 }
@@ -532,7 +536,16 @@ bool GhostPath::layout_changed() const {
   return changed != 0;
 }
 
-bool GhostPath::shell_used_up() const {
+bool GhostPath::shell_maybe_used_up() {
+  // The steppers' speed bounds bound every move: the exact test, a pass over the owned atoms,
+  // runs only once the bound could reach the slack (it decides as the exact test alone would).
+  const double speed = stepper_ ? stepper_->step_speed_bound() : 0.0;
+  int maybe = 2.0 * (moved_bound_ + 2.0 * speed * config_.dt) >= reach_ ? 1 : 0;
+  MPI_Allreduce(MPI_IN_PLACE, &maybe, 1, MPI_INT, MPI_LOR, world);
+  return maybe && shell_used_up();
+}
+
+bool GhostPath::shell_used_up() {
   // Largest owned move since the epoch began, from LAMMPS's rows. Before the next step every
   // atom that can meet an owned atom must be here: the shell is used up when the moves (both
   // atoms of a pair) and one more step could exceed its slack.
@@ -543,6 +556,7 @@ bool GhostPath::shell_used_up() const {
     moves[1] = std::max(moves[1], norm2(Vec3d{v[i][0], v[i][1], v[i][2]}));
   }
   MPI_Allreduce(MPI_IN_PLACE, moves, 2, MPI_DOUBLE, MPI_MAX, world);
+  moved_bound_ = std::sqrt(moves[0]);
   return 2.0 * (std::sqrt(moves[0]) + 2.0 * std::sqrt(moves[1]) * config_.dt) >= reach_;
 }
 

@@ -88,7 +88,10 @@ class GhostPath : public StepPath, protected Pointers {
   bool layout_changed() const;
   //! Whether the moves since the epoch began could let an atom that is not held reach an owned
   //! atom's partners within the next step (all ranks agree).
-  bool shell_used_up() const;
+  bool shell_used_up();
+  //! The same, decided by the steppers' speed bounds while those keep every move short of the
+  //! slack: the exact pass over the owned atoms only near the end of an epoch.
+  bool shell_maybe_used_up();
 
   class Fix *fix_;
   PartTimer &timer_;
@@ -133,8 +136,9 @@ class GhostPath : public StepPath, protected Pointers {
   const double *packed_ = nullptr;             //!< the last pack's buffer (a self swap unpacks from it)
   std::size_t swap_ = 0;                       //!< swaps so far in the current communication
   bool swaps_known_ = false;
-  int comm_mode_ = 0;  //!< 0: velocities, 1: owners' results, 2: positions
-  double reach_ = 0;   //!< slack of the ghost shell when LAMMPS last re-neighboured (length)
+  int comm_mode_ = 0;       //!< 0: velocities, 1: owners' results, 2: positions
+  double reach_ = 0;        //!< slack of the ghost shell when LAMMPS last re-neighboured (length)
+  double moved_bound_ = 0;  //!< bound of every owned atom's move since the epoch began
 };
 
 }  // namespace LAMMPS_NS

@@ -69,6 +69,10 @@ struct StepperConfig {
   //! adapter whose box has empty margins (one MPI rank's spheres and ghosts) passes the whole
   //! gas's, so its stepper is tuned like one over the whole gas.
   double packing_fraction = 0.0;
+  //! Wall axes whose walls no sphere reaches while the stepper runs, because its adapter makes a
+  //! new stepper before any could (one MPI rank's box, walled beyond its ghosts): no wall tests
+  //! along them. A sphere found beyond such a wall at a pair-list rebuild throws std::logic_error.
+  std::array<bool, 3> unreached_walls{false, false, false};
   //! Count each sphere's pair collisions (StepperBase::sphere(), pair_collisions_per_sphere()).
   //! Off by default: two scattered increments per collision cost dense gases a few per cent.
   bool count_per_sphere = false;
@@ -113,6 +117,9 @@ class StepperBase {
   virtual bool sweep_detection() const = 0;      //!< the detection mode in use (Auto resolved) is sweep
   //! Sub-steps the next step needs at the current speeds (1 unless dt is long for the skin).
   virtual double substeps_per_step() const = 0;
+  //! An upper bound of every sphere's speed during the last step (collisions and gravity
+  //! included), so that speed times dt bounds every sphere's move in it.
+  virtual double step_speed_bound() const = 0;
   //! The sphere at position `index` of state() (id order), in O(1) between list rebuilds, so a
   //! tracker can follow it every few steps. Throws InputError for an index out of range.
   virtual SphereSample sphere(std::size_t index) const = 0;

@@ -7,6 +7,7 @@
 #include <limits>
 #include <numeric>
 #include <sstream>
+#include <stdexcept>
 #include <utility>
 #include <vector>
 
@@ -241,6 +242,7 @@ class Stepper final : public StepperBase, public StateExchange {
   }
   void set_rebuild_agreement(std::function<bool(bool)> agree) override { agree_ = std::move(agree); }
   bool sweep_detection() const override { return sweep_; }
+  double step_speed_bound() const override { return double(std::max(step_speed_max_, resolver_.speed_bound())); }
   double substeps_per_step() const override {
     return std::max(1.0, std::ceil(double(resolver_.speed_bound()) * double(dt_) / double(half_skin_)));
   }
@@ -411,6 +413,8 @@ class Stepper final : public StepperBase, public StateExchange {
   Real half_skin_;
   bool rebuilt_in_step_ = false;
   double substeps_total_ = 0, max_particle_steps_;
+  Real step_speed_max_ = 0;  //!< the speed bound's largest value in the current step's sub-steps
+  std::array<bool, 3> unreached_walls_{false, false, false};
   detail::ListGuard<Real> guard_;
   std::vector<std::uint32_t> flagged_;  // drift(): spheres past the guard's skin / 2
   Real sigma_ = 0;                      // monodisperse diameter
@@ -594,7 +598,10 @@ Stepper<Real, Mono>::Stepper(const ParticleSystem& sys, const Physics& physics, 
   }
   std::array<Real, 3> wall_lo{}, wall_hi{};
   for (std::size_t d = 0; d < 3; ++d) wall_lo[d] = Real(box_.lo[d]), wall_hi[d] = Real(box_.hi[d]);
-  resolver_.set_walls(box_.periodic, wall_lo, wall_hi);
+  unreached_walls_ = cfg.unreached_walls;
+  std::array<bool, 3> no_tests = box_.periodic;
+  for (std::size_t d = 0; d < 3; ++d) no_tests[d] = no_tests[d] || unreached_walls_[d];
+  resolver_.set_walls(no_tests, wall_lo, wall_hi);
   gravity_ = {Real(physics.gravity[0]), Real(physics.gravity[1]), Real(physics.gravity[2])};
   has_gravity_ = physics.has_gravity();
   resolver_.set_gravity(gravity_);
@@ -616,6 +623,11 @@ template <class Real, bool Mono>
 void Stepper<Real, Mono>::rebuild() {
   const std::size_t n = pos_.size();
   const Real lo[3] = {Real(box_.lo[0]), Real(box_.lo[1]), Real(box_.lo[2])};
+  for (int d = 0; d < 3; ++d)
+    if (unreached_walls_[std::size_t(d)])
+      for (std::size_t i = 0; i < n; ++i)
+        if (!(pos_[i][d] >= lo[d] && pos_[i][d] <= lo[d] + length_[d]))
+          throw std::logic_error("stepper: a sphere reached a wall its adapter declared unreached");
   for (std::size_t i = 0; i < n; ++i) {
     for (int d = 0; d < 3; ++d) {
       Real& p = pos_[i][d];
@@ -765,6 +777,7 @@ template <class Real, bool Mono>
 template <bool AllPeriodic, bool Sweep>
 void Stepper<Real, Mono>::step() {
   vote_due_ = bool(agree_);
+  step_speed_max_ = 0;
   // The speed bound is an upper bound of every speed now (set at the drift, raised by each
   // collision), so one comparison tells whether a whole step keeps every path within half
   // the skin; only long steps for the skin are split.
@@ -839,6 +852,8 @@ Real Stepper<Real, Mono>::substep() {
   }
   if (rebuilt_in_step_) uncover_windows();
   resolver_.end_step();
+  // The bound as collisions raised it covers this sub-step's speeds; the next drift resets it.
+  step_speed_max_ = std::max(step_speed_max_, resolver_.speed_bound());
   ++counters_.substeps;
   ++substeps_total_;
   const Real covered = cut == ContactResolver<Real, Mono>::kWholeStep ? h_ : h_ - cut;
