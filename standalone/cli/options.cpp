@@ -136,7 +136,7 @@ CommandLine parse_command_line(int argc, const char* const* argv) {
   std::string boundary_s = "p", cells_s = "auto", precision_s = "double", init_s = "auto", json_s, detect_s = "auto";
   std::string read_data_s, write_data_s, dump_s, seed_s = "1", engine_s = "stepper", time_s, etime_s, blocks_s;
   std::string dump_every_s, bins_s, restitution_s, contact_time_s, resting_time_s, gravity_s, track_s, track_every_s,
-      track_file_s;
+      track_file_s, beta_s, friction_s, inertia_s, t_rot_s;
 
   auto* o_n = run->add_option("--n", n_s, "number of spheres (default 1000)")->type_name("INT");
   auto* o_phi =
@@ -183,6 +183,24 @@ CommandLine parse_command_line(int argc, const char* const* argv) {
                       "(default: the stepper's sub-step; the event engine's 0.01 sqrt(d/|g|), d the smallest diameter)")
           ->type_name("FLOAT")
           ->needs(o_gravity);
+  auto* o_beta = run->add_option("--tangential-restitution", beta_s,
+                                 "rough spheres: tangential restitution beta of the contact points' relative velocity, "
+                                 "-1 <= beta <= 1 (default -1: smooth; 1: perfectly rough)")
+                     ->type_name("FLOAT");
+  auto* o_friction = run->add_option("--friction", friction_s,
+                                     "Walton's Coulomb friction mu >= 0: the tangential impulse slides at mu times the "
+                                     "normal one (--tangential-restitution is then the sticking limit beta0)")
+                         ->type_name("FLOAT")
+                         ->needs(o_beta);
+  auto* o_inertia =
+      run->add_option("--inertia", inertia_s, "rough spheres: I = q m r^2, 0 < q <= 2/3 (default 0.4: solid sphere)")
+          ->type_name("FLOAT")
+          ->needs(o_beta);
+  auto* o_t_rot = run->add_option("--rotational-temperature", t_rot_s,
+                                  "rough spheres: initial angular velocities at this temperature, each component "
+                                  "normal with variance T/I (default: the translational temperature)")
+                      ->type_name("FLOAT")
+                      ->needs(o_beta);
   auto* o_time = run->add_option("--time", time_s, "simulated time measured (event engine; stepper: steps = time/dt)")
                      ->type_name("FLOAT");
   auto* o_etime =
@@ -207,7 +225,7 @@ CommandLine parse_command_line(int argc, const char* const* argv) {
   auto* o_bins = run->add_option("--histogram-bins", bins_s, "bins of the speed histogram in the JSON (default 40)")
                      ->type_name("INT");
   run->add_flag("--quiet", cmd.quiet, "no progress line on stderr (it is shown only on a terminal anyway)");
-  for (auto* o : {o_n, o_phi, o_box, o_radius, o_mass, o_t, o_speed, o_init, o_seed}) o_read->excludes(o);
+  for (auto* o : {o_n, o_phi, o_box, o_radius, o_mass, o_t, o_speed, o_init, o_seed, o_t_rot}) o_read->excludes(o);
   o_t->excludes(o_speed);
 
   try {
@@ -243,9 +261,18 @@ CommandLine parse_command_line(int argc, const char* const* argv) {
     spec.physics.gravity = {g[0], g[1], g[2]};
   }
   if (o_resting_time->count()) spec.physics.resting_time = real("--resting-time", resting_time_s);
-  spec.physics = validated(
-      spec.physics, spec.periodic,
-      {"--restitution", "--contact-time", "--gravity", "walls on that axis (--boundary ...,w)", "--resting-time"});
+  if (o_beta->count()) spec.physics.tangential_restitution = real("--tangential-restitution", beta_s);
+  if (o_friction->count()) spec.physics.friction = real("--friction", friction_s);
+  if (o_inertia->count()) spec.physics.inertia = real("--inertia", inertia_s);
+  spec.physics = validated(spec.physics, spec.periodic,
+                           {"--restitution", "--contact-time", "--gravity", "walls on that axis (--boundary ...,w)",
+                            "--resting-time", "--tangential-restitution", "--friction", "--inertia"});
+  // Smooth spheres carry no rotation: its settings would be ignored.
+  for (auto* o : {o_inertia, o_t_rot})
+    if (o->count() && !spec.physics.rough())
+      throw InputError(o->get_name() + " " + (o == o_inertia ? inertia_s : t_rot_s) +
+                       ": smooth spheres (--tangential-restitution -1) do not rotate; give a tangential restitution "
+                       "above -1");
   const double time = o_time->count() ? real("--time", time_s) : 0.0;
   const double etime = o_etime->count() ? real("--equilibrate-time", etime_s) : 0.0;
 
@@ -313,6 +340,11 @@ CommandLine parse_command_line(int argc, const char* const* argv) {
   if (o_mass->count()) spec.init.mass = real("--mass", mass_s);
   if (o_t->count()) spec.init.temperature = real("--temperature", t_s);
   if (o_speed->count()) spec.init.speed = real("--init-speed", speed_s);
+  if (o_t_rot->count()) {
+    spec.init.rotational_temperature = real("--rotational-temperature", t_rot_s);
+    if (!(*spec.init.rotational_temperature >= 0))
+      throw InputError("--rotational-temperature " + t_rot_s + " must be >= 0");
+  }
   const double r = spec.init.radius;
   if (!(r > 0)) throw InputError("--radius " + radius_s + " must be positive and finite");
   std::array<double, 3> len{};

@@ -121,6 +121,93 @@ inline T collide_equal_mass(Vec3<T> dr, Vec3<T>& v1, Vec3<T>& v2, T restitution)
   return -half * b;
 }
 
+//! Rough spheres' tangential law, in the kernel's type: beta (tangential restitution, > -1),
+//! Walton's friction mu (infinity: constant beta) and q of I = q m r^2.
+template <class T>
+struct Roughness {
+  T beta = T(-1);
+  T mu = std::numeric_limits<T>::infinity();
+  T q = T(0.4);
+};
+
+//! What a rough collision did: the virial r_ij . dp_i (0: receding, nothing changed) and the
+//! kinetic energy it took, by channel (normal, tangential).
+template <class T>
+struct RoughOutcome {
+  T virial = T(0);
+  T dissipated_normal = T(0);
+  T dissipated_tangential = T(0);
+  bool sliding = false;  //!< Walton's limit capped the tangential impulse
+};
+
+namespace detail {
+//! The tangential impulse on the body whose contact point moves at g_t relative to the other
+//! (g_t perpendicular to n), for reduced mass mu_ij and normal impulse magnitude jn: the
+//! constant-beta impulse -(1+beta) q mu_ij/(1+q) g_t, or Walton's sliding one -mu jn g_t/|g_t| if
+//! that is smaller. Sets the energy it takes, -(J.g_t + |J|^2 (1+q)/(2 q mu_ij)) (no cross term
+//! with the normal impulse: it turns no sphere), and whether it slid.
+template <class T>
+inline Vec3<T> tangential_impulse(Vec3<T> g_t, T reduced_mass, T jn, const Roughness<T>& k, T& dissipated,
+                                  bool& sliding) {
+  const T c = (T(1) + k.beta) * k.q * reduced_mass / (T(1) + k.q);
+  Vec3<T> j = (-c) * g_t;
+  const T g2 = dot(g_t, g_t);
+  const T limit = k.mu * jn;
+  sliding = c * c * g2 > limit * limit;  // never with mu = inf (inf > inf is false)
+  if (sliding) j = (-limit / std::sqrt(g2)) * g_t;
+  dissipated = -(dot(j, g_t) + dot(j, j) * (T(1) + k.q) / (T(2) * k.q * reduced_mass));
+  return j;
+}
+}  // namespace detail
+
+//! A rough pair collision at contact separation dr = r1 - r2 (radii a1, a2, angular velocities
+//! w1, w2): the normal impulse exactly as collide() (equal_mass: collide_equal_mass()), whose
+//! velocities it leaves bit for bit when beta = -1, then the tangential impulse J_t from the
+//! contact points' relative velocity, g = v1 - v2 - (a1 w1 + a2 w2) x n:
+//! v1 += J_t/m1, v2 -= J_t/m2, w_k -= a_k (n x J_t)/I_k. Conserves momentum and the angular
+//! momentum about the contact point. Nothing changes for a receding pair (virial 0).
+template <class T>
+inline RoughOutcome<T> collide_rough(Vec3<T> dr, Vec3<T>& v1, Vec3<T>& v2, Vec3<T>& w1, Vec3<T>& w2, T m1, T m2,
+                                     T a1, T a2, T restitution, const Roughness<T>& k, bool equal_mass = false) {
+  RoughOutcome<T> out;
+  // The smooth kernel first and untouched (its result is the smooth one bit for bit); the normal
+  // impulse leaves the tangential relative velocity as it was, so g_t is taken after it.
+  out.virial = equal_mass ? m1 * collide_equal_mass(dr, v1, v2, restitution) : collide(dr, v1, v2, m1, m2, restitution);
+  if (!(out.virial > T(0))) return out;
+  const T len = std::sqrt(dot(dr, dr));
+  const Vec3<T> n = (T(1) / len) * dr;
+  const Vec3<T> g = v1 - v2 - cross(a1 * w1 + a2 * w2, n);
+  const Vec3<T> g_t = g - dot(g, n) * n;
+  const T reduced_mass = m1 * m2 / (m1 + m2);
+  const T jn = out.virial / len;  // |J_n| = (1+e) mu_ij |g.n|
+  const T gn = jn / ((T(1) + restitution) * reduced_mass);
+  out.dissipated_normal = T(0.5) * (T(1) - restitution * restitution) * reduced_mass * gn * gn;
+  const Vec3<T> j = detail::tangential_impulse(g_t, reduced_mass, jn, k, out.dissipated_tangential, out.sliding);
+  v1 += (T(1) / m1) * j;
+  v2 -= (T(1) / m2) * j;
+  const Vec3<T> nj = cross(n, j);
+  w1 -= (T(1) / (k.q * m1 * a1)) * nj;  // a1 / I1 = 1 / (q m1 a1)
+  w2 -= (T(1) / (k.q * m2 * a2)) * nj;
+  return out;
+}
+
+//! The tangential part of a rough wall contact (the wall an infinite mass of zero radius at
+//! rest; its normal reflection is the caller's): n the unit normal from the wall into the box,
+//! v the sphere's velocity at contact (the normal part is ignored), jn_per_mass the normal
+//! impulse per unit mass (2 |v.n| for an elastic wall). Updates w and returns the velocity
+//! change, which is tangential; `dissipated` gets the energy taken.
+template <class T>
+inline Vec3<T> wall_tangential(Vec3<T> n, Vec3<T> v, Vec3<T>& w, T m, T a, T jn_per_mass, const Roughness<T>& k,
+                               T& dissipated, bool& sliding) {
+  const Vec3<T> g = v - a * cross(w, n);
+  const Vec3<T> g_t = g - dot(g, n) * n;
+  T d = T(0);
+  const Vec3<T> dv = detail::tangential_impulse(g_t, T(1), jn_per_mass, k, d, sliding);
+  dissipated = m * d;
+  w -= (T(1) / (k.q * a)) * cross(n, dv);
+  return dv;
+}
+
 //! The TC model of inelastic collapse (Luding and McNamara 1998): a collision at time t is
 //! elastic if either sphere collided within contact_time before it (last_i, last_j).
 inline bool tc_elastic(double t, double last_i, double last_j, double contact_time) {

@@ -79,6 +79,8 @@ struct EventCounters {
   std::int64_t full_predictions = 0;            //!< predictions that scanned a sphere's whole neighbour list
   double pair_virial = 0;                       //!< sum over collisions of r_ij . dp_i (>= 0)
   std::array<double, 3> wall_impulse{0, 0, 0};  //!< momentum given to the walls of each axis
+  //! Kinetic energy the collisions took, by channel; rough scenes only (as StepCounters').
+  double dissipated_normal = 0, dissipated_tangential = 0;
 };
 
 class EventEngine {

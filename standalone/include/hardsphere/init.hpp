@@ -21,6 +21,9 @@ struct InitSpec {
   double mass = 1.0;
   double temperature = 1.0;
   std::optional<double> speed;  //!< all particles with this speed instead of Maxwell-Boltzmann
+  //! Rough spheres: angular velocities drawn at this temperature (none: all zero), with I = q m r^2.
+  std::optional<double> rotational_temperature;
+  double inertia = 0.4;  //!< q of I = q m r^2
   std::uint64_t seed = 1;
   InitMethod method = InitMethod::Auto;
 };
@@ -46,6 +49,10 @@ ParticleSystem make_initial_state(const InitSpec& spec);
 //! InputError naming how many spheres fitted if the packing cannot be reached.
 void place_random(ParticleSystem& sys, std::int64_t n, double radius, double mass, Rng& rng,
                   std::int64_t max_attempts_per_sphere = 2000);
+
+//! Maxwell-Boltzmann angular velocities at temperature T: each component normal with variance
+//! T / I, I = q m r^2 (total angular momentum not removed, T not rescaled).
+void assign_angular_velocities(ParticleSystem& sys, double temperature, double inertia, Rng& rng);
 
 //! Maxwell-Boltzmann velocities at temperature T (or one speed, isotropic), total momentum
 //! zeroed and T = sum m v^2 / 3N set exactly.

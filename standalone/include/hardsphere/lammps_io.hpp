@@ -28,20 +28,22 @@ ParticleSystem read_data(std::istream& in, const std::string& name, std::array<b
                          double rounding_eps = 0);
 
 //! Writes a LAMMPS data file (atom_style sphere) with full double precision (17 digits, so
-//! read_data gives back the same state bit for bit).
+//! read_data gives back the same state bit for bit), angular velocities included.
 void write_data(const std::string& path, const ParticleSystem& sys, const std::string& title);
 void write_data(std::ostream& out, const ParticleSystem& sys, const std::string& title);
 
-//! LAMMPS text dump ("ITEM: ATOMS id type radius x y z vx vy vz"), readable by OVITO and VMD.
+//! LAMMPS text dump ("ITEM: ATOMS id type radius x y z vx vy vz ix iy iz", then "wx wy wz" for
+//! rough spheres), readable by OVITO and VMD.
 class DumpWriter {
  public:
-  explicit DumpWriter(const std::string& path) : file_(path) {}
+  explicit DumpWriter(const std::string& path, bool omega = false) : file_(path), omega_(omega) {}
   void write_frame(std::int64_t timestep, const ParticleSystem& sys);
   void commit() { file_.commit(); }
   AtomicFile& file() { return file_; }
 
  private:
   AtomicFile file_;
+  bool omega_ = false;
 };
 
 }  // namespace hardsphere

@@ -11,6 +11,14 @@ namespace hardsphere {
 double kinetic_energy(const ParticleSystem& sys);  //!< sum m v^2 / 2
 Vec3d total_momentum(const ParticleSystem& sys);   //!< sum m v
 double temperature(const ParticleSystem& sys);     //!< sum m v^2 / 3N (k_B = 1)
+//! Rotational kinetic energy sum q m r^2 |w|^2 / 2 (I = q m r^2; 0 without omegas).
+double rotational_kinetic_energy(const ParticleSystem& sys, double inertia);
+//! sum m |v - v_cm|^2 / 3N: the translational temperature in the centre-of-mass frame.
+double translational_temperature(const ParticleSystem& sys);
+//! sum I |w|^2 / 3N with I = q m r^2.
+double rotational_temperature(const ParticleSystem& sys, double inertia);
+//! Total angular momentum about the origin, sum m r x v + I w (positions as stored).
+Vec3d angular_momentum(const ParticleSystem& sys, double inertia);
 //! Potential energy in a uniform acceleration g: -sum m g.(x - lo), zero at the lower box corner.
 double potential_energy(const ParticleSystem& sys, const std::array<double, 3>& g);
 

@@ -30,12 +30,14 @@ struct ParticleSystem {
   //! Periodic images crossed (LAMMPS's image flags): the unwrapped position, continuous in
   //! time, is pos + image * box length per periodic axis. Zero on wall axes.
   std::vector<std::array<std::int32_t, 3>> image;
+  //! Angular velocities (rough spheres; zeros otherwise), same size as pos.
+  std::vector<Vec3d> omega;
 
   std::size_t size() const { return pos.size(); }
   void resize(std::size_t n);
   void reserve(std::size_t n);
   void push_back(std::int64_t id, int type, double radius, double mass, Vec3d pos, Vec3d vel,
-                 std::array<std::int32_t, 3> image = {0, 0, 0});
+                 std::array<std::int32_t, 3> image = {0, 0, 0}, Vec3d omega = {0, 0, 0});
 
   bool monodisperse() const;  //!< all radii and all masses equal
   double max_radius() const;
@@ -56,7 +58,8 @@ struct SphereSample {
 };
 
 //! Full consistency check; throws InputError naming the particle id, the value and `source`:
-//! non-positive or non-finite radius/mass, NaN/inf positions or velocities, particles outside
+//! non-positive or non-finite radius/mass, NaN/inf positions, velocities or angular velocities
+//! (an omega array shorter than the spheres is filled with zeros), particles outside
 //! a wall axis, duplicate ids, periodic box too short for the largest pair, overlapping pairs.
 //! Periodic coordinates are wrapped into the box first (as LAMMPS read_data does).
 //! `atom_lines` (optional): the line each atom came from, so messages name "source:line".

@@ -2,6 +2,7 @@
 //! The collision law and the external field of a scene: one configuration that both engines, the
 //! command line and the LAMMPS fix take, checked in one place (validated()).
 #include <array>
+#include <limits>
 #include <string>
 
 namespace hardsphere {
@@ -35,8 +36,17 @@ struct Physics {
   //! the resting time (the stepper: the rest of its sub-step), so it is back on the wall after
   //! it. 0: the stepper's sub-step, the event engine's kRestingTimeFraction sqrt(d / |g|).
   double resting_time = 0;
+  //! Rough spheres: tangential restitution beta in [-1, 1] of the contact points' relative
+  //! velocity (-1: smooth, no rotation; +1: perfectly rough). Walls take it as pairs do.
+  double tangential_restitution = -1.0;
+  //! Walton's Coulomb friction mu >= 0: a tangential impulse above mu times the normal one slides
+  //! at that limit (beta is then the sticking limit beta0). Infinity: constant beta.
+  double friction = std::numeric_limits<double>::infinity();
+  //! Moment of inertia I = q m r^2 (r the radius) of every sphere, q in (0, 2/3] (2/5: solid).
+  double inertia = 0.4;
 
   bool elastic() const { return restitution == 1.0; }
+  bool rough() const { return tangential_restitution != -1.0; }
   bool has_gravity() const { return gravity != std::array<double, 3>{0, 0, 0}; }
 };
 
@@ -50,12 +60,17 @@ struct PhysicsNames {
   std::string gravity = "gravity";
   std::string walls = "walls on that axis";  //!< the remedy for gravity along a periodic axis
   std::string resting_time = "resting time";
+  std::string tangential_restitution = "tangential restitution";
+  std::string friction = "friction";
+  std::string inertia = "inertia";
 };
 
 //! `p` checked against boxes with these periodic axes, with gravity components at rounding level
 //! (kGravityRounding) set to zero. Throws InputError naming the value: a restitution outside
 //! (0, 1], a contact time that is negative, not finite or 0 with a restitution below 1, a gravity
-//! that is not finite or has a component along a periodic axis.
+//! that is not finite or has a component along a periodic axis, a tangential restitution outside
+//! [-1, 1], a friction below 0 or NaN, or finite without a tangential restitution above -1, an
+//! inertia outside (0, 2/3].
 Physics validated(Physics p, const std::array<bool, 3>& periodic, const PhysicsNames& names = {});
 
 }  // namespace hardsphere

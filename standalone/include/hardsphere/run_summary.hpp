@@ -22,6 +22,7 @@ struct RunTotals {
   double pair_virial = 0;
   std::array<double, 3> wall_impulse{0, 0, 0};
   std::int64_t resting_contacts = 0;  //!< wall contacts too slow to bounce (Physics::resting_time)
+  double dissipated_normal = 0, dissipated_tangential = 0;  //!< rough spheres: energy taken by channel
 };
 
 //! Keys n, packing_fraction, box, collisions, wall_collisions, resting_contacts, collision_rate_per_particle,
@@ -38,6 +39,14 @@ nlohmann::json physics_summary(const ParticleSystem& final_state, const RunTotal
 //! energy inelastic collisions took is dissipated_energy.
 void add_energy_summary(nlohmann::json& j, double kinetic0, double potential0, double potential1,
                         const Physics& physics);
+
+//! Rough scenes (physics.rough()): adds tangential_restitution, friction (null: no Coulomb limit),
+//! inertia, the translational (centre-of-mass frame) and rotational temperatures and kinetic
+//! energies of `initial` and `final_state`, the energy dissipated by channel, and makes
+//! dissipated_energy and energy_rel_drift count the rotational energy too. Call after
+//! add_energy_summary().
+void add_rough_summary(nlohmann::json& j, const ParticleSystem& initial, const ParticleSystem& final_state,
+                       const RunTotals& totals, const Physics& physics);
 
 //! Writes the JSON file and the final data file, and commits them with the dump and `track`
 //! (a tracker's file, may be null): only after success, and all together (commit_together), so

@@ -58,6 +58,16 @@ class StateExchange {
   //! given slots, e.g. copies of spheres another engine owns; the next step treats a moved
   //! position like any displacement. Positions must not overlap other spheres.
   virtual void set_spheres(const std::uint32_t* slots, std::size_t count, const Vec3d* pos, const Vec3d* vel) = 0;
+  //! Angular velocities (rough spheres, Physics::rough()), as the velocities above: slot k to row
+  //! dest[k] of a flat array (3 doubles per row; kNoRow skipped), slot k from row src[k], the
+  //! given slots out and in. A smooth engine holds none: scatter, gather and set do nothing,
+  //! copy writes zeros.
+  virtual void scatter_omega(const std::uint32_t* dest, double* omega) const = 0;
+  virtual void gather_omega(const std::uint32_t* src, const double* omega) = 0;
+  virtual void copy_omega(const std::uint32_t* slots, std::size_t count, Vec3d* out) const = 0;
+  virtual void set_omega(const std::uint32_t* slots, std::size_t count, const Vec3d* w) = 0;
+  //! Sum over all spheres of I w^2 (twice the rotational kinetic energy; 0 when smooth).
+  virtual double iw2_sum() const = 0;
   //! Per-sphere collision virial (for a per-atom stress): while on, every collision adds half
   //! of its r_ij (x) dp_i (xx yy zz xy xz yz, as counters().pair_virial_tensor) to each of its two
   //! spheres, so the spheres' sums add up to the engine's.

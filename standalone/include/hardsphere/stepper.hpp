@@ -93,6 +93,9 @@ struct StepCounters {
   double pair_virial = 0;                                      //!< sum over collisions of r_ij . dp_i (>= 0)
   std::array<double, 6> pair_virial_tensor{0, 0, 0, 0, 0, 0};  //!< r_ij (x) dp_i: xx yy zz xy xz yz
   std::array<double, 3> wall_impulse{0, 0, 0};                 //!< momentum given to the walls of each axis
+  //! Kinetic energy the collisions took, by channel (normal, tangential); counted in rough scenes
+  //! only (0 in smooth ones, whose loss is the change of the kinetic energy).
+  double dissipated_normal = 0, dissipated_tangential = 0;
 };
 
 //! Type-erased engine interface, so precision and scene specialisations are chosen at run time.

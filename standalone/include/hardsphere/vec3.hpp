@@ -50,6 +50,10 @@ constexpr T dot(Vec3<T> a, Vec3<T> b) {
   return a.x * b.x + a.y * b.y + a.z * b.z;
 }
 template <class T>
+constexpr Vec3<T> cross(Vec3<T> a, Vec3<T> b) {
+  return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};
+}
+template <class T>
 inline T norm(Vec3<T> a) {
   return std::sqrt(dot(a, a));
 }

@@ -36,7 +36,8 @@ ParticleSystem sorted_by_id(const ParticleSystem& sys) {
   out.reserve(sys.size());
   for (const std::size_t i : order)
     out.push_back(sys.id[i], sys.type[i], sys.radius[i], sys.mass[i], sys.pos[i], sys.vel[i],
-                  i < sys.image.size() ? sys.image[i] : std::array<std::int32_t, 3>{0, 0, 0});
+                  i < sys.image.size() ? sys.image[i] : std::array<std::int32_t, 3>{0, 0, 0},
+                  i < sys.omega.size() ? sys.omega[i] : Vec3d{});
   return out;
 }
 
@@ -57,6 +58,7 @@ ParticleSystem validated_spheres(const ParticleSystem& sys_in, const EventConfig
   if (!(cfg.shell >= 0) || !std::isfinite(cfg.shell))
     throw InputError("event engine: shell " + std::to_string(cfg.shell) + " must be positive (or 0 for auto)");
   sys.image.resize(n, {0, 0, 0});
+  sys.omega.resize(n);
   return sys;
 }
 }  // namespace
@@ -87,6 +89,11 @@ void EventEngine::advance_events(std::int64_t count) { impl_->loop.run_events(co
 ParticleSystem EventEngine::state() const {
   ParticleSystem out = impl_->proto;
   impl_->loop.trajectories().observe(impl_->loop.now(), out);
+  const std::vector<Vec3d>& omega = impl_->loop.omega();
+  if (omega.empty())
+    out.omega.assign(out.size(), Vec3d{});
+  else
+    out.omega = omega;
   wrap_periodic(out);
   return out;
 }

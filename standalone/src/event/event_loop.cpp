@@ -52,6 +52,11 @@ EventLoop::EventLoop(const ParticleSystem& sys, const Physics& physics_in, const
   resting_time_ = physics.resting_time > 0 ? physics.resting_time : (fall < kInf ? kRestingTimeFraction * fall : 1.0);
   if (!physics.elastic()) last_collision_.assign(n, -kInf);
   pair_collisions_.assign(n, 0);
+  if (physics.rough()) {
+    omega_.assign(n, Vec3d{});
+    if (sys.omega.size() == n) omega_ = sys.omega;
+    rough_ = {physics.tangential_restitution, physics.friction, physics.inertia};
+  }
   ids_ = &sys.id;
   jam_ = JamGuard(1e-10 * time_scale(sys, d, fall), n);
   mono_ = sys.monodisperse();
@@ -114,8 +119,10 @@ void EventLoop::step() {
       ++c_.stale_events;
       if (!predictions_.promote_second(i)) predict(i);
       schedule(i);
-    } else {
+    } else if (omega_.empty()) {
       collide(i, j);
+    } else {
+      collide_rough(i, j);
     }
   } else {
     boundary_event(i);
@@ -202,12 +209,85 @@ void EventLoop::boundary_event(int i) {
     ++c_.resting_contacts;
   } else {
     const double speed = trajectories_.reflect(s, std::size_t(d), geometry_);
+    if (!omega_.empty()) rough_bounce(s, i, d, v);
     c_.wall_impulse[std::size_t(d)] += 2 * trajectories_.mass(std::size_t(i)) * speed;
     ++c_.wall_collisions;
   }
   predictions_.course_changed(i);
   predict(i);
   schedule(i);
+}
+
+void EventLoop::collide_rough(int i, int j) {
+  lists_.prefetch(i);
+  lists_.prefetch(j);
+  predictions_.prefetch(j);
+  Body& a = trajectories_.body(std::size_t(i));
+  Body& b = trajectories_.body(std::size_t(j));
+  trajectories_.sync(a, now_);
+  trajectories_.sync(b, now_);
+  Vec3d dr{a.x - b.x, a.y - b.y, a.z - b.z};
+  for (int d = 0; d < 3; ++d)
+    if (geometry_.periodic(std::size_t(d)))
+      dr[d] -= geometry_.len(std::size_t(d)) * std::nearbyint(dr[d] / geometry_.len(std::size_t(d)));
+  const std::size_t in_i = trajectories_.input_index(std::size_t(i)), in_j = trajectories_.input_index(std::size_t(j));
+  const double mi = trajectories_.mass(std::size_t(i)), mj = trajectories_.mass(std::size_t(j));
+  Vec3d va{a.vx, a.vy, a.vz}, vb{b.vx, b.vy, b.vz};
+  double e = 1.0;
+  bool rough = true;
+  if (restitution_ != 1.0) {
+    const double t = base_ + now_;
+    double& ti = last_collision_[in_i];
+    double& tj = last_collision_[in_j];
+    rough = !kernel::tc_elastic(t, ti, tj, contact_time_);  // a TC-elastic collision is smooth too
+    e = rough ? restitution_ : 1.0;
+    ti = tj = t;
+  }
+  // Whether the normal impulse changes the velocities at all decides, as in collide(): a
+  // tangential impulse alone would leave the pair approaching at rounding level without end.
+  Vec3d va_n = va, vb_n = vb;
+  const double w_n =
+      mono_ ? mass0_ * kernel::collide_equal_mass(dr, va_n, vb_n, e) : kernel::collide(dr, va_n, vb_n, mi, mj, e);
+  if (va_n.x == va.x && va_n.y == va.y && va_n.z == va.z && vb_n.x == vb.x && vb_n.y == vb.y && vb_n.z == vb.z) {
+    Trajectories::part(a, b, dr, a.r + b.r);
+    ++c_.unresolvable_contacts;
+  } else {
+    double w = w_n;
+    if (rough) {
+      const auto out =
+          kernel::collide_rough(dr, va, vb, omega_[in_i], omega_[in_j], mi, mj, a.r, b.r, e, rough_, mono_);
+      w = out.virial;
+      c_.dissipated_normal += out.dissipated_normal;
+      c_.dissipated_tangential += out.dissipated_tangential;
+    } else {
+      va = va_n, vb = vb_n;
+    }
+    Trajectories::set_velocity(a, va);
+    Trajectories::set_velocity(b, vb);
+    c_.pair_virial += w;
+    ++c_.collisions;
+    ++pair_collisions_[in_i];
+    ++pair_collisions_[in_j];
+  }
+  predictions_.course_changed(i);
+  predictions_.course_changed(j);
+  predict(i);
+  predict(j);
+  schedule(i);
+  schedule(j);
+}
+
+void EventLoop::rough_bounce(Body& s, int i, int d, double v_before) {
+  Vec3d n{};
+  n[d] = v_before < 0 ? 1.0 : -1.0;
+  const Vec3d v{s.vx, s.vy, s.vz};
+  double dissipated = 0;
+  bool sliding = false;
+  const Vec3d dv = kernel::wall_tangential(n, v, omega_[trajectories_.input_index(std::size_t(i))],
+                                           trajectories_.mass(std::size_t(i)), s.r, 2 * std::abs(v_before), rough_,
+                                           dissipated, sliding);
+  Trajectories::set_velocity(s, v + dv);
+  c_.dissipated_tangential += dissipated;
 }
 
 //! Sphere i (synced) has left its shell: new list centre at its position (wrapped into the

@@ -15,6 +15,7 @@
 #include "event/neighbour_lists.hpp"
 #include "event/prediction.hpp"
 #include "event/trajectories.hpp"
+#include "hardsphere/collision.hpp"
 #include "hardsphere/event_engine.hpp"
 #include "hardsphere/particles.hpp"
 #include "hardsphere/physics.hpp"
@@ -41,12 +42,19 @@ class EventLoop {
   const EventCounters& counters();
   //! By input index, since the last reset_counters().
   const std::vector<std::int64_t>& pair_collisions() const { return pair_collisions_; }
+  //! By input index: the angular velocities of rough spheres (empty when smooth).
+  const std::vector<Vec3d>& omega() const { return omega_; }
   void reset_counters();
 
  private:
   // inline: the handlers of one event are one hot path, compiled together in event_loop.cpp.
   inline void step();
   inline void collide(int i, int j);
+  //! collide() for rough spheres: out of line, so the smooth path compiles as without them.
+  void collide_rough(int i, int j);
+  //! The tangential impulse of sphere i's bounce (synced, velocity reflected) off a wall of axis
+  //! d it reached at velocity v_before along d.
+  void rough_bounce(Body& s, int i, int d, double v_before);
   inline void boundary_event(int i);
   inline void rebuild(int i);
   inline void predict(int i);
@@ -72,9 +80,11 @@ class EventLoop {
   bool mono_ = true;
   double mass0_ = 1;
   double restitution_ = 1.0, contact_time_ = 0.0;
-  double resting_time_ = 0;                         // Physics::resting_time (or its default)
-  std::vector<double> last_collision_;              // input index: time of the last collision (restitution < 1)
-  std::vector<std::int64_t> pair_collisions_;       // input index: pair collisions since reset_counters()
+  double resting_time_ = 0;                    // Physics::resting_time (or its default)
+  std::vector<double> last_collision_;         // input index: time of the last collision (restitution < 1)
+  std::vector<std::int64_t> pair_collisions_;  // input index: pair collisions since reset_counters()
+  std::vector<Vec3d> omega_;                   // input index: angular velocities (rough only)
+  kernel::Roughness<double> rough_;
   const std::vector<std::int64_t>* ids_ = nullptr;  // input index: atom id (the caller's), for messages
   JamGuard jam_;
 

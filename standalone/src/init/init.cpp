@@ -225,6 +225,14 @@ void assign_velocities(ParticleSystem& sys, double t, std::optional<double> spee
   rescale_to(sys, t);
 }
 
+void assign_angular_velocities(ParticleSystem& sys, double t, double q, Rng& rng) {
+  sys.omega.resize(sys.size());
+  for (std::size_t i = 0; i < sys.size(); ++i) {
+    const double s = std::sqrt(t / (q * sys.mass[i] * sys.radius[i] * sys.radius[i]));
+    sys.omega[i] = {s * rng.normal(), s * rng.normal(), s * rng.normal()};
+  }
+}
+
 ParticleSystem make_initial_state(const InitSpec& spec) {
   validate_box(spec.box, "initial state");
   if (spec.n < 1) throw InputError("number of particles n = " + std::to_string(spec.n) + " must be >= 1");
@@ -237,6 +245,12 @@ ParticleSystem make_initial_state(const InitSpec& spec) {
     throw InputError("mass " + format_number(spec.mass) + " must be positive and finite");
   if (!(std::isfinite(spec.temperature) && spec.temperature > 0))
     throw InputError("temperature " + format_number(spec.temperature) + " must be positive and finite");
+  if (spec.rotational_temperature &&
+      !(std::isfinite(*spec.rotational_temperature) && *spec.rotational_temperature >= 0))
+    throw InputError("rotational temperature " + format_number(*spec.rotational_temperature) +
+                     " must be finite and >= 0");
+  if (spec.rotational_temperature && !(spec.inertia > 0 && spec.inertia <= 2.0 / 3.0))
+    throw InputError("inertia " + format_number(spec.inertia) + " must be in (0, 2/3]");
   if (spec.speed && !(std::isfinite(*spec.speed) && *spec.speed > 0))
     throw InputError("init speed " + format_number(*spec.speed) + " must be positive and finite");
   // The kinetic energy, sum m v^2 = 3 N T, must stay finite (rescaling to T divides by it).
@@ -295,6 +309,8 @@ ParticleSystem make_initial_state(const InitSpec& spec) {
     dense_route(sys, spec, rng);
   }
   assign_velocities(sys, spec.temperature, spec.speed, rng);
+  // After the velocities, so a rough scene starts from the smooth one's positions and velocities.
+  if (spec.rotational_temperature) assign_angular_velocities(sys, *spec.rotational_temperature, spec.inertia, rng);
   validate_and_wrap(sys, "initial state");
   return sys;
 }

@@ -298,8 +298,12 @@ class DataFile {
       given[it->second] = r_.line();
       const Vec3d v{r_.real(w[1], "vx of atom", &w[0]), r_.real(w[2], "vy of atom", &w[0]),
                     r_.real(w[3], "vz of atom", &w[0])};
-      for (std::size_t c = 4; c < w.size(); ++c) r_.real(w[c], "angular velocity of atom", &w[0]);  // unused
       sys_.vel[it->second] = v;
+      if (w.size() == 7) {
+        sys_.omega.resize(sys_.size());
+        sys_.omega[it->second] = {r_.real(w[4], "wx of atom", &w[0]), r_.real(w[5], "wy of atom", &w[0]),
+                                  r_.real(w[6], "wz of atom", &w[0])};
+      }
     }
     // natoms distinct known ids cover every atom; kept as a guard against a future change above.
     const auto missing = std::find(given.begin(), given.end(), 0L);

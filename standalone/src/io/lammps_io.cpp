@@ -26,8 +26,11 @@ void write_data(std::ostream& o, const ParticleSystem& sys, const std::string& t
       << ' ' << sys.pos[i].z << ' ' << img[0] << ' ' << img[1] << ' ' << img[2] << '\n';
   }
   o << "\nVelocities\n\n";
-  for (std::size_t i = 0; i < sys.size(); ++i)
-    o << sys.id[i] << ' ' << sys.vel[i].x << ' ' << sys.vel[i].y << ' ' << sys.vel[i].z << " 0 0 0\n";
+  for (std::size_t i = 0; i < sys.size(); ++i) {
+    const Vec3d w = i < sys.omega.size() ? sys.omega[i] : Vec3d{};
+    o << sys.id[i] << ' ' << sys.vel[i].x << ' ' << sys.vel[i].y << ' ' << sys.vel[i].z << ' ' << w.x << ' ' << w.y
+      << ' ' << w.z << '\n';
+  }
   o.precision(old_precision);
 }
 
@@ -45,12 +48,18 @@ void DumpWriter::write_frame(std::int64_t timestep, const ParticleSystem& sys) {
   for (int d = 0; d < 3; ++d) o << sys.box.lo[d] << ' ' << sys.box.hi[d] << '\n';
   // Image flags make the unwrapped position x + ix L continuous in time (mean-squared
   // displacements from dumps).
-  o << "ITEM: ATOMS id type radius x y z vx vy vz ix iy iz\n";
+  o << (omega_ ? "ITEM: ATOMS id type radius x y z vx vy vz ix iy iz wx wy wz\n"
+               : "ITEM: ATOMS id type radius x y z vx vy vz ix iy iz\n");
   for (std::size_t i = 0; i < sys.size(); ++i) {
     const auto img = i < sys.image.size() ? sys.image[i] : std::array<std::int32_t, 3>{0, 0, 0};
     o << sys.id[i] << ' ' << sys.type[i] << ' ' << sys.radius[i] << ' ' << sys.pos[i].x << ' ' << sys.pos[i].y << ' '
       << sys.pos[i].z << ' ' << sys.vel[i].x << ' ' << sys.vel[i].y << ' ' << sys.vel[i].z << ' ' << img[0] << ' '
-      << img[1] << ' ' << img[2] << '\n';
+      << img[1] << ' ' << img[2];
+    if (omega_) {
+      const Vec3d w = i < sys.omega.size() ? sys.omega[i] : Vec3d{};
+      o << ' ' << w.x << ' ' << w.y << ' ' << w.z;
+    }
+    o << '\n';
   }
   // A full disk or a file size limit shows here, at the frame, not only after the whole run.
   if (!o)

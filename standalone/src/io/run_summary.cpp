@@ -85,6 +85,34 @@ void commit_outputs(const nlohmann::json& summary, const ParticleSystem& fin,
       {data_file ? &*data_file : nullptr, dump ? &dump->file() : nullptr, json_file ? &*json_file : nullptr, track});
 }
 
+void add_rough_summary(nlohmann::json& j, const ParticleSystem& initial, const ParticleSystem& fin, const RunTotals& t,
+                       const Physics& physics) {
+  if (!physics.rough()) return;
+  const double q = physics.inertia;
+  const double k0 = kinetic_energy(initial), k1 = kinetic_energy(fin);
+  const double r0 = rotational_kinetic_energy(initial, q), r1 = rotational_kinetic_energy(fin, q);
+  j["tangential_restitution"] = physics.tangential_restitution;
+  if (std::isfinite(physics.friction))
+    j["friction"] = physics.friction;
+  else
+    j["friction"] = nullptr;
+  j["inertia"] = q;
+  j["temperature_translational_initial"] = translational_temperature(initial);
+  j["temperature_translational_final"] = translational_temperature(fin);
+  j["temperature_rotational_initial"] = rotational_temperature(initial, q);
+  j["temperature_rotational_final"] = rotational_temperature(fin, q);
+  j["kinetic_energy_translational_initial"] = k0;
+  j["kinetic_energy_translational_final"] = k1;
+  j["kinetic_energy_rotational_initial"] = r0;
+  j["kinetic_energy_rotational_final"] = r1;
+  j["dissipated_energy_normal"] = t.dissipated_normal;
+  j["dissipated_energy_tangential"] = t.dissipated_tangential;
+  const double e0 = k0 + r0 + j["potential_energy_initial"].get<double>();
+  const double e1 = k1 + r1 + j["potential_energy_final"].get<double>();
+  j["dissipated_energy"] = e0 - e1;
+  j["energy_rel_drift"] = e0 > 0 ? (e1 - e0) / e0 : 0.0;
+}
+
 void add_energy_summary(nlohmann::json& j, double kinetic0, double potential0, double potential1,
                         const Physics& physics) {
   const double e0 = kinetic0 + potential0, e1 = j["kinetic_energy_final"].get<double>() + potential1;

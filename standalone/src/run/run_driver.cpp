@@ -33,6 +33,13 @@ ParticleSystem initial_state(const RunSpec& spec) {
                                                         : std::numeric_limits<double>::epsilon();
   if (spec.read_data) return read_data(*spec.read_data, spec.periodic, eps);
   InitSpec init = spec.init;
+  if (spec.physics.rough()) {  // rotation at the translational temperature unless given
+    init.inertia = spec.physics.inertia;
+    if (!init.rotational_temperature)
+      init.rotational_temperature = init.speed ? init.mass * *init.speed * *init.speed / 3 : init.temperature;
+  } else {
+    init.rotational_temperature.reset();
+  }
   for (int d = 0; d < 3; ++d) init.box.periodic[d] = spec.periodic[d];
   return make_initial_state(init);
 }
@@ -65,7 +72,7 @@ nlohmann::json run_simulation(const RunSpec& spec) {
   }
   // Output files are opened (as temporaries) before the long part, so an unwritable path fails fast.
   std::optional<DumpWriter> dump;
-  if (spec.dump) dump.emplace(*spec.dump);
+  if (spec.dump) dump.emplace(*spec.dump, spec.physics.rough());
   std::optional<AtomicFile> json_file;
   if (spec.json && *spec.json != "-") json_file.emplace(*spec.json);
 
@@ -79,10 +86,12 @@ nlohmann::json run_simulation(const RunSpec& spec) {
       {dump ? &*dump : nullptr, tracker ? &*tracker : nullptr, spec.progress ? &spec.progress : nullptr});
 
   const ParticleSystem fin = engine->state();
-  nlohmann::json j = physics_summary(fin, engine->totals(e0, p0), !spec.read_data.has_value(), spec.init.seed,
-                                     spec.histogram_bins, overlap_tolerance(fin, engine->rounding_epsilon()));
+  const RunTotals totals = engine->totals(e0, p0);
+  nlohmann::json j = physics_summary(fin, totals, !spec.read_data.has_value(), spec.init.seed, spec.histogram_bins,
+                                     overlap_tolerance(fin, engine->rounding_epsilon()));
   j["engine"] = engine->name();
   add_energy_summary(j, e0, u0, potential_energy(fin, spec.physics.gravity), spec.physics);
+  add_rough_summary(j, sys, fin, totals, spec.physics);
   j["loop_cpu_seconds"] = cpu;
   engine->add_summary(j, fin, cpu);
   if (tracker) j["track"] = tracker->summary();

@@ -54,6 +54,8 @@ RunTotals totals_of(const Counters& c, double kinetic0, const Vec3d& momentum0) 
   t.pair_virial = c.pair_virial;
   t.wall_impulse = c.wall_impulse;
   t.resting_contacts = c.resting_contacts;
+  t.dissipated_normal = c.dissipated_normal;
+  t.dissipated_tangential = c.dissipated_tangential;
   return t;
 }
 }  // namespace

@@ -28,6 +28,41 @@ double temperature(const ParticleSystem& sys) {
   return sys.size() ? 2.0 * kinetic_energy(sys) / (3.0 * double(sys.size())) : 0.0;
 }
 
+double rotational_kinetic_energy(const ParticleSystem& sys, double q) {
+  if (sys.omega.size() < sys.size()) return 0.0;
+  double e = 0;
+  for (std::size_t i = 0; i < sys.size(); ++i)
+    e += 0.5 * q * sys.mass[i] * sys.radius[i] * sys.radius[i] * dot(sys.omega[i], sys.omega[i]);
+  return e;
+}
+
+double translational_temperature(const ParticleSystem& sys) {
+  if (!sys.size()) return 0.0;
+  double m = 0;
+  for (const double mi : sys.mass) m += mi;
+  const Vec3d v_cm = (1.0 / m) * total_momentum(sys);
+  double sum = 0;
+  for (std::size_t i = 0; i < sys.size(); ++i) {
+    const Vec3d u = sys.vel[i] - v_cm;
+    sum += sys.mass[i] * dot(u, u);
+  }
+  return sum / (3.0 * double(sys.size()));
+}
+
+double rotational_temperature(const ParticleSystem& sys, double q) {
+  return sys.size() ? 2.0 * rotational_kinetic_energy(sys, q) / (3.0 * double(sys.size())) : 0.0;
+}
+
+Vec3d angular_momentum(const ParticleSystem& sys, double q) {
+  Vec3d l{};
+  const bool spin = sys.omega.size() >= sys.size();
+  for (std::size_t i = 0; i < sys.size(); ++i) {
+    l += sys.mass[i] * cross(sys.pos[i], sys.vel[i]);
+    if (spin) l += (q * sys.mass[i] * sys.radius[i] * sys.radius[i]) * sys.omega[i];
+  }
+  return l;
+}
+
 double compressibility_factor(double pair_virial, double sim_time, std::size_t n, double t) {
   if (!(sim_time > 0) || n == 0 || !(t > 0)) return 1.0;
   return 1.0 + pair_virial / (3.0 * double(n) * t * sim_time);

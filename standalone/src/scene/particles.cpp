@@ -22,6 +22,7 @@ void ParticleSystem::resize(std::size_t n) {
   pos.resize(n);
   vel.resize(n);
   image.resize(n, {0, 0, 0});
+  omega.resize(n);
 }
 
 void ParticleSystem::reserve(std::size_t n) {
@@ -32,10 +33,11 @@ void ParticleSystem::reserve(std::size_t n) {
   pos.reserve(n);
   vel.reserve(n);
   image.reserve(n);
+  omega.reserve(n);
 }
 
 void ParticleSystem::push_back(std::int64_t i, int t, double r, double m, Vec3d p, Vec3d v,
-                               std::array<std::int32_t, 3> img) {
+                               std::array<std::int32_t, 3> img, Vec3d w) {
   id.push_back(i);
   type.push_back(t);
   radius.push_back(r);
@@ -43,6 +45,7 @@ void ParticleSystem::push_back(std::int64_t i, int t, double r, double m, Vec3d 
   pos.push_back(p);
   vel.push_back(v);
   image.push_back(img);
+  omega.push_back(w);
 }
 
 bool ParticleSystem::monodisperse() const {
@@ -172,6 +175,7 @@ double overlap_tolerance(const ParticleSystem& sys, double eps) {
 void validate_and_wrap(ParticleSystem& sys, const std::string& source, const std::vector<long>* atom_lines,
                        double rounding_eps) {
   validate_box(sys.box, source);
+  if (sys.omega.size() < sys.size()) sys.omega.resize(sys.size());
   static const char* axis = "xyz";
   std::unordered_set<std::int64_t> seen;
   for (std::size_t i = 0; i < sys.size(); ++i) {
@@ -192,6 +196,7 @@ void validate_and_wrap(ParticleSystem& sys, const std::string& source, const std
     }
     if (!finite(sys.pos[i])) fail("position is not finite (NaN or inf)");
     if (!finite(sys.vel[i])) fail("velocity is not finite (NaN or inf)");
+    if (!finite(sys.omega[i])) fail("angular velocity is not finite (NaN or inf)");
     for (int d = 0; d < 3; ++d) {
       if (sys.box.periodic[d]) continue;
       const double p = sys.pos[i][d], r = sys.radius[i];

@@ -27,6 +27,18 @@ Physics validated(Physics p, const std::array<bool, 3>& periodic, const PhysicsN
                      names.contact_time + " a value > 0");
   if (!(p.resting_time >= 0 && std::isfinite(p.resting_time)))
     throw InputError(names.resting_time + " " + format_number(p.resting_time) + " must be finite and >= 0");
+  const std::string beta = format_number(p.tangential_restitution);
+  if (!(p.tangential_restitution >= -1 && p.tangential_restitution <= 1))
+    throw InputError(names.tangential_restitution + " " + beta +
+                     " must be in [-1, 1] (-1: smooth, 1: perfectly rough)");
+  if (!(p.friction >= 0))
+    throw InputError(names.friction + " " + format_number(p.friction) + " must be >= 0 (infinite: no sliding)");
+  if (std::isfinite(p.friction) && !p.rough())
+    throw InputError(names.friction + " " + format_number(p.friction) + " needs a " + names.tangential_restitution +
+                     " above -1 as its sticking limit beta0");
+  if (!(p.inertia > 0 && p.inertia <= 2.0 / 3.0))
+    throw InputError(names.inertia + " " + format_number(p.inertia) +
+                     " must be in (0, 2/3] (I = q m r^2; 0.4: solid sphere, 2/3: thin shell)");
   for (int d = 0; d < 3; ++d) {
     const double g = p.gravity[std::size_t(d)];
     if (!std::isfinite(g))

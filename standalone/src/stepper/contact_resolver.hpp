@@ -60,6 +60,9 @@ struct ContactArrays {
   double* sphere_virial = nullptr;
   //! Optional: told of every collision and bounce (indices like pos).
   CollisionObserver* observer = nullptr;
+  //! Rough spheres (set_roughness): angular velocities, indexed like pos. nullptr: smooth, and
+  //! collisions run the smooth kernel.
+  Vec3<Real>* omega = nullptr;
 };
 
 //! Totals of resolved contacts.
@@ -72,6 +75,8 @@ struct ContactTally {
   double virial = 0;                            //!< sum over collisions of r_ij . dp_i at contact
   //! The same sum as a tensor, r_ij (x) dp_i: xx, yy, zz, xy, xz, yz (LAMMPS's virial order).
   std::array<double, 6> virial_tensor{0, 0, 0, 0, 0, 0};
+  //! Kinetic energy the collisions took, by channel (rough spheres only).
+  double dissipated_normal = 0, dissipated_tangential = 0;
 };
 
 //! Mono: every sphere has the diameter `sigma` and mass `mass` given to set_uniform().
@@ -122,6 +127,8 @@ class ContactResolver {
   }
   //! The time at the end of the current step, on the clock of the last collision times.
   void set_step_end(double t) { step_end_ = t; }
+  //! The tangential law of rough spheres, used while ContactArrays::omega is set.
+  void set_roughness(const kernel::Roughness<Real>& k) { rough_ = k; }
   void set_uniform(Real sigma, Real mass) {
     sigma_ = sigma;
     mass_ = mass;
@@ -168,6 +175,12 @@ class ContactResolver {
       return sigma_ / Real(2);
     else
       return a_.radius[i];
+  }
+  Real mass(std::uint32_t i) const {
+    if constexpr (Mono)
+      return mass_;
+    else
+      return a_.mass[i];
   }
 
   //! A uniform acceleration (gravity) along the wall axes: flights are parabolas, so wall
@@ -393,9 +406,9 @@ class ContactResolver {
       if constexpr (Walls) {
         if (wall)
           bounce(c, hooks, tally);
-        else if (!collide(c, hooks, tally))
+        else if (!(a_.omega ? collide_rough(c, hooks, tally) : collide(c, hooks, tally)))
           continue;
-      } else if (!collide(c, hooks, tally)) {
+      } else if (!(a_.omega ? collide_rough(c, hooks, tally) : collide(c, hooks, tally))) {
         continue;
       }
       if (hooks.must_rescan()) {
@@ -520,6 +533,8 @@ class ContactResolver {
     } else {
       kernel::reflect_from_walls(a_.pos[c.i][d], v, lo_[std::size_t(d)], hi_[std::size_t(d)], radius(c.i));
     }
+    // Rough spheres: the tangential impulse at the contact time; resting contacts take none.
+    if (a_.omega && !rested) rough_bounce(c.i, d, v_before, c.back, tally);
     if (rested) {
       ++tally.resting_contacts;
     } else {
@@ -529,6 +544,26 @@ class ContactResolver {
     tally.wall_impulse[std::size_t(d)] += double(Mono ? mass_ : a_.mass[c.i]) * impulse;
     mark_changed(c.i, c.back);
     hooks.after_bounce(c.i);
+  }
+
+  //! The tangential impulse of a bounce of sphere i off a wall of axis d, `back` before the end of
+  //! the step, arriving at v_before along d: the velocity changes at contact, so the position
+  //! moves by back times the change (the normal reflection is done).
+  __attribute__((noinline)) void rough_bounce(std::uint32_t i, int d, Real v_before, Real back, ContactTally& tally) {
+    Vec3<Real> n{};
+    n[d] = v_before < Real(0) ? Real(1) : Real(-1);
+    const Vec3<Real> g{gravity_[0], gravity_[1], gravity_[2]};
+    const Vec3<Real> v_contact = a_.vel[i] - back * g;
+    Real dissipated = 0;
+    bool sliding = false;
+    const Vec3<Real> dv = kernel::wall_tangential(n, v_contact, a_.omega[i], mass(i), radius(i),
+                                                  Real(2) * std::abs(v_before), rough_, dissipated, sliding);
+    a_.vel[i] += dv;
+    a_.pos[i] += back * dv;
+    tally.dissipated_tangential += double(dissipated);
+    const Real speed = norm(a_.vel[i]);
+    speed_bound_ = std::max(speed_bound_, speed);
+    if (a_.speed) a_.speed[i] = speed;
   }
 
   //! A wall contact at normal speed v_before (towards the wall) under the acceleration g along that
@@ -646,6 +681,72 @@ class ContactResolver {
     return true;
   }
 
+  //! collide() for rough spheres (ContactArrays::omega set): out of line, so the smooth path
+  //! compiles as it would without rough spheres.
+  template <class Hooks>
+  __attribute__((noinline)) bool collide_rough(const Candidate& c, Hooks& hooks, ContactTally& tally) {
+    const std::uint32_t i = c.i, j = c.j;
+    Vec3<Real> ri = a_.pos[i], rj = a_.pos[j], vi = a_.vel[i], vj = a_.vel[j];
+    const Vec3<Real> shift = a_.image_shift[c.image];
+    // A candidate that is not stale was predicted from this very state and these windows, so
+    // its rewind time stands. (Computing it again put a square root and a division on the
+    // critical path of every collision; the two evaluations could also differ in the last bit.)
+    const Real back = c.back;
+    ri -= back * vi;
+    rj -= back * vj;
+    const Vec3<Real> contact = ri - rj - shift;
+    const Vec3<Real> vi_before = vi;
+    double virial;
+    const bool restituted = restitution_ != Real(1) && !collided_recently(i, j, back);
+    // A collision the TC rule makes elastic is smooth too.
+    const bool rough = restituted || restitution_ == Real(1);
+    Vec3<Real> wi = a_.omega[i], wj = a_.omega[j];
+    if (rough) {
+      const auto out = kernel::collide_rough(contact, vi, vj, wi, wj, mass(i), mass(j), radius(i), radius(j),
+                                             restitution_, rough_, Mono);
+      virial = double(out.virial);
+      tally.dissipated_normal += double(out.dissipated_normal);
+      tally.dissipated_tangential += double(out.dissipated_tangential);
+    } else if constexpr (Mono) {
+      virial = double(mass_) * double(kernel::collide_equal_mass(contact, vi, vj));
+    } else {
+      virial = double(kernel::collide(contact, vi, vj, a_.mass[i], a_.mass[j]));
+    }
+    if (virial == 0.0) return false;  // receding at the rewound contact: nothing to resolve
+    a_.omega[i] = wi, a_.omega[j] = wj;
+    if (restitution_ != Real(1)) last_collision_[id_index(i)] = last_collision_[id_index(j)] = step_end_ - double(back);
+    const double mi = Mono ? double(mass_) : double(a_.mass[i]);
+    const Vec3<Real> dvi = vi - vi_before;
+    const double dp[3] = {mi * double(dvi.x), mi * double(dvi.y), mi * double(dvi.z)};
+    const double r[3] = {double(contact.x), double(contact.y), double(contact.z)};
+    tally.virial_tensor[0] += r[0] * dp[0];
+    tally.virial_tensor[1] += r[1] * dp[1];
+    tally.virial_tensor[2] += r[2] * dp[2];
+    tally.virial_tensor[3] += r[0] * dp[1];
+    tally.virial_tensor[4] += r[0] * dp[2];
+    tally.virial_tensor[5] += r[1] * dp[2];
+    a_.pos[i] = ri + back * vi;
+    a_.pos[j] = rj + back * vj;
+    a_.vel[i] = vi;
+    a_.vel[j] = vj;
+    const Real speed_i = norm(vi), speed_j = norm(vj);
+    speed_bound_ = std::max({speed_bound_, speed_i, speed_j});
+    if (a_.speed) a_.speed[i] = speed_i, a_.speed[j] = speed_j;
+    ++tally.collisions;
+    tally.virial += virial;
+    if (a_.pair_collisions) ++a_.pair_collisions[i], ++a_.pair_collisions[j];
+    if (a_.sphere_virial || a_.observer) {
+      const double t[6] = {r[0] * dp[0], r[1] * dp[1], r[2] * dp[2], r[0] * dp[1], r[0] * dp[2], r[1] * dp[2]};
+      if (a_.sphere_virial) add_sphere_virial(i, j, t);
+      if (a_.observer) a_.observer->collision(i, j, t, virial);
+    }
+    for (const std::uint32_t k : {i, j}) {
+      mark_changed(k, back);
+      hooks.after_collision(k, back);
+    }
+    return true;
+  }
+
   //! Half of a collision's r (x) dp to each of its spheres (ContactArrays::sphere_virial).
   void add_sphere_virial(std::uint32_t i, std::uint32_t j, const double* t) {
     for (const std::uint32_t s : {i, j})
@@ -654,7 +755,8 @@ class ContactResolver {
 
   ContactArrays<Real> a_;
   Real dt_ = 0, sigma_ = 0, mass_ = 0;
-  Real restitution_ = 1;  // normal restitution (1: elastic)
+  Real restitution_ = 1;           // normal restitution (1: elastic)
+  kernel::Roughness<Real> rough_;  // tangential law while a_.omega is set
   double contact_time_ = 0, step_end_ = 0;
   double* last_collision_ = nullptr;  // id-indexed last collision times (restitution_ < 1 only)
   Real speed_bound_ = std::numeric_limits<Real>::infinity();

@@ -100,6 +100,8 @@ class Stepper final : public StepperBase, public StateExchange {
     counters_.pair_virial = tally_.virial;
     counters_.pair_virial_tensor = tally_.virial_tensor;
     counters_.unresolved_steps = tally_.unresolved_steps;
+    counters_.dissipated_normal = tally_.dissipated_normal;
+    counters_.dissipated_tangential = tally_.dissipated_tangential;
     return counters_;
   }
   void reset_counters() override {
@@ -202,6 +204,40 @@ class Stepper final : public StepperBase, public StateExchange {
       vel_[k] = {Real(vi[0]), Real(vi[1]), Real(vi[2])};
     }
     refresh_speed_bound();
+  }
+  void scatter_omega(const std::uint32_t* dest, double* omega) const override {
+    for (std::size_t k = 0; k < omega_.size(); ++k) {
+      if (dest[k] == kNoRow) continue;
+      double* o = omega + 3 * std::size_t(dest[k]);
+      o[0] = double(omega_[k].x), o[1] = double(omega_[k].y), o[2] = double(omega_[k].z);
+    }
+  }
+  void gather_omega(const std::uint32_t* src, const double* omega) override {
+    for (std::size_t k = 0; k < omega_.size(); ++k) {
+      const double* o = omega + 3 * std::size_t(src[k]);
+      omega_[k] = {Real(o[0]), Real(o[1]), Real(o[2])};
+    }
+  }
+  void copy_omega(const std::uint32_t* slots, std::size_t count, Vec3d* out) const override {
+    for (std::size_t i = 0; i < count; ++i) {
+      if (omega_.empty()) {
+        out[i] = {0, 0, 0};
+        continue;
+      }
+      const auto& w = omega_[slots[i]];
+      out[i] = {double(w.x), double(w.y), double(w.z)};
+    }
+  }
+  void set_omega(const std::uint32_t* slots, std::size_t count, const Vec3d* w) override {
+    if (omega_.empty()) return;
+    for (std::size_t i = 0; i < count; ++i) omega_[slots[i]] = {Real(w[i].x), Real(w[i].y), Real(w[i].z)};
+  }
+  double iw2_sum() const override {
+    double sum = 0;
+    for (std::size_t k = 0; k < omega_.size(); ++k)
+      sum += inertia_ * double(m_[Mono ? 0 : k]) * double(r_[Mono ? 0 : k]) * double(r_[Mono ? 0 : k]) *
+             double(dot(omega_[k], omega_[k]));
+    return sum;
   }
   void set_rebuild_agreement(std::function<bool(bool)> agree) override { agree_ = std::move(agree); }
   bool sweep_detection() const override { return sweep_; }
@@ -390,6 +426,8 @@ class Stepper final : public StepperBase, public StateExchange {
 
   // Per-field arrays in cell order: a neighbour's position or velocity is one cache line.
   std::vector<V3<Real>> pos_, vel_, pos0_;  // pos0_: positions at the last rebuild
+  std::vector<V3<Real>> omega_;             // angular velocities, rough scenes only (else empty)
+  double inertia_ = 0.4;                    // q of I = q m r^2
   // |vel_|, set by drift(), kept by the resolver, for the neighbour sweeps' per-pair speed bound. Only where
   // sweeps are a large part of the loop and speeds stay in cache do their loads pay (see docs/dev/performance.md).
   bool speeds_ = false;
@@ -528,6 +566,15 @@ Stepper<Real, Mono>::Stepper(const ParticleSystem& sys, const Physics& physics, 
     r_[i] = Real(sys.radius[s]);
     m_[i] = Real(sys.mass[s]);
   }
+  if (physics.rough()) {
+    omega_.assign(n, V3<Real>{});
+    for (std::size_t i = 0; i < n && sys.omega.size() == n; ++i) {
+      const Vec3d& w = sys.omega[by_id[i]];
+      omega_[i] = {Real(w.x), Real(w.y), Real(w.z)};
+    }
+    inertia_ = physics.inertia;
+    resolver_.set_roughness({Real(physics.tangential_restitution), Real(physics.friction), Real(physics.inertia)});
+  }
   if (n) sigma_ = Real(2) * r_[0];
   max_radius_ = Real(sys.max_radius());
   cell_radius_ = Real(diameter / 2);
@@ -605,6 +652,7 @@ void Stepper<Real, Mono>::rebuild() {
   }
   pos_.swap(scratch_v3_);
   permute(vel_, scratch_v3_);
+  if (!omega_.empty()) permute(omega_, scratch_v3_);
   if constexpr (!Mono) {  // equal radii and masses need no reordering
     permute(r_, scratch_real_);
     permute(m_, scratch_real_);
@@ -637,7 +685,8 @@ void Stepper<Real, Mono>::bind_resolver() {
   resolver_.bind({pos_.data(), vel_.data(), r_.data(), m_.data(), id_.data(), slot_.data(), pairs_.adj_start(),
                   pairs_.adj(), image_shift_, speeds_ ? speed_.data() : nullptr, pairs_.adj_plain_end(),
                   pair_collisions_.empty() ? nullptr : pair_collisions_.data(),
-                  sphere_virial_.empty() ? nullptr : sphere_virial_.data(), observer_});
+                  sphere_virial_.empty() ? nullptr : sphere_virial_.data(), observer_,
+                  omega_.empty() ? nullptr : omega_.data()});
 }
 
 template <class Real, bool Mono>
@@ -815,8 +864,9 @@ ParticleSystem Stepper<Real, Mono>::state() const {
     for (std::size_t d = 0; d < 3; ++d)
       image[d] = std::int32_t(
           std::clamp(std::int64_t(image0_[s][d]) + image_[s][d], std::int64_t(INT32_MIN), std::int64_t(INT32_MAX)));
+    const Vec3d w = omega_.empty() ? Vec3d{} : Vec3d{double(omega_[k].x), double(omega_[k].y), double(omega_[k].z)};
     out.push_back(id_[s], type_[s], double(r_[k]), double(m_[k]), p,
-                  {double(vel_[k].x), double(vel_[k].y), double(vel_[k].z)}, image);
+                  {double(vel_[k].x), double(vel_[k].y), double(vel_[k].z)}, image, w);
   }
   wrap_periodic(out);
   return out;
