@@ -43,6 +43,7 @@ import subprocess
 import sys
 import tempfile
 import time
+from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -208,29 +209,36 @@ def measure_case(hs, work, mode, case, log):
     result = dict(case=dict(e=case.e, beta=case.beta, mu=None if not case.walton else case.mu, label=case.label),
                   theory=th, t_end=t_end, times=times.tolist(), engines={})
     r_star = th["R"] if th["R"] is not None else 1.0
+    def one_seed(engine, seed):
+        state = make_state(hs, work, mode.n, seed)
+        # transient from T_rot0 = T0
+        d1 = work / f"{case.key}_s{seed}_r1_{engine}.data"
+        t0 = spin_state(state, d1, 1.0, seed)
+        c = cool(hs, engine, d1, work, case, t_end * t0 ** -0.5)
+        tt, tr = rt.temperatures(times * t0 ** -0.5, PHI, c["T"][0], c["Trot"][0] / c["T"][0], h_ode)
+        # scaling state from T_rot0 = R T0
+        d2 = work / f"{case.key}_s{seed}_rs_{engine}.data"
+        spin_state(state, d2, r_star, seed)
+        c2 = cool(hs, engine, d2, work, case, t_end * t0 ** -0.5)
+        half = slice(FRAMES // 2, None)
+        return dict(rel_t=c["T"] / tt - 1.0, rel_rot=c["Trot"] / tr - 1.0,
+                    curve=dict(T=(c["T"] / t0).tolist(), Trot=(c["Trot"] / t0).tolist(), T_theory=(tt / t0).tolist(),
+                               Trot_theory=(tr / t0).tolist()),
+                    cpu=(c["cpu"] or 0.0), sim=t_end * t0 ** -0.5,
+                    ratio=float(np.mean(c2["Trot"][half] / c2["T"][half])), cumulants=c2["cumulants"][half].mean(axis=0))
+
+    for seed in range(1, mode.seeds + 1):
+        make_state(hs, work, mode.n, seed)
     for engine in mode.engines:
-        rel_t, rel_rot, ratios, cums, cpu, sim = [], [], [], [], 0.0, 0.0
-        curves = []
-        for seed in range(1, mode.seeds + 1):
-            state = make_state(hs, work, mode.n, seed)
-            # transient from T_rot0 = T0
-            d1 = work / f"{case.key}_s{seed}_r1.data"
-            t0 = spin_state(state, d1, 1.0, seed)
-            c = cool(hs, engine, d1, work, case, t_end * t0 ** -0.5)
-            tt, tr = rt.temperatures(times * t0 ** -0.5, PHI, c["T"][0], c["Trot"][0] / c["T"][0], h_ode)
-            rel_t.append(c["T"] / tt - 1.0)
-            rel_rot.append(c["Trot"] / tr - 1.0)
-            curves.append(dict(T=(c["T"] / t0).tolist(), Trot=(c["Trot"] / t0).tolist(),
-                               T_theory=(tt / t0).tolist(), Trot_theory=(tr / t0).tolist()))
-            cpu += c["cpu"] or 0.0
-            sim += t_end * t0 ** -0.5
-            # scaling state from T_rot0 = R T0
-            d2 = work / f"{case.key}_s{seed}_rs.data"
-            spin_state(state, d2, r_star, seed)
-            c2 = cool(hs, engine, d2, work, case, t_end * t0 ** -0.5)
-            half = slice(FRAMES // 2, None)
-            ratios.append(float(np.mean(c2["Trot"][half] / c2["T"][half])))
-            cums.append(c2["cumulants"][half].mean(axis=0))
+        # two runs at a time: the machine's two cores
+        with ThreadPoolExecutor(max_workers=2) as pool:
+            per_seed = list(pool.map(lambda sd: one_seed(engine, sd), range(1, mode.seeds + 1)))
+        rel_t = [x["rel_t"] for x in per_seed]
+        rel_rot = [x["rel_rot"] for x in per_seed]
+        curves = [x["curve"] for x in per_seed]
+        ratios = [x["ratio"] for x in per_seed]
+        cums = [x["cumulants"] for x in per_seed]
+        cpu, sim = sum(x["cpu"] for x in per_seed), sum(x["sim"] for x in per_seed)
         mt, et = mean_err(rel_t)
         mr, er = mean_err(rel_rot)
         rm, re_ = mean_err(np.array(ratios)[:, None])

@@ -116,7 +116,7 @@ def temperatures(times, phi, t0, r0, h, mass=1.0):
         return [om * t * a / 3.0, om * t * b / 3.0]
     times = np.asarray(times, dtype=float)
     sol = integrate.solve_ivp(rhs, (0.0, float(times.max())), [t0, r0 * t0], t_eval=times, rtol=1e-10,
-                              atol=1e-13 * t0, method="LSODA")
+                              atol=1e-13 * t0, method="DOP853")
     return sol.y[0], sol.y[1]
 
 
@@ -133,7 +133,7 @@ def time_to_fraction(fraction, phi, t0, r0, h, mass=1.0):
         return y[0] - fraction * t0
     hit.terminal = True
     sol = integrate.solve_ivp(rhs, (0.0, 1e7), [t0, r0 * t0], events=hit, rtol=1e-10, atol=1e-13 * t0,
-                              method="LSODA")
+                              method="DOP853")
     return float(sol.t_events[0][0])
 
 
