@@ -40,6 +40,9 @@ py::array view(const ParticleSystem& s, Field f, py::object owner) {
       return make(s.type.data(), n, 1, owner);
     case Field::Images:
       return make(n ? s.image[0].data() : nullptr, n, 3, owner);
+    case Field::Omegas:
+      if (s.omega.size() < n) throw std::logic_error("state without angular velocities");
+      return make(n ? &s.omega[0].x : nullptr, n, 3, owner);
   }
   throw std::logic_error("unknown field");
 }
@@ -65,6 +68,8 @@ const char* describe(Field f) {
       return "(N,) int32: atom types (>= 1)";
     case Field::Images:
       return "(N, 3) int32: periodic images crossed (unwrapped = positions + images * lengths)";
+    case Field::Omegas:
+      return "(N, 3) float64: angular velocities (rough spheres; zeros for smooth engines)";
   }
   return "";
 }

@@ -12,8 +12,8 @@
 namespace hardsphere::python {
 
 //! positions, velocities (N, 3) float64; radii, masses (N,) float64; ids (N,) int64; types (N,)
-//! int32; images (N, 3) int32.
-enum class Field { Positions, Velocities, Radii, Masses, Ids, Types, Images };
+//! int32; images (N, 3) int32; omegas (N, 3) float64.
+enum class Field { Positions, Velocities, Radii, Masses, Ids, Types, Images, Omegas };
 
 //! A read-only view of one field of `sys`; `owner` must keep `sys` alive.
 pybind11::array view(const ParticleSystem& sys, Field f, pybind11::object owner);

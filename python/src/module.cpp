@@ -5,6 +5,7 @@
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
+#include <limits>
 #include <stdexcept>
 
 #include "arrays.hpp"
@@ -34,7 +35,8 @@ void add_arrays(C& c, Get get, const char* what) {
                                                   {"masses", Field::Masses},
                                                   {"ids", Field::Ids},
                                                   {"types", Field::Types},
-                                                  {"images", Field::Images}};
+                                                  {"images", Field::Images},
+                                                  {"omegas", Field::Omegas}};
   for (const auto& [name, f] : fields) {
     const Field field = f;
     c.def_property_readonly(
@@ -116,28 +118,38 @@ PYBIND11_MODULE(_hardsphere, m) {
       m, "System", "A particle state: generated, read from a LAMMPS data file or given as arrays.");
   sys.def(py::init(&make_system), "box"_a, "positions"_a, "velocities"_a = py::none(), "radii"_a = 0.5,
           "masses"_a = 1.0, "ids"_a = py::none(), "types"_a = py::none(), "images"_a = py::none(),
-          "System(box, positions, velocities=None, radii=0.5, masses=1.0, ids=None, types=None, images=None): "
+          "omegas"_a = py::none(),
+          "System(box, positions, velocities=None, radii=0.5, masses=1.0, ids=None, types=None, images=None, "
+          "omegas=None): "
           "checked as a data file is (no overlaps, inside walls, ...); periodic coordinates are wrapped.");
   sys.def_static(
       "random",
       [](std::int64_t n, std::optional<double> phi, py::object box, std::uint64_t seed, double radius, double mass,
-         double temperature, std::optional<double> speed, const std::string& boundary, const std::string& method) {
-        return generate(parse_init_method(method), n, phi, box, seed, radius, mass, temperature, speed, boundary);
+         double temperature, std::optional<double> speed, const std::string& boundary, const std::string& method,
+         std::optional<double> rotational_temperature, double inertia) {
+        return generate(parse_init_method(method), n, phi, box, seed, radius, mass, temperature, speed, boundary,
+                        rotational_temperature, inertia);
       },
       "n"_a = 1000, "phi"_a = py::none(), "box"_a = py::none(), "seed"_a = 1, "radius"_a = 0.5, "mass"_a = 1.0,
       "temperature"_a = 1.0, "speed"_a = py::none(), "boundary"_a = "p", "method"_a = "auto",
+      "rotational_temperature"_a = py::none(), "inertia"_a = 0.4,
       "A generated state as the CLI's --n/--phi/--box/--init make it: n spheres at packing fraction phi "
       "(default 0.2) or in a box of these lengths, Maxwell-Boltzmann velocities at temperature (or one speed), "
-      "momentum zeroed. method: auto (random insertion up to phi 0.25, lattice up to 0.55, dense up to 0.64), "
+      "momentum zeroed; with rotational_temperature, angular velocities for rough spheres (each component normal "
+      "with variance T/I, I = inertia m r^2; the CLI's default is the translational temperature, here none: zero). "
+      "method: auto (random insertion up to phi 0.25, lattice up to 0.55, dense up to 0.64), "
       "random, lattice or dense (docs/initial_states.md).");
   sys.def_static(
       "dense",
       [](std::int64_t n, std::optional<double> phi, py::object box, std::uint64_t seed, double radius, double mass,
-         double temperature, std::optional<double> speed, const std::string& boundary) {
-        return generate(InitMethod::Dense, n, phi, box, seed, radius, mass, temperature, speed, boundary);
+         double temperature, std::optional<double> speed, const std::string& boundary,
+         std::optional<double> rotational_temperature, double inertia) {
+        return generate(InitMethod::Dense, n, phi, box, seed, radius, mass, temperature, speed, boundary,
+                        rotational_temperature, inertia);
       },
       "n"_a = 1000, "phi"_a = py::none(), "box"_a = py::none(), "seed"_a = 1, "radius"_a = 0.5, "mass"_a = 1.0,
-      "temperature"_a = 1.0, "speed"_a = py::none(), "boundary"_a = "p",
+      "temperature"_a = 1.0, "speed"_a = py::none(), "boundary"_a = "p", "rotational_temperature"_a = py::none(),
+      "inertia"_a = 0.4,
       "System.random(..., method='dense'): an amorphous quench and compression (--init dense), up to phi 0.64.");
   sys.def_static("from_data", &from_data, "path"_a, "boundary"_a = "p", "precision"_a = "double",
                  "Reads a LAMMPS data file (atom_style sphere) as --read-data does; overlaps up to the rounding of "
@@ -201,20 +213,24 @@ PYBIND11_MODULE(_hardsphere, m) {
   py::class_<StepperSim> st(m, "Stepper", "The time stepper (the CLI's default engine).");
   st.def(py::init([](const SystemData& s, double dt, double restitution, std::optional<double> contact_time,
                      std::optional<std::array<double, 3>> gravity, double resting_time, const std::string& detect,
-                     const std::string& precision, py::object cells, double work_limit) {
+                     const std::string& precision, py::object cells, double work_limit, double tangential_restitution,
+                     double friction, double inertia) {
            StepperConfig cfg;
            cfg.dt = dt;
            cfg.detect = parse_detect(detect);
            cfg.cells = cells_of(cells);
            cfg.max_particle_steps = work_limit;
-           const Physics p = physics_of(s.sys.box, restitution, contact_time, gravity, resting_time);
+           const Physics p = physics_of(s.sys.box, restitution, contact_time, gravity, resting_time,
+                                        tangential_restitution, friction, inertia);
            return std::make_unique<StepperSim>(s, p, cfg, parse_precision(precision));
          }),
          "system"_a, py::kw_only(), "dt"_a = 0.01, "restitution"_a = 1.0, "contact_time"_a = py::none(),
          "gravity"_a = py::none(), "resting_time"_a = 0.0, "detect"_a = "auto", "precision"_a = "double",
-         "cells"_a = "auto", "work_limit"_a = 1e15,
+         "cells"_a = "auto", "work_limit"_a = 1e15, "tangential_restitution"_a = -1.0,
+         "friction"_a = std::numeric_limits<double>::infinity(), "inertia"_a = 0.4,
          "Stepper(system, *, dt=0.01, restitution=1, contact_time=1e-4 when restitution < 1, gravity=None, "
-         "resting_time=0, detect='auto', precision='double', cells='auto', work_limit=1e15): the CLI's options.");
+         "resting_time=0, detect='auto', precision='double', cells='auto', work_limit=1e15, "
+         "tangential_restitution=-1, friction=inf, inertia=0.4): the CLI's options.");
   st.def(
       "_run",
       [](py::object self, std::optional<std::int64_t> steps, std::optional<double> time, py::object callback,
@@ -232,18 +248,21 @@ PYBIND11_MODULE(_hardsphere, m) {
   py::class_<EventSim> ev(m, "EventEngine", "The exact event-driven engine (the CLI's --engine event).");
   ev.def(py::init([](const SystemData& s, double restitution, std::optional<double> contact_time,
                      std::optional<std::array<double, 3>> gravity, double resting_time, py::object cells, double shell,
-                     double work_limit) {
+                     double work_limit, double tangential_restitution, double friction, double inertia) {
            EventConfig cfg;
            cfg.cells = cells_of(cells);
            cfg.shell = shell;
            cfg.max_events = work_limit;
-           const Physics p = physics_of(s.sys.box, restitution, contact_time, gravity, resting_time);
+           const Physics p = physics_of(s.sys.box, restitution, contact_time, gravity, resting_time,
+                                        tangential_restitution, friction, inertia);
            return std::make_unique<EventSim>(s, p, cfg);
          }),
          "system"_a, py::kw_only(), "restitution"_a = 1.0, "contact_time"_a = py::none(), "gravity"_a = py::none(),
          "resting_time"_a = 0.0, "cells"_a = "auto", "shell"_a = 0.0, "work_limit"_a = 1e15,
+         "tangential_restitution"_a = -1.0, "friction"_a = std::numeric_limits<double>::infinity(), "inertia"_a = 0.4,
          "EventEngine(system, *, restitution=1, contact_time=1e-4 when restitution < 1, gravity=None, "
-         "resting_time=0 (1e-3), cells='auto', shell=0 (auto), work_limit=1e15): the CLI's options.");
+         "resting_time=0 (1e-3), cells='auto', shell=0 (auto), work_limit=1e15, tangential_restitution=-1, "
+         "friction=inf, inertia=0.4): the CLI's options.");
   ev.def(
       "_run",
       [](py::object self, std::optional<std::int64_t> steps, std::optional<double> time, py::object callback,

@@ -29,6 +29,7 @@ void Simulation::start_measurement() {
   kinetic0_ = kinetic_energy(*s);
   potential0_ = potential_energy(*s, physics_.gravity);
   momentum0_ = total_momentum(*s);
+  start_ = s;
   cpu_ = 0;
 }
 
@@ -48,6 +49,7 @@ nlohmann::json Simulation::observables(int histogram_bins) const {
                                      overlap_tolerance(fin, rounding_epsilon()));
   j["engine"] = name();
   add_energy_summary(j, kinetic0_, potential0_, potential_energy(fin, physics_.gravity), physics_);
+  add_rough_summary(j, *start_, fin, t, physics_);
   j["loop_cpu_seconds"] = cpu_;
   add_summary(j);
   return j;
@@ -60,7 +62,7 @@ void Simulation::write_data(const std::string& path) const {
 
 void Simulation::write_dump(const std::string& path) const {
   check_output_paths({{"write_dump", path}});
-  DumpWriter dump(path);
+  DumpWriter dump(path, physics_.rough());
   dump.write_frame(dump_timestep(), *state());
   dump.commit();
 }
@@ -76,6 +78,7 @@ DumpWriter& DumpFile::open() {
 }
 
 void DumpFile::write(const Simulation& sim) {
+  if (frames_ == 0) open().set_omega(sim.physics().rough());  // the first engine's columns for every frame
   sim.write_frame(open());
   ++frames_;
 }

@@ -47,6 +47,7 @@ class Simulation {
   void add_cpu(double seconds) { cpu_ += seconds; }
   virtual double sim_time() const = 0;
   const SystemData& origin() const { return origin_; }
+  const Physics& physics() const { return physics_; }
   //! Refuses (InputError) to touch an engine that another thread is running (its GIL is released).
   void check_idle() const;
   //! Marks the engine as running for the lifetime of the object.
@@ -80,6 +81,7 @@ class Simulation {
   mutable std::shared_ptr<const ParticleSystem> snapshot_;
   std::atomic<bool> running_{false};
   double kinetic0_ = 0, potential0_ = 0;
+  std::shared_ptr<const ParticleSystem> start_;  // the state at the start of the measurement
   Vec3d momentum0_;
   double cpu_ = 0;
 };

@@ -64,7 +64,7 @@ Box make_box(const py::object& lengths, const std::string& boundary, const py::o
 
 std::shared_ptr<SystemData> make_system(const Box& box, const py::object& positions, const py::object& velocities,
                                         const py::object& radii, const py::object& masses, const py::object& ids,
-                                        const py::object& types, const py::object& images) {
+                                        const py::object& types, const py::object& images, const py::object& omegas) {
   const auto pos = rows3<double>(positions, std::size_t(-1), "positions");
   const std::size_t n = std::size_t(pos.shape(0));
   auto data = std::make_shared<SystemData>();
@@ -80,6 +80,10 @@ std::shared_ptr<SystemData> make_system(const Box& box, const py::object& positi
   if (!velocities.is_none()) {
     const auto v = rows3<double>(velocities, n, "velocities");
     for (std::size_t i = 0; i < n; ++i) s.vel[i] = {v.at(i, 0), v.at(i, 1), v.at(i, 2)};
+  }
+  if (!omegas.is_none()) {
+    const auto w = rows3<double>(omegas, n, "omegas");
+    for (std::size_t i = 0; i < n; ++i) s.omega[i] = {w.at(i, 0), w.at(i, 1), w.at(i, 2)};
   }
   if (!images.is_none()) {
     const auto im = rows3<std::int32_t>(images, n, "images");
@@ -106,8 +110,10 @@ std::shared_ptr<SystemData> make_system(const Box& box, const py::object& positi
 
 std::shared_ptr<SystemData> generate(InitMethod method, std::int64_t n, std::optional<double> phi,
                                      const py::object& box, std::uint64_t seed, double radius, double mass,
-                                     double temperature, std::optional<double> speed, const std::string& boundary) {
+                                     double temperature, std::optional<double> speed, const std::string& boundary,
+                                     std::optional<double> rotational_temperature, double inertia) {
   InitSpec spec;
+  spec.rotational_temperature = rotational_temperature, spec.inertia = inertia;
   spec.n = n, spec.radius = radius, spec.mass = mass, spec.temperature = temperature, spec.speed = speed;
   spec.seed = seed, spec.method = method;
   const auto periodic = parse_boundary(boundary);
@@ -148,14 +154,17 @@ std::shared_ptr<SystemData> from_data(const std::string& path, const std::string
 }
 
 Physics physics_of(const Box& box, double restitution, std::optional<double> contact_time,
-                   std::optional<std::array<double, 3>> gravity, double resting_time) {
+                   std::optional<std::array<double, 3>> gravity, double resting_time, double tangential_restitution,
+                   double friction, double inertia) {
   Physics p;
+  p.tangential_restitution = tangential_restitution, p.friction = friction, p.inertia = inertia;
   p.restitution = restitution;
   p.contact_time = contact_time.value_or(restitution < 1 ? kDefaultContactTime : 0.0);
   if (gravity) p.gravity = *gravity;
   p.resting_time = resting_time;
   return validated(p, box.periodic,
-                   {"restitution", "contact_time", "gravity", "walls on that axis (boundary ...,w)", "resting_time"});
+                   {"restitution", "contact_time", "gravity", "walls on that axis (boundary ...,w)", "resting_time",
+                    "tangential_restitution", "friction", "inertia"});
 }
 
 std::array<int, 3> cells_of(const py::object& cells) {

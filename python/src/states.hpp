@@ -43,12 +43,14 @@ Box make_box(const pybind11::object& lengths, const std::string& boundary, const
 std::shared_ptr<SystemData> make_system(const Box& box, const pybind11::object& positions,
                                         const pybind11::object& velocities, const pybind11::object& radii,
                                         const pybind11::object& masses, const pybind11::object& ids,
-                                        const pybind11::object& types, const pybind11::object& images);
+                                        const pybind11::object& types, const pybind11::object& images,
+                                        const pybind11::object& omegas);
 
 //! A generated state as the CLI's --n/--phi/--box/... make it.
 std::shared_ptr<SystemData> generate(InitMethod method, std::int64_t n, std::optional<double> phi,
                                      const pybind11::object& box, std::uint64_t seed, double radius, double mass,
-                                     double temperature, std::optional<double> speed, const std::string& boundary);
+                                     double temperature, std::optional<double> speed, const std::string& boundary,
+                                     std::optional<double> rotational_temperature, double inertia);
 
 //! A data file as --read-data reads it; FileError if it cannot be opened.
 std::shared_ptr<SystemData> from_data(const std::string& path, const std::string& boundary,
@@ -56,7 +58,8 @@ std::shared_ptr<SystemData> from_data(const std::string& path, const std::string
 
 //! The physics keywords, validated with the keywords' names in messages.
 Physics physics_of(const Box& box, double restitution, std::optional<double> contact_time,
-                   std::optional<std::array<double, 3>> gravity, double resting_time);
+                   std::optional<std::array<double, 3>> gravity, double resting_time, double tangential_restitution,
+                   double friction, double inertia);
 
 //! "auto", K or (Kx, Ky, Kz).
 std::array<int, 3> cells_of(const pybind11::object& cells);

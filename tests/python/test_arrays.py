@@ -7,7 +7,8 @@ import pytest
 import hardsphere as hs
 
 FIELDS = {"positions": ((3,), np.float64), "velocities": ((3,), np.float64), "radii": ((), np.float64),
-          "masses": ((), np.float64), "ids": ((), np.int64), "types": ((), np.int32), "images": ((3,), np.int32)}
+          "masses": ((), np.float64), "ids": ((), np.int64), "types": ((), np.int32), "images": ((3,), np.int32),
+          "omegas": ((3,), np.float64)}
 
 
 @pytest.fixture

@@ -130,3 +130,34 @@ def test_two_runs_equal_one(gas):
     b.run(steps=50)
     assert a.observables()["collisions"] == b.observables()["collisions"]
     assert np.array_equal(a.positions, b.positions)
+
+
+ROUGH_KEYS = ["tangential_restitution", "friction", "inertia", "temperature_translational_initial",
+              "temperature_translational_final", "temperature_rotational_initial", "temperature_rotational_final",
+              "kinetic_energy_translational_initial", "kinetic_energy_translational_final",
+              "kinetic_energy_rotational_initial", "kinetic_energy_rotational_final", "dissipated_energy_normal",
+              "dissipated_energy_tangential"]
+
+
+@pytest.mark.parametrize("engine", ["stepper", "event"])
+def test_rough_spheres_equal_cli(cli, tmp_path, engine):
+    """Rough spheres: the keywords are the CLI's options, the omegas come from the data file and the
+    summary (rough keys included) and the final omegas equal the CLI's bit for bit."""
+    start = tmp_path / "rough.data"
+    s = hs.System.random(n=400, phi=0.25, seed=4, rotational_temperature=1.5)
+    assert s.omegas.shape == (400, 3) and s.omegas.any()
+    s.write_data(str(start))
+    out = tmp_path / "cli.data"
+    rough = ["--tangential-restitution", 0.4, "--friction", 0.3, "--restitution", 0.9, "--inertia", 0.35]
+    length = ["--steps", 200] if engine == "stepper" else ["--engine", "event", "--time", 2.0]
+    summary = json.loads(cli("run", "--read-data", start, *length, *rough, "--json", "-", "--write-data", out).stdout)
+    keywords = dict(tangential_restitution=0.4, friction=0.3, restitution=0.9, inertia=0.35)
+    sim = (hs.Stepper(hs.System.from_data(str(start)), dt=0.01, **keywords) if engine == "stepper"
+           else hs.EventEngine(hs.System.from_data(str(start)), **keywords))
+    sim.run(steps=200) if engine == "stepper" else sim.run(time=2.0)
+    compare(sim, summary, out, "p")
+    o = sim.observables()
+    for k in ROUGH_KEYS:
+        assert o[k] == summary[k], k
+    assert np.array_equal(hs.System.from_data(str(out)).omegas, sim.omegas)
+    assert not hs.Stepper(hs.System.from_data(str(start))).observables().keys() & set(ROUGH_KEYS)

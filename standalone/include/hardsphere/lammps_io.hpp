@@ -38,6 +38,8 @@ class DumpWriter {
  public:
   explicit DumpWriter(const std::string& path, bool omega = false) : file_(path), omega_(omega) {}
   void write_frame(std::int64_t timestep, const ParticleSystem& sys);
+  //! Whether the frames carry wx wy wz (set before the first frame).
+  void set_omega(bool on) { omega_ = on; }
   void commit() { file_.commit(); }
   AtomicFile& file() { return file_; }
 

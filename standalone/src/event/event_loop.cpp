@@ -82,16 +82,32 @@ EventLoop::EventLoop(const ParticleSystem& sys, const Physics& physics_in, const
 }
 
 void EventLoop::run_until(double t_end, double run_end) {
+  if (omega_.empty())
+    run_until_impl<false>(t_end, run_end);
+  else
+    run_until_impl<true>(t_end, run_end);
+}
+
+template <bool Rough>
+void EventLoop::run_until_impl(double t_end, double run_end) {
   // t_end is measured from construction; the calendar from `base_`.
   while (!calendar_.empty() && calendar_.top_key() <= t_end - base_) {
     if (++total_events_ > max_events_) refuse_more_events(run_end);
-    step();
+    step<Rough>();
   }
   now_ = t_end - base_;
 }
 
 void EventLoop::run_events(std::int64_t count) {
-  for (std::int64_t e = 0; e < count && !calendar_.empty() && calendar_.top_key() < kInf; ++e) step();
+  if (omega_.empty())
+    run_events_impl<false>(count);
+  else
+    run_events_impl<true>(count);
+}
+
+template <bool Rough>
+void EventLoop::run_events_impl(std::int64_t count) {
+  for (std::int64_t e = 0; e < count && !calendar_.empty() && calendar_.top_key() < kInf; ++e) step<Rough>();
 }
 
 const EventCounters& EventLoop::counters() {
@@ -106,6 +122,7 @@ void EventLoop::reset_counters() {
 }
 
 //! Processes the calendar's first entry.
+template <bool Rough>
 void EventLoop::step() {
   const int i = int(calendar_.top());
   now_ = calendar_.top_key();
@@ -119,13 +136,13 @@ void EventLoop::step() {
       ++c_.stale_events;
       if (!predictions_.promote_second(i)) predict(i);
       schedule(i);
-    } else if (omega_.empty()) {
-      collide(i, j);
-    } else {
+    } else if constexpr (Rough) {
       collide_rough(i, j);
+    } else {
+      collide(i, j);
     }
   } else {
-    boundary_event(i);
+    boundary_event<Rough>(i);
   }
   if (++events_since_rebase_ >= rebase_every_) rebase();
   // The next event's sphere: its lines load while the loop comes round.
@@ -193,6 +210,7 @@ void EventLoop::collide(int i, int j) {
   schedule(j);
 }
 
+template <bool Rough>
 void EventLoop::boundary_event(int i) {
   Body& s = trajectories_.body(std::size_t(i));
   trajectories_.sync(s, now_);
@@ -209,7 +227,7 @@ void EventLoop::boundary_event(int i) {
     ++c_.resting_contacts;
   } else {
     const double speed = trajectories_.reflect(s, std::size_t(d), geometry_);
-    if (!omega_.empty()) rough_bounce(s, i, d, v);
+    if constexpr (Rough) rough_bounce(s, i, d, v);
     c_.wall_impulse[std::size_t(d)] += 2 * trajectories_.mass(std::size_t(i)) * speed;
     ++c_.wall_collisions;
   }

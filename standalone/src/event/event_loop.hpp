@@ -48,13 +48,20 @@ class EventLoop {
 
  private:
   // inline: the handlers of one event are one hot path, compiled together in event_loop.cpp.
+  //! Rough: the spheres rotate (a loop of its own, so the smooth one compiles as without them).
+  template <bool Rough>
   inline void step();
+  template <bool Rough>
+  void run_until_impl(double t_end, double run_end);
+  template <bool Rough>
+  void run_events_impl(std::int64_t count);
   inline void collide(int i, int j);
-  //! collide() for rough spheres: out of line, so the smooth path compiles as without them.
-  void collide_rough(int i, int j);
+  //! collide() for rough spheres.
+  inline void collide_rough(int i, int j);
   //! The tangential impulse of sphere i's bounce (synced, velocity reflected) off a wall of axis
   //! d it reached at velocity v_before along d.
   void rough_bounce(Body& s, int i, int d, double v_before);
+  template <bool Rough>
   inline void boundary_event(int i);
   inline void rebuild(int i);
   inline void predict(int i);

@@ -301,8 +301,9 @@ class DataFile {
       sys_.vel[it->second] = v;
       if (w.size() == 7) {
         sys_.omega.resize(sys_.size());
-        sys_.omega[it->second] = {r_.real(w[4], "wx of atom", &w[0]), r_.real(w[5], "wy of atom", &w[0]),
-                                  r_.real(w[6], "wz of atom", &w[0])};
+        sys_.omega[it->second] = {r_.real(w[4], "angular velocity wx of atom", &w[0]),
+                                  r_.real(w[5], "angular velocity wy of atom", &w[0]),
+                                  r_.real(w[6], "angular velocity wz of atom", &w[0])};
       }
     }
     // natoms distinct known ids cover every atom; kept as a guard against a future change above.

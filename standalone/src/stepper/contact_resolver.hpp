@@ -361,8 +361,12 @@ class ContactResolver {
   //! back by that time (its positions are end-of-step positions) and runs the rest again.
   template <class Hooks>
   Real resolve(Hooks& hooks, ContactTally& tally) {
-    if (n_wall_axes_ > 0) return resolve_impl<true>(hooks, tally);
-    return resolve_impl<false>(hooks, tally);  // periodic scenes skip every wall test
+    // Periodic scenes skip every wall test; smooth ones every rough test (their loop is the one
+    // they had before rough spheres).
+    if (a_.omega)
+      return n_wall_axes_ > 0 ? resolve_impl<true, true>(hooks, tally) : resolve_impl<false, true>(hooks, tally);
+    if (n_wall_axes_ > 0) return resolve_impl<true, false>(hooks, tally);
+    return resolve_impl<false, false>(hooks, tally);
   }
 
   //! Every sphere starts the next step with a whole-step straight-line window.
@@ -372,7 +376,7 @@ class ContactResolver {
   }
 
  private:
-  template <bool Walls, class Hooks>
+  template <bool Walls, bool Rough, class Hooks>
   Real resolve_impl(Hooks& hooks, ContactTally& tally) {
     // The contacts found by the scan are sorted once; those predicted after collisions go to
     // a queue (contact_queue.hpp), and the earlier of the two fronts is taken each time.
@@ -400,15 +404,15 @@ class ContactResolver {
       if (jam.jammed(-double(c.back))) jam.refuse("stepper", id(c.i), wall ? -1 : id(c.j));
       if (++events > max_events_) {
         ++tally.unresolved_steps;
-        settle_walls(hooks, tally);
+        settle_walls<Rough>(hooks, tally);
         break;
       }
       if constexpr (Walls) {
         if (wall)
-          bounce(c, hooks, tally);
-        else if (!(a_.omega ? collide_rough(c, hooks, tally) : collide(c, hooks, tally)))
+          bounce<Rough>(c, hooks, tally);
+        else if (!(Rough ? collide_rough(c, hooks, tally) : collide(c, hooks, tally)))
           continue;
-      } else if (!(a_.omega ? collide_rough(c, hooks, tally) : collide(c, hooks, tally))) {
+      } else if (!(Rough ? collide_rough(c, hooks, tally) : collide(c, hooks, tally))) {
         continue;
       }
       if (hooks.must_rescan()) {
@@ -503,7 +507,7 @@ class ContactResolver {
   }
 
   //! Mirrors sphere c.i at the wall of axis c.image, `c.back` before the end of the step.
-  template <class Hooks>
+  template <bool Rough, class Hooks>
   void bounce(const Candidate& c, Hooks& hooks, ContactTally& tally) {
     const int d = c.image;
     Real& v = a_.vel[c.i][d];
@@ -534,7 +538,8 @@ class ContactResolver {
       kernel::reflect_from_walls(a_.pos[c.i][d], v, lo_[std::size_t(d)], hi_[std::size_t(d)], radius(c.i));
     }
     // Rough spheres: the tangential impulse at the contact time; resting contacts take none.
-    if (a_.omega && !rested) rough_bounce(c.i, d, v_before, c.back, tally);
+    if constexpr (Rough)
+      if (!rested) rough_bounce(c.i, d, v_before, c.back, tally);
     if (rested) {
       ++tally.resting_contacts;
     } else {
@@ -549,7 +554,7 @@ class ContactResolver {
   //! The tangential impulse of a bounce of sphere i off a wall of axis d, `back` before the end of
   //! the step, arriving at v_before along d: the velocity changes at contact, so the position
   //! moves by back times the change (the normal reflection is done).
-  __attribute__((noinline)) void rough_bounce(std::uint32_t i, int d, Real v_before, Real back, ContactTally& tally) {
+  void rough_bounce(std::uint32_t i, int d, Real v_before, Real back, ContactTally& tally) {
     Vec3<Real> n{};
     n[d] = v_before < Real(0) ? Real(1) : Real(-1);
     const Vec3<Real> g{gravity_[0], gravity_[1], gravity_[2]};
@@ -576,14 +581,14 @@ class ContactResolver {
 
   //! When the event limit stops a step, spheres may still be beyond a wall: mirror them (their
   //! paths are not checked again, as for the contacts left).
-  template <class Hooks>
+  template <bool Rough, class Hooks>
   void settle_walls(Hooks& hooks, ContactTally& tally) {
     const std::size_t mark = candidates_.size();
     predict_all_walls();
     for (std::size_t k = mark; k < candidates_.size(); ++k) {
       Candidate c = candidates_[k];
       c.back = std::min(c.back, change_[c.i].back);  // another axis of c.i may have bounced first
-      bounce(c, hooks, tally);
+      bounce<Rough>(c, hooks, tally);
     }
     candidates_.resize(mark);
   }
@@ -681,10 +686,10 @@ class ContactResolver {
     return true;
   }
 
-  //! collide() for rough spheres (ContactArrays::omega set): out of line, so the smooth path
-  //! compiles as it would without rough spheres.
+  //! collide() for rough spheres (ContactArrays::omega set), in the loop instantiated for them,
+  //! so the smooth loop compiles as it did without rough spheres.
   template <class Hooks>
-  __attribute__((noinline)) bool collide_rough(const Candidate& c, Hooks& hooks, ContactTally& tally) {
+  bool collide_rough(const Candidate& c, Hooks& hooks, ContactTally& tally) {
     const std::uint32_t i = c.i, j = c.j;
     Vec3<Real> ri = a_.pos[i], rj = a_.pos[j], vi = a_.vel[i], vj = a_.vel[j];
     const Vec3<Real> shift = a_.image_shift[c.image];
@@ -755,8 +760,7 @@ class ContactResolver {
 
   ContactArrays<Real> a_;
   Real dt_ = 0, sigma_ = 0, mass_ = 0;
-  Real restitution_ = 1;           // normal restitution (1: elastic)
-  kernel::Roughness<Real> rough_;  // tangential law while a_.omega is set
+  Real restitution_ = 1;  // normal restitution (1: elastic)
   double contact_time_ = 0, step_end_ = 0;
   double* last_collision_ = nullptr;  // id-indexed last collision times (restitution_ < 1 only)
   Real speed_bound_ = std::numeric_limits<Real>::infinity();
@@ -772,6 +776,7 @@ class ContactResolver {
   bool has_gravity_ = false;
   Real resting_time_ = 0;                           // see set_resting_time()
   int wall_axis_[3] = {0, 0, 0}, n_wall_axes_ = 0;  // the axes with walls
+  kernel::Roughness<Real> rough_;                   // tangential law while a_.omega is set
 };
 
 }  // namespace hardsphere

@@ -426,8 +426,6 @@ class Stepper final : public StepperBase, public StateExchange {
 
   // Per-field arrays in cell order: a neighbour's position or velocity is one cache line.
   std::vector<V3<Real>> pos_, vel_, pos0_;  // pos0_: positions at the last rebuild
-  std::vector<V3<Real>> omega_;             // angular velocities, rough scenes only (else empty)
-  double inertia_ = 0.4;                    // q of I = q m r^2
   // |vel_|, set by drift(), kept by the resolver, for the neighbour sweeps' per-pair speed bound. Only where
   // sweeps are a large part of the loop and speeds stay in cache do their loads pay (see docs/dev/performance.md).
   bool speeds_ = false;
@@ -462,6 +460,8 @@ class Stepper final : public StepperBase, public StateExchange {
   double clock_ = 0;                      // time since construction, for the collision times
   std::array<Real, 3> gravity_{0, 0, 0};  // uniform acceleration (wall axes only)
   bool has_gravity_ = false;
+  std::vector<V3<Real>> omega_;  // angular velocities in cell order, rough scenes only (else empty)
+  double inertia_ = 0.4;         // q of I = q m r^2
 };
 
 template <class Real, bool Mono>
