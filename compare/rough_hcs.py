@@ -429,6 +429,8 @@ def relative_command(argv):
         p = Path(w)
         if p.is_absolute() and ROOT in p.resolve().parents:
             w = str(p.resolve().relative_to(ROOT))
+        elif p.is_absolute() or w.startswith("/tmp"):
+            w = "DIR"  # an output directory outside the repository
         words.append(w)
     return " ".join(shlex.quote(w) for w in words)
 
