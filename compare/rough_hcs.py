@@ -249,7 +249,7 @@ def measure_case(hs, work, mode, case, log):
             T_worst=float(mt[k]), T_worst_err=float(et[k]), T_worst_time=float(times[k]),
             Trot_max=float(np.max(np.abs(mr))),
             R=float(rm[0]), R_err=float(re_[0]), R_seeds=ratios, cumulants=cm.tolist(), cumulants_err=ce.tolist(),
-            curves=curves, cpu_seconds_per_unit_time=cpu / sim if sim else None)
+            curves=curves[:1], cpu_seconds_per_unit_time=cpu / sim if sim else None)
         log(f"{case.key} {engine}: R {rm[0]:.4f} +- {re_[0]:.4f} (theory {th['R']}), "
             f"max T_tr/T_th - 1 {100 * mt[k]:+.2f}% +- {100 * et[k]:.2f}%")
     cm = np.mean([r["cumulants"] for r in result["engines"].values()], axis=0)
