@@ -193,6 +193,7 @@ def run_all(hs, mode, work, log):
     for mu in mode.mus:
         key = f"{mu:g}"
         results[key] = {}
+        # long enough for the slower-cooling beta0 to reach T0/3
         h = rt.tabulated(rt.sampled_rates(E, min(beta0.values()), Q, mu, samples=200000), 0.02, 5.0, 30)
         t_end = rt.time_to_fraction(1 / 3, phi, t0, 1.0, h)
         times = np.linspace(0, t_end, FRAMES + 1)
@@ -223,8 +224,8 @@ def run_all(hs, mode, work, log):
                 other = work / f"rough_state_s{seed}.data"
                 rough_hcs.spin_state(rough_hcs.make_state(hs, work, mode.n, seed), other, 1.0, seed)
                 frames, _ = hard_run(hs, "event", other, work, b, mu, t_end)
-                tt = temps(frames[-1:], s.mass, inertia)
-                spread.append(tt[-1, 1] / tt[-1, 0])
+                tt = temps(frames, s.mass, inertia)
+                spread.append(ratio_at_third(dict(T=tt[:, 0], Trot=tt[:, 1])))
             results[key][f"event beta0 {b_name}"]["R_other_states"] = spread
             log(f"mu {key} event beta0 {b:.4f}, {ENSEMBLE} other states: R(T0/3) {np.mean(spread):.4f} "
                 f"s.d. {np.std(spread, ddof=1):.4f}")
@@ -232,6 +233,20 @@ def run_all(hs, mode, work, log):
     return dict(settings=dict(mode=mode.name, n=mode.n, phi=phi, T0=t0, e=E, mus=list(mode.mus), shift=mode.shift,
                               steps_per_contact=STEPS_PER_CONTACT, kt_over_kn=KT_OVER_KN, soft=sets,
                               beta0=beta0, beta0_rule_lammps=beta0_linear(sets["lammps"])), results=results)
+
+
+def ratio_at_third(run):
+    """R = T_rot / T_tr where the run's T_tr crosses T0/3 (linear in log T between frames), or at
+    its end if it stays above (a nearly smooth gas cools more slowly)."""
+    t = np.log(np.array(run["T"]) / run["T"][0])
+    r = np.array(run["Trot"]) / np.array(run["T"])
+    target = math.log(1 / 3)
+    below = np.flatnonzero(t <= target)
+    if not len(below):
+        return float(r[-1])
+    k = below[0]
+    f = (t[k - 1] - target) / (t[k - 1] - t[k])
+    return float(r[k - 1] + f * (r[k] - r[k - 1]))
 
 
 def check(data):
@@ -242,7 +257,7 @@ def check(data):
         for g in SOFT:
             for b_name in SOFT:
                 hard = per[f"event beta0 {b_name}"]
-                rs, rh = per[g]["Trot"][-1] / per[g]["T"][-1], hard["Trot"][-1] / hard["T"][-1]
+                rs, rh = ratio_at_third(per[g]), ratio_at_third(hard)
                 sd = float(np.std(hard["R_other_states"] + [rh], ddof=1)) if "R_other_states" in hard else None
                 rows.append(dict(mu=mu, soft=g, beta0_of=b_name, beta0=hard["beta0"], R_soft=rs, R_hard=rh,
                                  diff=rs / rh - 1, R_hard_sd=sd, checked=b_name == g))
@@ -311,21 +326,23 @@ def write_markdown(out, data, rows, command):
              "deviation of R at T0/3 over all its states is the scatter of a single run.", "",
              "The checked rows compare each soft engine with the event engine at that engine's beta0; the other "
              "rows, with the other soft model's beta0, are listed for the discussion below.", "",
-             "| mu | soft engine | event engine's beta0 | R soft | R event engine, same state | s.d. of one hard run | "
+             "| mu | soft engine | event engine's beta0 | R soft at T0/3 | R event engine, same state | s.d. of one hard run | "
              "soft / hard - 1 |", "|---|---|---|---|---|---|---|"]
     for r in rows:
         sd = "-" if r.get("R_hard_sd") is None else f"{r['R_hard_sd']:.4f}"
         which = f"{r['beta0']:.4f} ({'its own, checked' if r['checked'] else 'the other model' + chr(39) + 's'})"
         lines.append(f"| {r['mu']} | {NAMES[r['soft']]} | {which} | {r['R_soft']:.4f} | {r['R_hard']:.4f} | {sd} | "
                      f"{100 * r['diff']:+.2f}% |")
-    lines += ["", "## All runs", "", "| mu | engine | beta0 | T_tr / T0 at the end | R at the end | Walton theory R | "
-              "CPU s per unit time |", "|---|---|---|---|---|---|---|"]
+    lines += ["", "## All runs", "", "R where T_tr crosses T0/3 (or at the end if it does not): the runs last until the "
+              "slower-cooling beta0 reaches T0/3 in the Walton theory.", "",
+              "| mu | engine | beta0 | T_tr / T0 at the end | R at T0/3 | R at the end | Walton theory R at the end | "
+              "CPU s per unit time |", "|---|---|---|---|---|---|---|---|"]
     for mu, per in data["results"].items():
         for name, r in per.items():
             if name == "times":
                 continue
             th = f"{r['Trot_theory'][-1] / r['T_theory'][-1]:.4f}" if "T_theory" in r else "-"
-            lines.append(f"| {mu} | {name} | {r['beta0']:.4f} | {r['T'][-1] / r['T'][0]:.4f} | "
+            lines.append(f"| {mu} | {name} | {r['beta0']:.4f} | {r['T'][-1] / r['T'][0]:.4f} | {ratio_at_third(r):.4f} | "
                          f"{r['Trot'][-1] / r['T'][-1]:.4f} | {th} | {r['cpu'] / r['sim_time']:.3g} |")
     lines += ["", "![T_tr and T_rot of every engine](rough_cooling_soft_T.png)", "", "## Verdict", ""]
     if data["failures"]:
@@ -339,10 +356,11 @@ def write_markdown(out, data, rows, command):
                  "Walton's rule with this beta0 stands for the soft contact (a contact that reaches mu |F_n| within "
                  "its duration slides there, as Walton's rule slides when the sticking impulse exceeds mu J_n).")
     if b["liggghts"] < 0:
-        lines.append(f"* LIGGGHTS's Hertz-Mindlin contact has k_t / k_n = 2 (1 - nu) / (2 - nu) = 0.82 at nu = 0.3, so its "
-                     "tangential oscillation (mass meff q / (1 + q)) is 1.7 times faster than the normal one and a "
-                     f"sticking contact goes through nearly a whole tangential period: beta0 = {b['liggghts']:.4f}, "
-                     "almost smooth. The soft contact's tangential force still reaches mu |F_n| within the contact and "
+        lines.append(f"* LIGGGHTS's Hertz-Mindlin contact has a tangential stiffness 8 G* sqrt(Reff delta), "
+                     "2 (1 - nu) / (2 - nu) = 0.82 times the normal force's tangent stiffness 2 Y* sqrt(Reff delta) at "
+                     "nu = 0.3, so its tangential oscillation (mass meff q / (1 + q)) is about 1.7 times faster than "
+                     "the normal one and a sticking contact goes through nearly a whole tangential period: the "
+                     f"measured beta0 = {b['liggghts']:.4f}, almost smooth. The soft contact's tangential force still reaches mu |F_n| within the contact and "
                      "slides there, transferring energy between translation and rotation, which Walton's rule "
                      "(one impulse compared with mu J_n, with (1 + beta0) close to 0 the sticking impulse is "
                      "almost never large enough to slide) cannot represent. The hard engines with this beta0 are "
