@@ -22,7 +22,7 @@ def _sticking_contact(kn, gamman, kt, meff, q, v=1.0):
     def leave(t, y):
         return y[0]
     leave.terminal, leave.direction = True, -1
-    sol = integrate.solve_ivp(rhs, (0, 10.0), [0.0, v, 0.0, 0.01], events=leave, rtol=1e-11, atol=1e-14,
+    sol = integrate.solve_ivp(rhs, (0, 10.0), [0.0, v, 0.0, 0.01], events=leave, rtol=1e-10, atol=1e-13,
                               first_step=1e-9, max_step=1e-3)
     return sol.y[3, -1] / 0.01
 
