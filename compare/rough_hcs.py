@@ -32,7 +32,7 @@ weights) and listed, so the report shows where it matters.
 Writes DIR/rough_hcs.json, DIR/rough_hcs.md, DIR/rough_hcs_T.png and DIR/rough_hcs_R.png. Exit
 status 1 if, for any case and engine, the seed mean of R differs from the theory by more than 3%
 plus 3 standard errors, or T_tr / T_theory - 1 (seed mean, max over the measured times) by more
-than 3% plus 3 standard errors. --quick: fewer cases, 2000 spheres, under a minute on 2 cores
+than 3% plus 3 standard errors. --quick: two cases, 2000 spheres, about a minute on 2 cores
 (the ctest rough_hcs_quick).
 """
 import argparse
@@ -441,7 +441,7 @@ def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--hardsphere", required=True)
     ap.add_argument("--out", required=True)
-    ap.add_argument("--quick", action="store_true", help="two cases, 2000 spheres, 4 seeds (under a minute)")
+    ap.add_argument("--quick", action="store_true", help="two cases, 2000 spheres, 4 seeds (about a minute)")
     a = ap.parse_args(argv)
     start = time.time()
     out = Path(a.out).resolve()
