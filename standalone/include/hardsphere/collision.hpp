@@ -145,17 +145,19 @@ namespace detail {
 //! (g_t perpendicular to n), for reduced mass mu_ij and normal impulse magnitude jn: the
 //! constant-beta impulse -(1+beta) q mu_ij/(1+q) g_t, or Walton's sliding one -mu jn g_t/|g_t| if
 //! that is smaller. Sets the energy it takes, -(J.g_t + |J|^2 (1+q)/(2 q mu_ij)) (no cross term
-//! with the normal impulse: it turns no sphere), and whether it slid.
+//! with the normal impulse: it turns no sphere), and whether it slid. n2 = |n|^2, 1 but for the
+//! rounding of n: in place of 1 it makes beta = 1 exact for the n used, so that rounding (leaning
+//! one way at contact distances near a power of two) biases no energy.
 template <class T>
 inline Vec3<T> tangential_impulse(Vec3<T> g_t, T reduced_mass, T jn, const Roughness<T>& k, T& dissipated,
-                                  bool& sliding) {
-  const T c = (T(1) + k.beta) * k.q * reduced_mass / (T(1) + k.q);
+                                  bool& sliding, T n2 = T(1)) {
+  const T c = (T(1) + k.beta) * k.q * reduced_mass / (n2 + k.q);
   Vec3<T> j = (-c) * g_t;
   const T g2 = dot(g_t, g_t);
   const T limit = k.mu * jn;
   sliding = c * c * g2 > limit * limit;  // never with mu = inf (inf > inf is false)
   if (sliding) j = (-limit / std::sqrt(g2)) * g_t;
-  dissipated = -(dot(j, g_t) + dot(j, j) * (T(1) + k.q) / (T(2) * k.q * reduced_mass));
+  dissipated = -(dot(j, g_t) + dot(j, j) * (n2 + k.q) / (T(2) * k.q * reduced_mass));
   return j;
 }
 }  // namespace detail
@@ -167,8 +169,8 @@ inline Vec3<T> tangential_impulse(Vec3<T> g_t, T reduced_mass, T jn, const Rough
 //! v1 += J_t/m1, v2 -= J_t/m2, w_k -= a_k (n x J_t)/I_k. Conserves momentum and the angular
 //! momentum about the contact point. Nothing changes for a receding pair (virial 0).
 template <class T>
-inline RoughOutcome<T> collide_rough(Vec3<T> dr, Vec3<T>& v1, Vec3<T>& v2, Vec3<T>& w1, Vec3<T>& w2, T m1, T m2,
-                                     T a1, T a2, T restitution, const Roughness<T>& k, bool equal_mass = false) {
+inline RoughOutcome<T> collide_rough(Vec3<T> dr, Vec3<T>& v1, Vec3<T>& v2, Vec3<T>& w1, Vec3<T>& w2, T m1, T m2, T a1,
+                                     T a2, T restitution, const Roughness<T>& k, bool equal_mass = false) {
   RoughOutcome<T> out;
   // The smooth kernel first and untouched (its result is the smooth one bit for bit); the normal
   // impulse leaves the tangential relative velocity as it was, so g_t is taken after it.
@@ -176,13 +178,14 @@ inline RoughOutcome<T> collide_rough(Vec3<T> dr, Vec3<T>& v1, Vec3<T>& v2, Vec3<
   if (!(out.virial > T(0))) return out;
   const T len = std::sqrt(dot(dr, dr));
   const Vec3<T> n = (T(1) / len) * dr;
+  const T n2 = dot(n, n);
   const Vec3<T> g = v1 - v2 - cross(a1 * w1 + a2 * w2, n);
-  const Vec3<T> g_t = g - dot(g, n) * n;
+  const Vec3<T> g_t = g - (dot(g, n) / n2) * n;
   const T reduced_mass = m1 * m2 / (m1 + m2);
   const T jn = out.virial / len;  // |J_n| = (1+e) mu_ij |g.n|
   const T gn = jn / ((T(1) + restitution) * reduced_mass);
   out.dissipated_normal = T(0.5) * (T(1) - restitution * restitution) * reduced_mass * gn * gn;
-  const Vec3<T> j = detail::tangential_impulse(g_t, reduced_mass, jn, k, out.dissipated_tangential, out.sliding);
+  const Vec3<T> j = detail::tangential_impulse(g_t, reduced_mass, jn, k, out.dissipated_tangential, out.sliding, n2);
   v1 += (T(1) / m1) * j;
   v2 -= (T(1) / m2) * j;
   const Vec3<T> nj = cross(n, j);

@@ -394,7 +394,7 @@ class ContactResolver {
     while (next < sorted_.size() || !queue_.empty()) {
       Candidate c;
       if (queue_.empty() || (next < sorted_.size() && !later(sorted_[next], queue_.top()))) {
-        prefetch_ahead(next, hooks);
+        prefetch_ahead<Rough>(next, hooks);
         c = sorted_[next++];
       } else {
         c = queue_.pop(cmp);
@@ -445,7 +445,7 @@ class ContactResolver {
   //! collision then waits on its spheres' records, list rows and partners' positions in turn
   //! (see docs/dev/performance.md). Request them for the contacts a few places ahead in three
   //! stages, each reading only what the stage before brought in.
-  template <class Hooks>
+  template <bool Rough, class Hooks>
   HS_ALWAYS_INLINE void prefetch_ahead(std::size_t next, const Hooks& hooks) const {
     constexpr std::size_t kRecords = 6, kRows = 4, kPartners = 2, kPrefetchPartnersAbove = 16384;
     const std::size_t n = sorted_.size();
@@ -456,6 +456,7 @@ class ContactResolver {
         __builtin_prefetch(&a_.adj_start[k]);
         __builtin_prefetch(&a_.pos[k]);
         __builtin_prefetch(&a_.vel[k]);
+        if constexpr (Rough) __builtin_prefetch(&a_.omega[k]);
         __builtin_prefetch(&change_[k]);
         hooks.prefetch(k);
       }
