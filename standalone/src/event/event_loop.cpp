@@ -155,6 +155,15 @@ void EventLoop::step() {
   }
 }
 
+void EventLoop::repredict_pair(int i, int j) {
+  predictions_.course_changed(i);
+  predictions_.course_changed(j);
+  predict(i);
+  predict(j);
+  schedule(i);
+  schedule(j);
+}
+
 void EventLoop::collide(int i, int j) {
   // Both lists are requested before either is scanned, so their misses overlap. The neighbourhoods are
   // not: each scan requests its partners itself, and doing it here too was slower (see docs/dev/performance.md).
@@ -202,12 +211,7 @@ void EventLoop::collide(int i, int j) {
     ++pair_collisions_[trajectories_.input_index(std::size_t(i))];
     ++pair_collisions_[trajectories_.input_index(std::size_t(j))];
   }
-  predictions_.course_changed(i);
-  predictions_.course_changed(j);
-  predict(i);
-  predict(j);
-  schedule(i);
-  schedule(j);
+  repredict_pair(i, j);
 }
 
 template <bool Rough>
@@ -287,12 +291,7 @@ void EventLoop::collide_rough(int i, int j) {
     ++pair_collisions_[in_i];
     ++pair_collisions_[in_j];
   }
-  predictions_.course_changed(i);
-  predictions_.course_changed(j);
-  predict(i);
-  predict(j);
-  schedule(i);
-  schedule(j);
+  repredict_pair(i, j);
 }
 
 void EventLoop::rough_bounce(Body& s, int i, int d, double v_before) {

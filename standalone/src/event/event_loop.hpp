@@ -58,6 +58,8 @@ class EventLoop {
   inline void collide(int i, int j);
   //! collide() for rough spheres.
   inline void collide_rough(int i, int j);
+  //! After a pair collision or parting: both spheres' next events predicted and scheduled.
+  inline void repredict_pair(int i, int j);
   //! The tangential impulse of sphere i's bounce (synced, velocity reflected) off a wall of axis
   //! d it reached at velocity v_before along d.
   void rough_bounce(Body& s, int i, int d, double v_before);
