@@ -45,8 +45,8 @@ int MPI_Allgather(const void *sbuf, int scount, MPI_Datatype stype, void *rbuf, 
   return PMPI_Allgather(sbuf, scount, stype, rbuf, rcount, rtype, comm);
 }
 
-int MPI_Allgatherv(const void *sbuf, int scount, MPI_Datatype stype, void *rbuf, const int *rcounts,
-                   const int *displs, MPI_Datatype rtype, MPI_Comm comm) {
+int MPI_Allgatherv(const void *sbuf, int scount, MPI_Datatype stype, void *rbuf, const int *rcounts, const int *displs,
+                   MPI_Datatype rtype, MPI_Comm comm) {
   collectives++, collective_bytes += size_of(scount, stype);
   return PMPI_Allgatherv(sbuf, scount, stype, rbuf, rcounts, displs, rtype, comm);
 }
