@@ -654,37 +654,7 @@ class ContactResolver {
       virial = double(kernel::collide(contact, vi, vj, a_.mass[i], a_.mass[j]));
     }
     if (virial == 0.0) return false;  // receding at the rewound contact: nothing to resolve
-    if (restitution_ != Real(1)) last_collision_[id_index(i)] = last_collision_[id_index(j)] = step_end_ - double(back);
-    const double mi = Mono ? double(mass_) : double(a_.mass[i]);
-    const Vec3<Real> dvi = vi - vi_before;
-    const double dp[3] = {mi * double(dvi.x), mi * double(dvi.y), mi * double(dvi.z)};
-    const double r[3] = {double(contact.x), double(contact.y), double(contact.z)};
-    tally.virial_tensor[0] += r[0] * dp[0];
-    tally.virial_tensor[1] += r[1] * dp[1];
-    tally.virial_tensor[2] += r[2] * dp[2];
-    tally.virial_tensor[3] += r[0] * dp[1];
-    tally.virial_tensor[4] += r[0] * dp[2];
-    tally.virial_tensor[5] += r[1] * dp[2];
-    a_.pos[i] = ri + back * vi;
-    a_.pos[j] = rj + back * vj;
-    a_.vel[i] = vi;
-    a_.vel[j] = vj;
-    const Real speed_i = norm(vi), speed_j = norm(vj);
-    speed_bound_ = std::max({speed_bound_, speed_i, speed_j});
-    if (a_.speed) a_.speed[i] = speed_i, a_.speed[j] = speed_j;
-    ++tally.collisions;
-    tally.virial += virial;
-    if (a_.pair_collisions) ++a_.pair_collisions[i], ++a_.pair_collisions[j];
-    if (a_.sphere_virial || a_.observer) {
-      const double t[6] = {r[0] * dp[0], r[1] * dp[1], r[2] * dp[2], r[0] * dp[1], r[0] * dp[2], r[1] * dp[2]};
-      if (a_.sphere_virial) add_sphere_virial(i, j, t);
-      if (a_.observer) a_.observer->collision(i, j, t, virial);
-    }
-    for (const std::uint32_t k : {i, j}) {
-      mark_changed(k, back);
-      hooks.after_collision(k, back);
-    }
-    return true;
+    return commit_collision(i, j, ri, rj, vi, vj, vi_before, contact, back, virial, hooks, tally);
   }
 
   //! collide() for rough spheres (ContactArrays::omega set), in the loop instantiated for them,
@@ -720,6 +690,14 @@ class ContactResolver {
     }
     if (virial == 0.0) return false;  // receding at the rewound contact: nothing to resolve
     a_.omega[i] = wi, a_.omega[j] = wj;
+    return commit_collision(i, j, ri, rj, vi, vj, vi_before, contact, back, virial, hooks, tally);
+  }
+  //! What every resolved pair collision records: the TC clock, the virial, the new positions and
+  //! velocities at the end of the step, the speed bound, counts, observers and re-predictions.
+  template <class Hooks>
+  HS_ALWAYS_INLINE bool commit_collision(std::uint32_t i, std::uint32_t j, Vec3<Real> ri, Vec3<Real> rj, Vec3<Real> vi,
+                                         Vec3<Real> vj, Vec3<Real> vi_before, Vec3<Real> contact, Real back,
+                                         double virial, Hooks& hooks, ContactTally& tally) {
     if (restitution_ != Real(1)) last_collision_[id_index(i)] = last_collision_[id_index(j)] = step_end_ - double(back);
     const double mi = Mono ? double(mass_) : double(a_.mass[i]);
     const Vec3<Real> dvi = vi - vi_before;
