@@ -166,7 +166,8 @@ void FixHardSphere::check_other_fixes() {
   // (initial/post/final_integrate), or changing the atoms between steps (pre_exchange). Fixes
   // acting only at end_of_step (thermostats by velocity scaling, averages, output), at
   // re-neighbouring or only in minimisations are allowed, as are 'setforce NULL NULL NULL'
-  // (sets nothing), store/force (records the zero forces) and balance (load balancing).
+  // (sets nothing), store/force (records the zero forces), balance (load balancing) and dynamic
+  // groups.
   const int force_stages = PRE_FORCE | PRE_FORCE_RESPA | PRE_REVERSE | POST_FORCE | POST_FORCE_RESPA;
   const int move_stages = INITIAL_INTEGRATE | INITIAL_INTEGRATE_RESPA | POST_INTEGRATE | POST_INTEGRATE_RESPA |
                           FINAL_INTEGRATE | FINAL_INTEGRATE_RESPA;
@@ -193,6 +194,9 @@ void FixHardSphere::check_other_fixes() {
     const int mask = modify->fmask[i];
     if (f == this) continue;
     if (is_style(f, "store/force") || is_style(f, "balance")) continue;
+    // A dynamic group's fix (post_integrate in LAMMPS 2021) only reads positions to set its
+    // members; both paths write them on its steps (OtherFixes::reads).
+    if (is_style(f, "GROUP")) continue;
     if (is_style(f, "setforce") && SetForceAxes::all_null(f)) continue;
     if (is_style(f, "gravity")) {  // acts through the stepper's parabolic flights (read_gravity)
       if (f->igroup != 0)

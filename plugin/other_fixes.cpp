@@ -29,6 +29,7 @@ bool keeps_positions(const Fix *f) {
 void OtherFixes::scan(const Modify *modify, const Fix *self) {
   every_step_ = false;
   every_.clear();
+  readers_.clear();
   movers_.clear();
   const int per_step = INITIAL_INTEGRATE | POST_INTEGRATE | PRE_EXCHANGE | PRE_NEIGHBOR | POST_NEIGHBOR | PRE_FORCE |
                        PRE_REVERSE | POST_FORCE | FINAL_INTEGRATE;
@@ -38,6 +39,12 @@ void OtherFixes::scan(const Modify *modify, const Fix *self) {
     // fix gravity only adds forces (its acceleration acts through the stepper) and reads x for
     // its energy, which output steps write anyway.
     if (utils::strmatch(fix->style, "^gravity")) continue;
+    // A dynamic group sets its members from x (region, variable, 'within') every nevery steps,
+    // called outside the fix lists since LAMMPS 2025 (mask 0): it reads, never changes, atoms.
+    if (std::string(fix->style) == "GROUP") {
+      readers_.push_back(std::max(1, fix->nevery));
+      continue;
+    }
     if (modify->fmask[f] & per_step)
       every_step_ = true;
     else if (modify->fmask[f] & END_OF_STEP)
@@ -52,6 +59,12 @@ void OtherFixes::scan(const Modify *modify, const Fix *self) {
 bool OtherFixes::acted(bigint step) const {
   if (every_step_) return true;
   for (const int every : every_)
+    if (step % every == 0) return true;
+  return false;
+}
+
+bool OtherFixes::reads(bigint step) const {
+  for (const int every : readers_)
     if (step % every == 0) return true;
   return false;
 }

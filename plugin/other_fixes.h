@@ -1,8 +1,10 @@
 #pragma once
 //! When the other fixes of an input look at or change LAMMPS's x and v: a fix hooked into the
-//! step's stages does so every step, one acting only at end_of_step every nevery steps. Both paths
-//! of fix hardsphere ask this before they read velocities again or write LAMMPS's rows, and the
-//! fix asks which of those fixes may also move atoms.
+//! step's stages does so every step, one acting only at end_of_step every nevery steps, and a
+//! dynamic group's fix (style GROUP: post_integrate in LAMMPS 2021, a post_force list of its own
+//! with mask 0 in 2025 and 2026) reads positions every nevery steps. Both paths of fix hardsphere ask
+//! this before they read velocities again or write LAMMPS's rows, and the fix asks which of those
+//! fixes may also move atoms.
 #include <string>
 #include <vector>
 
@@ -19,6 +21,8 @@ class OtherFixes {
   void scan(const Modify *modify, const Fix *self);
   //! Whether another fix may have read or changed x and v at the end of `step`.
   bool acted(bigint step) const;
+  //! Whether a fix only reads x and v during `step` (a dynamic group updating its members).
+  bool reads(bigint step) const;
   //! Whether any other fix acts between steps at all.
   bool any() const { return every_step_ || !every_.empty(); }
   //! Whether another fix that may move atoms acted at the end of `step`.
@@ -27,8 +31,9 @@ class OtherFixes {
   const std::string &movers() const { return movers_; }
 
  private:
-  bool every_step_ = false;  //!< a fix acts inside every step
-  std::vector<int> every_;   //!< nevery of the fixes acting only at end_of_step
+  bool every_step_ = false;   //!< a fix acts inside every step
+  std::vector<int> every_;    //!< nevery of the fixes acting only at end_of_step
+  std::vector<int> readers_;  //!< nevery of the dynamic groups' fixes
   std::string movers_;
 };
 

@@ -176,7 +176,7 @@ void SerialPath::keep_written() {
 
 bool SerialPath::must_write() const {
   const bigint t = update->ntimestep;
-  return t == output->next || t >= update->laststep || others_.acted(t);
+  return t == output->next || t >= update->laststep || others_.acted(t) || others_.reads(t);
 }
 
 bool SerialPath::before_step(const StepStart &start) {
@@ -194,8 +194,9 @@ bool SerialPath::before_step(const StepStart &start) {
   }
   if (lammps_moved_) follow_lammps();
   // LAMMPS's copy of x and v is written only when something will look at it: on output steps
-  // (thermo, dump, restart), at the run's last step, when the run ends, and whenever another
-  // fix acts (every step for fixes hooked into the step, every nevery for end_of_step ones).
+  // (thermo, dump, restart), at the run's last step, when the run ends, whenever another fix
+  // acts (every step for fixes hooked into the step, every nevery for end_of_step ones) and on a
+  // dynamic group's steps.
   // After such a write a fix may have changed velocities (a thermostat): take them up.
   const int nlocal = atom->nlocal;
   if (!v_written_.empty()) {
