@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <sstream>
 #include <string>
 
@@ -36,7 +37,7 @@ double distance_outside(const double *p, const double *lo, const double *hi) {
 
 }  // namespace
 
-void GhostPath::check_owned_atoms() const {
+void GhostPath::check_owned_atoms() {
   // The serial path's checks in LAMMPS's box (walls, finite and resolvable numbers, overlaps
   // among owned atoms), before any of them is wrapped into this rank's box.
   hardsphere::ParticleSystem sys;
@@ -50,11 +51,17 @@ void GhostPath::check_owned_atoms() const {
   for (int i = 0; i < nlocal; i++)
     sys.push_back(std::int64_t(atom->tag[i]), atom->type[i], atom->radius[i], atom->rmass[i],
                   {x[i][0], x[i][1], x[i][2]}, {v[i][0], v[i][1], v[i][2]}, {0, 0, 0}, omega_of(i));
+  // Overlaps are checked in build(), over owned and ghost atoms, with the tolerance the serial
+  // path uses: overlap_tolerance() of the whole state, the largest of the ranks' (it grows with
+  // the largest radius; the box is the same).
+  const double eps = hardsphere::rounding_epsilon(hardsphere::Precision::Double);
   try {
-    hardsphere::validate_and_wrap(sys, "fix hardsphere");
+    hardsphere::validate_and_wrap(sys, "fix hardsphere", nullptr, std::numeric_limits<double>::infinity());
   } catch (const std::exception &e) {
     error->one(FLERR, std::string(e.what()) + "; " + kStartHint);
   }
+  overlap_slack_ = hardsphere::overlap_tolerance(sys, eps);
+  MPI_Allreduce(MPI_IN_PLACE, &overlap_slack_, 1, MPI_DOUBLE, MPI_MAX, world);
 }
 
 void GhostPath::build() {
@@ -153,7 +160,7 @@ void GhostPath::build() {
   if (check_start_) {
     // A run's start, as the serial path checks it: each rank checks the atoms it holds (every
     // pair with an owned atom is held by its owner), naming LAMMPS's tags.
-    if (const auto o = hardsphere::find_overlap(sys)) {
+    if (const auto o = hardsphere::find_overlap(sys, overlap_slack_)) {
       std::ostringstream m;
       m.precision(17);
       m << "fix hardsphere: atom " << atom->tag[input_local_[o->i]] << " overlaps atom "
@@ -453,9 +460,9 @@ StepTotals GhostPath::step_globally(bool check, const std::string &source, const
     sys.push_back(std::int64_t(o[0]), int(o[1]), o[2], o[3], {o[4], o[5], o[6]}, {o[7], o[8], o[9]}, {0, 0, 0},
                   rough ? Vec3d{o[10], o[11], o[12]} : Vec3d{0, 0, 0});
   }
-  if (check) {  // validates and wraps
+  if (check) {  // validates and wraps, with the serial path's overlap tolerance
     try {
-      hardsphere::validate_and_wrap(sys, source);
+      hardsphere::validate_and_wrap(sys, source, nullptr, hardsphere::rounding_epsilon(hardsphere::Precision::Double));
     } catch (const std::exception &e) {
       error->all(FLERR, std::string(e.what()) + "; " + hint);
     }

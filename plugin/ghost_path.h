@@ -56,8 +56,9 @@ class GhostPath : public StepPath, protected Pointers {
 
  private:
   void build();
-  //! A run's start: the owned atoms as the serial path checks them (error->one naming the atom).
-  void check_owned_atoms() const;
+  //! A run's start: the owned atoms as the serial path checks them (error->one naming the atom),
+  //! and the run's overlap tolerance.
+  void check_owned_atoms();
   void start_epoch(double shell, double dmax);
   void map_slots();
   void sync_ghosts();
@@ -99,6 +100,7 @@ class GhostPath : public StepPath, protected Pointers {
   hardsphere::Physics physics_;
   bool stale_ = true, epoch_ = true, refresh_v_ = false, reneighbor_ = false, check_start_ = true;
   bool unsure_ghosts_ = false;
+  double overlap_slack_ = 0;       //!< overlaps up to this are the stepper's rounding (check_owned_atoms)
   bool moved_ = false;             //!< see atoms_moved()
   std::string moved_source_;       //!< the fix that moved them, for an error message
   double *virial_rows_ = nullptr;  //!< this step's per-atom virial rows (see step())

@@ -46,7 +46,9 @@ void SerialPath::make(const std::string &source, const std::string &hint) {
                   rough ? hardsphere::Vec3d{atom->omega[i][0], atom->omega[i][1], atom->omega[i][2]}
                         : hardsphere::Vec3d{0, 0, 0});
   try {
-    hardsphere::validate_and_wrap(sys, source);  // overlaps, out-of-box atoms
+    // Overlaps, out-of-box atoms; overlaps the stepper's own rounding leaves (a state it
+    // ended a run with) are accepted, as the standalone's --read-data accepts them.
+    hardsphere::validate_and_wrap(sys, source, nullptr, hardsphere::rounding_epsilon(hardsphere::Precision::Double));
     stepper_ = hardsphere::make_stepper(sys, physics_, config_);
   } catch (const std::exception &e) {
     error->all(FLERR, std::string(e.what()) + "; " + hint);

@@ -76,6 +76,20 @@ def python_shift(ctx, case):
 
 
 @cases.case
+def rounding_overlap(ctx, case):
+    """Two approaching spheres 2 ulp inside contact (0.99999999999999956 apart), as a stepper's
+    end state may leave them: accepted by both paths (the library's overlap_tolerance for double
+    precision, as the standalone's --read-data), and they collide at once."""
+    got = {}
+    for path in ("auto", "ghosts"):
+        rows = ctx.lammps("runs/rounding_overlap.lmp", vars=dict(path=path, x2="2.9999999999999996")).rows
+        got[f"{path} path, gap at the start"] = rows[0]["v_gap"]
+        got[f"{path} path, collisions"] = rows[-1]["f_hs[1]"]
+        got[f"{path} path, velocity of atom 1 after"] = rows[-1]["v_v1"]
+    return got, {}
+
+
+@cases.case
 def sorted_dump(ctx, case):
     """Unwrapped coordinates stay continuous: on one rank the fix writes LAMMPS's copy only on
     output steps (here every 20), with image flags from its own wrap counts, through LAMMPS's

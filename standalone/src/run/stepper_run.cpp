@@ -53,10 +53,7 @@ class StepperRun final : public EngineRun {
   RunTotals totals(double kinetic0, const Vec3d& momentum0) const override {
     return run_totals(engine_->counters(), kinetic0, momentum0);
   }
-  double rounding_epsilon() const override {
-    return spec_.precision == Precision::Float ? double(std::numeric_limits<float>::epsilon())
-                                               : std::numeric_limits<double>::epsilon();
-  }
+  double rounding_epsilon() const override { return hardsphere::rounding_epsilon(spec_.precision); }
   void add_summary(nlohmann::json& j, const ParticleSystem& fin, double cpu) const override;
   std::string final_title() const override {
     return "hardsphere state after " + std::to_string(engine_->counters().steps) + " steps";
