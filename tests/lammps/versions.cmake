@@ -25,6 +25,16 @@ foreach(_entry ${HS_LAMMPS_PLUGINS})
                            ENVIRONMENT "${_env}")
     endif()
   endforeach()
+  # lmp_hs (Debian's LAMMPS) with this release's liblammps.so.0 first on LD_LIBRARY_PATH: refused
+  # with a message naming both releases, on 1 and 2 ranks.
+  if(TARGET lmp_hs)
+    get_filename_component(_libdir "${_prefix}/../lib" ABSOLUTE)
+    add_test(NAME lammps_v${_version}_lmp_hs_library
+             COMMAND ${Python3_EXECUTABLE} ${CMAKE_CURRENT_LIST_DIR}/library_check.py $<TARGET_FILE:lmp_hs> ${_libdir}
+                     ${_version} ${MPIEXEC_EXECUTABLE})
+    set_tests_properties(lammps_v${_version}_lmp_hs_library PROPERTIES LABELS lammps_versions TIMEOUT 300
+                         PROCESSORS 2)
+  endif()
   if(MPIEXEC_EXECUTABLE)
     add_test(NAME lammps_v${_version}_decompositions_mpi
              COMMAND ${Python3_EXECUTABLE} -m tests.lammps.decompositions ${_args} --mpirun ${MPIEXEC_EXECUTABLE})
