@@ -51,6 +51,10 @@ class FixHardSphere : public Fix {
   int pack_exchange(int, double *) override;
   int unpack_exchange(int, double *) override;
   double memory_usage() override;
+  //! Refuses (error->all) the other fixes fix hardsphere cannot follow (fix_hardsphere_checks.cpp).
+  //! Also called by pair_style hardsphere before it refuses an empty box: the box may be empty
+  //! because such a fix (fix pour) would fill it, and that is the cause to name.
+  void check_other_fixes();
 
  private:
   void check_setup();
@@ -64,7 +68,6 @@ class FixHardSphere : public Fix {
   void add_step(const StepTotals &t);
   // fix_hardsphere_checks.cpp: what the fix refuses, and the neighbour settings it needs.
   void check_input();
-  void check_other_fixes();
   //! A run without setup: the fixes must be those the last init() checked.
   void check_fixes_unchanged();
   void check_big_spheres_mpi();

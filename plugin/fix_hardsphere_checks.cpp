@@ -96,9 +96,6 @@ void FixHardSphere::check_input() {
     error->all(FLERR, std::string("fix hardsphere: run_style ") + update->integrate_style +
                           " is not supported (hard spheres have no forces to split into levels); use 'run_style "
                           "verlet'");
-  if (atom->natoms == 0)
-    error->all(FLERR,
-               "fix hardsphere: the box has no atoms; create or read them (create_atoms, read_data) before 'run'");
   // Bonded interactions would act as forces, which the fix never applies, and LAMMPS's
   // special_bonds would keep bonded pairs out of the pair style, which the steppers do not.
   const struct {
@@ -154,6 +151,10 @@ void FixHardSphere::check_input() {
                "fix hardsphere: 'neigh_modify exclude' is not supported (every pair of hard spheres collides); "
                "use 'neigh_modify exclude none'");
   check_other_fixes();
+  // After the other fixes: one that would fill the box during the run (fix pour) is the cause.
+  if (atom->natoms == 0)
+    error->all(FLERR,
+               "fix hardsphere: the box has no atoms; create or read them (create_atoms, read_data) before 'run'");
   apply_neighbor_settings();
 }
 

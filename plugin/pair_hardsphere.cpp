@@ -9,6 +9,7 @@
 #include "atom.h"
 #include "comm.h"
 #include "error.h"
+#include "fix_hardsphere.h"
 #include "force.h"
 #include "input.h"
 #include "lammps_compat.h"
@@ -110,10 +111,15 @@ bool LAMMPS_NS::hardsphere_rerun_in_progress(LAMMPS *lmp) {
 }
 
 double PairHardSphere::auto_cut() {
-  if (atom->natoms == 0)
+  if (atom->natoms == 0) {
+    // LAMMPS initialises the pair style before the fixes: a fix hardsphere cannot follow (fix
+    // pour, which would fill the box during the run) is the cause to name first.
+    for (int i = 0; i < modify->nfix; i++)
+      if (auto *fix = dynamic_cast<FixHardSphere *>(modify->fix[i])) fix->check_other_fixes();
     error->all(FLERR,
                "pair_style hardsphere: the box has no atoms ('pair_coeff * *' takes the contact distance from "
                "their diameters); create or read them (create_atoms, read_data) before 'run'");
+  }
   double rmax = 0.0;
   for (int i = 0; i < atom->nlocal; i++)
     if (atom->radius[i] > rmax) rmax = atom->radius[i];
