@@ -167,8 +167,8 @@ void FixHardSphere::check_other_fixes() {
   // (initial/post/final_integrate), or changing the atoms between steps (pre_exchange). Fixes
   // acting only at end_of_step (thermostats by velocity scaling, averages, output), at
   // re-neighbouring or only in minimisations are allowed, as are 'setforce NULL NULL NULL'
-  // (sets nothing), store/force (records the zero forces), balance (load balancing) and dynamic
-  // groups.
+  // (sets nothing), store/force (records the zero forces), balance (load balancing), dynamic
+  // groups and heat/flow with add/heat (per-atom temperatures).
   const int force_stages = PRE_FORCE | PRE_FORCE_RESPA | PRE_REVERSE | POST_FORCE | POST_FORCE_RESPA;
   const int move_stages = INITIAL_INTEGRATE | INITIAL_INTEGRATE_RESPA | POST_INTEGRATE | POST_INTEGRATE_RESPA |
                           FINAL_INTEGRATE | FINAL_INTEGRATE_RESPA;
@@ -198,6 +198,10 @@ void FixHardSphere::check_other_fixes() {
     // A dynamic group's fix (post_integrate in LAMMPS 2021) only reads positions to set its
     // members; both paths write them on its steps (OtherFixes::reads).
     if (is_style(f, "GROUP")) continue;
+    // Per-atom temperatures integrated from heat flows (fix property/atom temperature heatflow):
+    // in the force stages and final_integrate, but on neither forces, positions nor velocities.
+    // Hard-sphere collisions conduct no heat; sources such as add/heat act as they would.
+    if (is_style(f, "heat/flow") || is_style(f, "add/heat")) continue;
     if (is_style(f, "setforce") && SetForceAxes::all_null(f)) continue;
     if (is_style(f, "gravity")) {  // acts through the stepper's parabolic flights (read_gravity)
       if (f->igroup != 0)

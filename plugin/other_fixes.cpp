@@ -19,7 +19,7 @@ bool keeps_positions(const Fix *f) {
   for (const char *prefix : {"^ave/", "^temp/", "^store/"})
     if (utils::strmatch(f->style, prefix)) return true;
   for (const char *style : {"heat", "momentum", "momentum/chunk", "print", "halt", "vector", "balance", "setforce",
-                            "gravity", "thermal/conductivity", "viscosity"})
+                            "gravity", "thermal/conductivity", "viscosity", "heat/flow", "add/heat"})
     if (std::string(f->style) == style) return true;
   return false;
 }

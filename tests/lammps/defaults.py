@@ -70,6 +70,17 @@ def allowed_fixes(ctx, case):
 
 
 @cases.case
+def heat_flow(ctx, case):
+    """fix heat/flow with fix add/heat (LAMMPS 2025 on): per-atom temperatures grow by the added
+    heat, 2 x 200 steps of 0.01 over specific heat 1 and mass 1, and the collisions are the
+    standalone's (neither fix touches the motion)."""
+    ref = reference(ctx)
+    last = ctx.lammps("defaults/heat_flow.lmp", vars=dict(data="init.data", rate=2.0)).last
+    return {"collisions": last["f_hs[1]"], "mean temperature": last["c_tmean"],
+            "lowest temperature": last["c_tmin"]}, dict(standalone=ref)
+
+
+@cases.case
 def mixture_restart(ctx, case):
     """A mixture with per-atom diameters for type 1 ('pair_coeff 1 1') and 0.6 for type 2: the 1-2
     pair takes the per-atom diameters too (not a mix of the resolved 1 1 value), also after

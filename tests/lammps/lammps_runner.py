@@ -21,8 +21,9 @@ JSON summary). FEATURE.yaml states, per case and quantity, what the value must b
 
 REF and X are numbers or names of reference values ('standalone.collisions'); `mpi:` holds the
 check that replaces this one on more than one rank, `only: serial|mpi` limits a case or a
-check to one of them. A check whose quantity was not measured fails; a measured quantity without
-a check is printed as information.
+check to one of them, `since: DATE` runs a case only on LAMMPS releases from DATE (20250204) on.
+A check whose quantity was not measured fails; a measured quantity without a check is printed
+as information.
 Each check prints one line naming the feature, case, rank count and quantity; the exit status
 is 1 when any failed.
 
@@ -35,6 +36,7 @@ import argparse
 import json
 import math
 import os
+import re
 import subprocess
 import sys
 import tempfile
@@ -126,6 +128,15 @@ class Context:
         if expect_ok and p.returncode != 0:
             raise LammpsFailed(f"{deck or name} on {np_} rank(s) failed ({p.returncode}):\n{out.text[-3000:]}")
         return out
+
+    def version(self):
+        """The LAMMPS release as a date number (20210929), from the header of an empty input."""
+        if not hasattr(self, "_version"):
+            header = self.lammps(np=1, name="in.version").text
+            m = re.search(r"LAMMPS \((\d+) (\w{3})\w* (\d{4})", header)
+            months = "Jan Feb Mar Apr May Jun Jul Aug Sep Oct Nov Dec".split()
+            self._version = int(m.group(3)) * 10000 + (months.index(m.group(2)) + 1) * 100 + int(m.group(1))
+        return self._version
 
     def standalone(self, *opts):
         """`hardsphere run OPTS --json -` in the working directory, run once per set of options."""
@@ -247,6 +258,9 @@ def run_case(cases, name, ctx):
     """Runs one case and its checks; the number of failed checks (a case that raised counts 1)."""
     entry = cases.spec["cases"][name]
     tag = f"{cases.feature}/{name} np={ctx.np}"
+    if "since" in entry and ctx.version() < entry["since"]:  # a style newer than this LAMMPS
+        print(f"skip: {tag}: needs LAMMPS {entry['since']} or later, this is {ctx.version()}")
+        return 0
     try:
         measured, refs = cases.function(name)(ctx, entry)
     except Exception as e:  # a run that failed, a file missing: the case fails with the reason
