@@ -49,7 +49,8 @@ def big_sphere(ctx, case):
     scene = big_sphere_scene.make_scene(2000, 0.2, big=1, big_diameter=6.0, big_mass=1000.0)
     big_sphere_scene.write_scene(ctx.path("big.data"), scene)
     ref = ctx.standalone("--read-data", "big.data", "--steps", 200, "--dt", 0.01, "--write-data", "sa_big.data")
-    last = ctx.lammps("identical/plain.lmp", vars=dict(data="big.data", out="lmp_big.data")).last
+    last = ctx.lammps("identical/plain.lmp", vars=dict(data="big.data", out="lmp_big.data",
+                                                       masses=ctx.engine_masses("big.data"))).last
     dx, dv = ctx.difference("sa_big.data", "lmp_big.data")
     return dict(collisions=last["f_hs[1]"], max_dx=dx, max_dv=dv), dict(standalone=ref)
 
@@ -94,12 +95,13 @@ def thin_ghost_shell(ctx, case):
 @cases.case
 def mixture_walls(ctx, case):
     """Binary mixture (diameters 1 and 0.6, masses by volume) between walls at z = 0, 10: the
-    unequal-mass kernel and wall reflection, state written by LAMMPS, read by both."""
+    unequal-mass kernel and wall reflection, state written by LAMMPS, read by both, with the
+    standalone's masses (engine_masses) bit for bit on every LAMMPS release."""
     ctx.lammps("identical/mixture.lmp", vars=dict(out="poly.data"), np=1)
     ref = ctx.standalone("--read-data", "poly.data", "--boundary", "p,p,w", "--steps", 200, "--dt", 0.005,
                          "--write-data", "sa_poly.data")
     last = ctx.lammps("identical/walls.lmp", vars=dict(data="poly.data", boundary="p p f", dt=0.005,
-                                                        out="lmp_poly.data")).last
+                                                        out="lmp_poly.data", masses=ctx.engine_masses("poly.data"))).last
     dx, dv = ctx.difference("sa_poly.data", "lmp_poly.data", periodic=(True, True, False))  # z: walls
     return dict(collisions=last["f_hs[1]"], wall_bounces=last["f_hs[5]"], max_dx=dx, max_dv=dv), dict(standalone=ref)
 

@@ -153,6 +153,21 @@ class Context:
         self.standalone(*opts, "--steps", "0", "--write-data", name)
         return name
 
+    def engine_masses(self, data):
+        """An atomfile (for -var masses, decks/gas.lmp) of the masses the standalone computes for
+        the atoms of data file `data`: density x 4/3 pi r^3 in its order of operations. LAMMPS 2026's
+        read_data rounds 4/3 pi to another double than 2021, 2025 and the standalone, so masses of
+        other diameters and densities may differ by an ulp (docs/fix_hardsphere.md); a comparison
+        bit for bit starts both engines from the same masses."""
+        d = read_data(self.work / data)
+        radius = 0.5 * d.diameter
+        mass = d.density * (4.0 * math.pi / 3.0 * radius * radius * radius)
+        name = data.replace(".", "_") + "_masses"  # no dot: the deck compares it as a string in an if
+        with open(self.work / name, "w") as f:
+            f.write(f"# the standalone's masses of {data}\n{len(d)}\n")
+            f.writelines(f"{i} {m!r}\n" for i, m in zip(d.ids.tolist(), mass.tolist()))
+        return name
+
     def difference(self, ref, other, periodic=(True, True, True)):
         """Largest |dx| (minimum image on periodic axes) and |dv| between two data files' atoms."""
         a, b = read_data(self.work / ref), read_data(self.work / other)

@@ -47,7 +47,7 @@ def against_standalone(ctx, case, data, boundary=("p p p", "p,p,p"), fix_extra="
                          "--write-data", f"sa_{name}.data")
     rows = ctx.lammps("rough/gas.lmp", vars=dict(data=data, boundary=boundary[0], dt=dt, steps=steps, every=steps,
                                                  rough=f"{fix} {fix_extra}", out=f"lmp_{name}.data",
-                                                 dump=f"w_{name}.dump")).rows
+                                                 dump=f"w_{name}.dump", masses=ctx.engine_masses(data))).rows
     last = rows[-1]
     periodic = tuple(w == "p" for w in boundary[0].split())
     dx, dv = ctx.difference(f"sa_{name}.data", f"lmp_{name}.data", periodic=periodic)
