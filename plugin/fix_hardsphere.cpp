@@ -139,6 +139,8 @@ void FixHardSphere::init() {
     else
       path = std::make_unique<GhostPath>(lmp, this, timing);
   }
+  const double shell = serial ? 0.0 : GhostPath::ghost_cutoff(force->pair->cutforce, neighbor->skin);
+  check_ghost_cutoff(ghost_auto ? shell : 0.0);
   if (serial) return;  // the stepper needs no ghost shell and no LAMMPS neighbour list
 
   // One shell for every atom: mode multi sizes LAMMPS's shells per type from the neighbour
@@ -151,12 +153,11 @@ void FixHardSphere::init() {
   // Raise the user ghost cutoff (comm_modify cutoff) to the shell the owned + ghost path needs
   // unless 'ghost user' was given. No LAMMPS neighbour list: each rank's stepper makes its own.
   if (ghost_auto) {
-    const double need = GhostPath::ghost_cutoff(force->pair->cutforce, neighbor->skin);
-    if (comm->cutghostuser < need) {
-      comm->cutghostuser = need;
+    if (comm->cutghostuser < shell) {
+      comm->cutghostuser = shell;
       if (comm->me == 0)
         utils::logmesg(
-            lmp, "fix hardsphere: ghost cutoff raised to " + format_number(need) +
+            lmp, "fix hardsphere: ghost cutoff raised to " + format_number(shell) +
                      " (3 x contact distance + 2 x skin) so the ghosts an owned atom meets see all their partners\n");
     }
   }

@@ -71,6 +71,10 @@ class FixHardSphere : public Fix {
   //! A run without setup: the fixes must be those the last init() checked.
   void check_fixes_unchanged();
   void check_big_spheres_mpi();
+  //! Refuses a ghost cutoff (LAMMPS's contact distance + skin, comm_modify cutoff, the owned +
+  //! ghost path's shell `shell`) beyond kMaxGhostBoxes periodic box lengths, before LAMMPS copies
+  //! every atom into each image within it.
+  void check_ghost_cutoff(double shell) const;
   void apply_neighbor_settings();
   void skip_reverse_comm();
   //! The summed acceleration of the fix gravity commands (refused along periodic axes).

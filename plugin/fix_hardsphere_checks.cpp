@@ -17,14 +17,17 @@
 #include "fix_setforce.h"
 #include "force.h"
 #include "group.h"
+#include "hardsphere/format.hpp"
 #include "hardsphere/particles.hpp"
 #include "modify.h"
 #include "neighbor.h"
+#include "pair.h"
 #include "update.h"
 #include "utils.h"
 
 using namespace LAMMPS_NS;
 using namespace FixConst;
+using hardsphere::format_number;
 
 namespace {
 
@@ -343,6 +346,33 @@ bool FixHardSphere::gravity_changed() const {
     for (int d = 0; d < 3; d++) now[std::size_t(d)] += g[d] * force->ftm2v;
   }
   return hardsphere::without_rounding(now) != physics.gravity;  // as validated() reads it
+}
+
+void FixHardSphere::check_ghost_cutoff(double shell) const {
+  // LAMMPS copies every atom into each periodic image within its ghost cutoff, the largest of the
+  // neighbour cutoff (contact distance + skin), comm_modify cutoff and the shell this fix asks
+  // for, looping and allocating by it without bound (a skin of 1e300 never returns). The pair
+  // style has kept each contact distance within half a box length; beyond kMaxGhostBoxes box
+  // lengths (2 x 3 + 1 = 7 copies per axis) the cutoff can only come from the skin or the user's
+  // ghost cutoff, and serves nothing the fix needs.
+  constexpr double kMaxGhostBoxes = 3.0;
+  const double contact = force->pair->cutforce, skin = neighbor->skin;
+  const double neighbour = contact + skin, cutoff = std::max({neighbour, comm->cutghostuser, shell});
+  const char axis[3] = {'x', 'y', 'z'};
+  for (int d = 0; d < 3; d++) {
+    if (!domain->periodicity[d] || cutoff <= kMaxGhostBoxes * domain->prd[d]) continue;
+    std::string source = "contact distance " + format_number(contact) + " + skin " + format_number(skin);
+    std::string remedy = "use a smaller skin ('neighbor SKIN bin')";
+    if (cutoff == comm->cutghostuser && cutoff > neighbour && cutoff > shell) {
+      source = "comm_modify cutoff", remedy = "use a smaller comm_modify cutoff";
+    } else if (cutoff == shell && cutoff > neighbour) {
+      source = "3 x contact distance + 2 x skin " + format_number(skin) + ", the owned + ghost path's shell";
+    }
+    error->all(FLERR, "fix hardsphere: LAMMPS's ghost cutoff " + format_number(cutoff) + " (" + source + ") exceeds " +
+                          format_number(kMaxGhostBoxes) + " periodic box lengths along " + axis[d] + " (" +
+                          format_number(kMaxGhostBoxes * domain->prd[d]) +
+                          "), where LAMMPS would copy every atom into more than 7 images per axis; " + remedy);
+  }
 }
 
 void FixHardSphere::check_big_spheres_mpi() {

@@ -8,9 +8,11 @@
 
 #include "atom.h"
 #include "comm.h"
+#include "domain.h"
 #include "error.h"
 #include "fix_hardsphere.h"
 #include "force.h"
+#include "hardsphere/format.hpp"
 #include "input.h"
 #include "lammps_compat.h"
 #include "memory.h"
@@ -19,6 +21,7 @@
 #include "utils.h"
 
 using namespace LAMMPS_NS;
+using hardsphere::format_number;
 
 PairHardSphere::PairHardSphere(LAMMPS *lmp) : Pair(lmp) {
   single_enable = 1;
@@ -141,18 +144,46 @@ double PairHardSphere::resolved(int i, int j) { return diam[i][j] > 0.0 ? diam[i
 double PairHardSphere::init_one(int i, int j) {
   // diam keeps what pair_coeff gave (< 0: the per-atom diameters); cut is what is in use.
   double c = 0.0;
-  if (setflag[i][j])
+  const std::string ij = std::to_string(i) + " " + std::to_string(j);
+  std::string given = "the largest per-atom diameter, pair_coeff * *";  // where c came from, for messages
+  if (setflag[i][j]) {
     c = resolved(i, j);
-  else if (setflag[i][i] && setflag[j][j])
-    c = diam[i][i] > 0.0 && diam[j][j] > 0.0 ? mix_distance(diam[i][i], diam[j][j]) : per_atom_diameter();
-  else
-    error->all(FLERR, "pair_style hardsphere: pair_coeff missing for types " + std::to_string(i) + " " +
-                          std::to_string(j) + " (use 'pair_coeff * *' to take the per-atom diameters)");
+    if (diam[i][j] > 0.0) given = "pair_coeff " + ij;
+  } else if (setflag[i][i] && setflag[j][j]) {
+    const bool mixed = diam[i][i] > 0.0 && diam[j][j] > 0.0;
+    c = mixed ? mix_distance(diam[i][i], diam[j][j]) : per_atom_diameter();
+    if (mixed)
+      given = "mixed from pair_coeff " + std::to_string(i) + " " + std::to_string(i) + " and " + std::to_string(j) +
+              " " + std::to_string(j);
+  } else
+    error->all(FLERR, "pair_style hardsphere: pair_coeff missing for types " + ij +
+                          " (use 'pair_coeff * *' to take the per-atom diameters)");
   // write_data stores only the I I values unless given 'pair ij', and warns when LAMMPS's
   // mixed_flag says that mixing them would not give every I J.
   if (i != j && std::abs(c - mix_distance(resolved(i, i), resolved(j, j))) > 1e-12 * c) mixed_flag = 0;
+  check_fits_box(i, j, c, given);
   cut[i][j] = cut[j][i] = c;
   return c;
+}
+
+void PairHardSphere::check_fits_box(int i, int j, double c, const std::string &given) {
+  // The rule the library applies to the spheres' own diameters (validate_and_wrap): two spheres
+  // in contact see one periodic image of each other, and a sphere fits between walls. Checked
+  // here, at the first command that sizes anything by the cutoff: LAMMPS copies every atom into
+  // each periodic image within the contact distance + skin, without bound.
+  const char axis[3] = {'x', 'y', 'z'};
+  for (int d = 0; d < 3; d++) {
+    const double len = domain->prd[d];
+    const bool periodic = domain->periodicity[d] != 0;
+    if (periodic ? 2.0 * c <= len : c < len) continue;
+    error->all(FLERR,
+               "pair_style hardsphere: contact distance " + format_number(c) + " of types " + std::to_string(i) + " " +
+                   std::to_string(j) + " (" + given + ") does not fit the box: " +
+                   (periodic ? "at most half the periodic box length " + format_number(len) + " along " + axis[d] +
+                                   " (spheres in contact see one image of each other)"
+                             : "less than the distance " + format_number(len) + " between the walls along " + axis[d]) +
+                   "; use a smaller diameter or a larger box");
+  }
 }
 
 void PairHardSphere::write_restart(FILE *fp) {

@@ -6,6 +6,8 @@
 //!                               pair_modify mix rule when I != J is not given); without it,
 //!                               the largest per-atom diameter 2*max(radius) is used.
 //! User documentation: docs/pair_hardsphere.md.
+#include <string>
+
 #include "pair.h"
 
 namespace LAMMPS_NS {
@@ -39,6 +41,9 @@ class PairHardSphere : public Pair {
   double per_atom_diameter();
   //! The contact distance pair_coeff I J gives, with the per-atom diameters resolved.
   double resolved(int i, int j);
+  //! Refuses a contact distance `c` of types i, j (from `given`) that does not fit the box as a
+  //! sphere's diameter would not: LAMMPS sizes its ghost copies by it before any check of atoms.
+  void check_fits_box(int i, int j, double c, const std::string &given);
 };
 
 //! The input command being executed is 'rerun': it reads snapshots and integrates nothing.
