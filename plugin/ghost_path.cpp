@@ -16,6 +16,7 @@
 #include "hardsphere/errors.hpp"
 #include "hardsphere/particles.hpp"
 #include "lammps_compat.h"
+#include "neigh_list.h"
 #include "neighbor.h"
 
 using namespace LAMMPS_NS;
@@ -249,6 +250,12 @@ void GhostPath::sync_ghosts() {
 void GhostPath::run_starts() {
   setup_layout_ = box_layout();
   stale_ = epoch_ = check_start_ = true;
+  // Lists LAMMPS builds at every re-neighbouring for other styles (the fix and pair style ask for
+  // none), e.g. a dynamic group's 'within' (LAMMPS 2026): valid only while no atom has moved half
+  // the skin since, which the path's own criterion does not watch.
+  other_lists_ = false;
+  for (int i = 0; i < neighbor->nlist; i++)
+    if (neighbor->lists[i] && !neighbor->lists[i]->occasional) other_lists_ = true;
   build();
   refresh_v_ = true;
 }
@@ -383,6 +390,7 @@ StepTotals GhostPath::step(double *virial_rows, double scale) {
   }
 
   reneighbor_ = t.rerun ? shell_used_up() : shell_maybe_used_up();
+  if (!reneighbor_ && other_lists_) reneighbor_ = lists_expired();
   timer_.charge(PartTimer::Moves);
   return t;
 }
@@ -565,6 +573,22 @@ bool GhostPath::shell_used_up() {
   MPI_Allreduce(MPI_IN_PLACE, moves, 2, MPI_DOUBLE, MPI_MAX, world);
   moved_bound_ = std::sqrt(moves[0]);
   return 2.0 * (std::sqrt(moves[0]) + 2.0 * std::sqrt(moves[1]) * config_.dt) >= reach_;
+}
+
+bool GhostPath::lists_expired() {
+  // LAMMPS's own rule for its lists (neigh_modify check yes): re-neighbour once an atom has moved
+  // more than half the skin since the last build. The moves' bound decides first, as above.
+  const double half_skin = 0.5 * neighbor->skin;
+  int maybe = moved_bound_ > half_skin ? 1 : 0;
+  MPI_Allreduce(MPI_IN_PLACE, &maybe, 1, MPI_INT, MPI_LOR, world);
+  if (!maybe) return false;
+  double move2 = 0;
+  double **x = atom->x;
+  for (int i = 0; i < atom->nlocal; i++)
+    move2 = std::max(move2, norm2(Vec3d{x[i][0], x[i][1], x[i][2]} - x_ref_[std::size_t(i)]));
+  MPI_Allreduce(MPI_IN_PLACE, &move2, 1, MPI_DOUBLE, MPI_MAX, world);
+  moved_bound_ = std::sqrt(move2);
+  return move2 > half_skin * half_skin;
 }
 
 void GhostPath::forward_comm_learning_swaps() {

@@ -93,6 +93,9 @@ class GhostPath : public StepPath, protected Pointers {
   //! The same, decided by the steppers' speed bounds while those keep every move short of the
   //! slack: the exact pass over the owned atoms only near the end of an epoch.
   bool shell_maybe_used_up();
+  //! Whether other styles' LAMMPS lists (other_lists_) need re-neighbouring: an atom moved more
+  //! than half the skin since the last one (all ranks agree).
+  bool lists_expired();
 
   class Fix *fix_;
   PartTimer &timer_;
@@ -138,9 +141,10 @@ class GhostPath : public StepPath, protected Pointers {
   const double *packed_ = nullptr;             //!< the last pack's buffer (a self swap unpacks from it)
   std::size_t swap_ = 0;                       //!< swaps so far in the current communication
   bool swaps_known_ = false;
-  int comm_mode_ = 0;       //!< 0: velocities, 1: owners' results, 2: positions
-  double reach_ = 0;        //!< slack of the ghost shell when LAMMPS last re-neighboured (length)
-  double moved_bound_ = 0;  //!< bound of every owned atom's move since the epoch began
+  int comm_mode_ = 0;         //!< 0: velocities, 1: owners' results, 2: positions
+  double reach_ = 0;          //!< slack of the ghost shell when LAMMPS last re-neighboured (length)
+  double moved_bound_ = 0;    //!< bound of every owned atom's move since the epoch began
+  bool other_lists_ = false;  //!< LAMMPS builds lists for other styles at re-neighbourings (run_starts)
 };
 
 }  // namespace LAMMPS_NS

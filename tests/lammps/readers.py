@@ -1,16 +1,19 @@
 """Everything that reads LAMMPS's x, v and omega between output steps sees the current state.
 
 On one rank the fix writes LAMMPS's copy of the atoms only on the steps something reads it
-(docs/fix_hardsphere.md, "LAMMPS's copy of the atoms"). Each case runs 100 steps of the gas
-(1000 atoms at phi 0.3) with thermo at the first and last step only and one reader every 7
-steps, none of whose steps is an output step: a dynamic group (LAMMPS 2026 updates it from a
-list of its own at post_force, earlier releases at post_integrate), a compute invoked by fix
+(docs/fix_hardsphere.md, Description). Each case runs 100 steps of the gas (1000 atoms at phi
+0.3) with thermo at the first and last step only and one reader every 7 steps, none of whose
+steps is an output step: a dynamic group (LAMMPS 2025 and 2026 update it from a list of its
+own at post_force, 2021 at post_integrate), a compute invoked by fix
 ave/time, a variable evaluated by fix print or fix halt, a dump, commands between the pieces of
 'run N every M', and a Python function called by fix python/invoke. What each read (the atoms
 that an atom-style selection on z and vz, or omega_z for rough spheres, holds) is compared with
 the standalone stepper's state at the same steps (its dump every 7 steps); the serial path
 equals it bit for bit, and on 2 ranks 100 steps stay within 1e-9 of it (identical.py), far from
-moving an atom across the selection's bounds. Groups: groups, computes, commands."""
+moving an atom across the selection's bounds. A dynamic group's 'within' (LAMMPS 2026) reads a
+neighbour list LAMMPS builds at re-neighbourings, which the owned + ghost path decides: that
+list must hold every pair, as the standalone's positions say, at every read.
+Groups: groups, computes, commands."""
 import re
 
 import numpy as np
@@ -23,16 +26,29 @@ STEPS, EVERY = 100, 7
 Z_RANGE = (3.0, 8.0)  # inside the box (0 to 12.04) away from its faces, where x is wrapped
 
 
-def selection(rough, region_only=False):
+WITHIN = 1.2  # group_within.lmp: atoms of ids above 500 within this distance of a selected one
+
+
+def selection(rough, kind="spin"):
     """The per-atom quantity whose sign the selection takes (setup.lmp; c_w: omega_z) and the
-    count of the atoms the selection holds in a dump frame."""
+    count of the atoms the selection holds in a dump frame: in Z_RANGE with that quantity
+    positive (kind spin), in Z_RANGE (region), or atoms of ids up to 500 in Z_RANGE and the others
+    within WITHIN of one of those (within: LAMMPS 2026's 'group ... dynamic half region mid within')."""
     lo, hi = Z_RANGE
     spin = "c_w" if rough else "vz"
 
     def count(frame):
         inside = (frame["z"] >= lo) & (frame["z"] <= hi)
-        if not region_only:
+        if kind == "spin":
             inside &= (frame["wz"] if rough else frame["vz"]) > 0
+        if kind == "within":
+            half = frame["id"] <= 500
+            chosen = inside & half
+            pos = np.stack([frame["x"], frame["y"], frame["z"]], axis=1)
+            lengths = frame.box_hi - frame.box_lo
+            d = pos[:, None, :] - pos[chosen][None, :, :]
+            d -= lengths * np.round(d / lengths)
+            inside = chosen | (~half & ((d ** 2).sum(axis=2) < WITHIN ** 2).any(axis=1))
         return int(inside.sum())
     return spin, count
 
@@ -50,11 +66,13 @@ def reference(ctx, rough):
 def run_reader(ctx, case, **extra):
     rough = case.get("rough", False)
     data, frames = reference(ctx, rough)
-    sel, count = selection(rough, case.get("region_only", False))
+    sel, count = selection(rough, case.get("selection", "spin"))
     zlo, zhi = Z_RANGE
     law = dict(hs="tangential_restitution 0.5") if rough else {}
+    if case.get("fix"):
+        law = dict(hs=case["fix"])
     out = ctx.lammps(case["deck"], vars=dict(data=data, spin=sel, zlo=zlo, zhi=zhi, steps=STEPS, every=EVERY, **law,
-                                             **extra))
+                                             within=WITHIN, **extra))
     return out, frames, count
 
 
@@ -114,7 +132,7 @@ def halt(ctx, case):
     sample had: a reader of stale rows halts at another step or not at all."""
     rough = case.get("rough", False)
     _, frames = reference(ctx, rough)
-    _, count = selection(rough)
+    _, count = selection(rough, case.get("selection", "spin"))
     seen, target, expected = set(), None, None
     for step in sorted(s for s in frames if s % EVERY == 0):
         n = count(frames[step])
