@@ -237,6 +237,14 @@ void FixHardSphere::check_other_fixes() {
       error->all(FLERR, "fix hardsphere: " + name(f) +
                             " changes the timestep during a run; hard spheres need a fixed 'timestep' "
                             "(4 v_max dt < skin): remove it");
+    // A Python callback at post_force may do anything, inside the step: not a force fix.
+    if (is_style(f, "python/invoke") && (mask & force_stages))
+      error->all(FLERR, "fix hardsphere: " + name(f) +
+                            " calls its Python function at post_force, inside the time step, where fix hardsphere "
+                            "owns positions and velocities: call it at the end of the step ('fix " +
+                            f->id +
+                            " all python/invoke N end_of_step FUNCTION'), where fix hardsphere takes up what "
+                            "it changes");
     if (mask & force_stages) {
       std::string hint;
       if (utils::strmatch(f->style, "^langevin") || utils::strmatch(f->style, "^viscous"))
