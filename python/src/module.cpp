@@ -94,6 +94,8 @@ PYBIND11_MODULE(_hardsphere, m) {
       PyErr_SetString(PyExc_OSError, e.what());
     } catch (const InputError& e) {
       PyErr_SetString(PyExc_ValueError, e.what());
+    } catch (const ReentryError& e) {
+      PyErr_SetString(PyExc_RuntimeError, e.what());
     }
   });
 

@@ -65,6 +65,7 @@ std::string number(double x) {
 
 void run_stepper(StepperSim& sim, py::object self, std::optional<std::int64_t> steps, std::optional<double> time,
                  py::object callback, std::optional<std::int64_t> every, py::object progress) {
+  const Simulation::InRun in_run(sim);
   if (steps && time) throw InputError("steps and time both set the run length; give one");
   if (!steps && !time) throw InputError("run needs steps=N or time=T");
   const double dt = sim.dt();
@@ -101,6 +102,7 @@ void run_stepper(StepperSim& sim, py::object self, std::optional<std::int64_t> s
 
 void run_event(EventSim& sim, py::object self, std::optional<std::int64_t> steps, std::optional<double> time,
                py::object callback, std::optional<double> every, py::object progress, int blocks) {
+  const Simulation::InRun in_run(sim);
   if (steps) throw InputError("steps is a stepper option; the event engine runs for time (simulated time)");
   if (!time) throw InputError("the event engine needs time=T (simulated time to run)");
   if (!(*time > 0) || !std::isfinite(*time))

@@ -18,6 +18,18 @@ void Simulation::check_idle() const {
   if (running_) throw InputError("the engine is running in another thread; wait for its run() to return");
 }
 
+void Simulation::check_not_in_run(const char* method) const {
+  check_idle();
+  if (!run_thread_) return;
+  if (*run_thread_ != std::this_thread::get_id())
+    throw InputError("the engine is running in another thread; wait for its run() to return");
+  const std::string call = std::string(class_name()) + "." + method + "()";
+  throw ReentryError(call + " called from inside this " + class_name() +
+                     "'s own run() (its callback or progress function): the run in progress would lose its place; " +
+                     "return from the callback (returning False stops the run) and call " + call +
+                     " after run() returns");
+}
+
 std::shared_ptr<const ParticleSystem> Simulation::state() const {
   check_idle();
   if (!snapshot_) snapshot_ = std::make_shared<const ParticleSystem>(engine_state());
@@ -34,7 +46,7 @@ void Simulation::start_measurement() {
 }
 
 void Simulation::reset_counters() {
-  check_idle();
+  check_not_in_run("reset_counters");
   engine_reset();
   start_measurement();
 }

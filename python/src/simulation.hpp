@@ -7,7 +7,9 @@
 #include <memory>
 #include <nlohmann/json.hpp>
 #include <optional>
+#include <stdexcept>
 #include <string>
+#include <thread>
 
 #include "hardsphere/event_engine.hpp"
 #include "hardsphere/lammps_io.hpp"
@@ -27,12 +29,19 @@ struct SystemData {
   double rounding_eps = 0;   //!< overlaps accepted when read (an engine's rounding)
 };
 
+//! A call that would change an engine from inside its own run() (a callback): RuntimeError.
+struct ReentryError : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
 //! What both engines share: the measurement since construction or reset_counters().
 class Simulation {
  public:
   Simulation(const SystemData& start, const Physics& physics) : physics_(physics), origin_(start) {}
   virtual ~Simulation() = default;
   virtual const char* name() const = 0;
+  //! The Python class ("Stepper", "EventEngine"), for messages.
+  virtual const char* class_name() const = 0;
   //! The current state in id order; shared, so arrays handed out stay valid after later runs.
   std::shared_ptr<const ParticleSystem> state() const;
   //! The CLI's JSON summary of the measurement so far.
@@ -50,7 +59,22 @@ class Simulation {
   const Physics& physics() const { return physics_; }
   //! Refuses (InputError) to touch an engine that another thread is running (its GIL is released).
   void check_idle() const;
-  //! Marks the engine as running for the lifetime of the object.
+  //! A run() in progress, from its checks to its return, callbacks and progress reports included.
+  //! Refuses a run() (or another call that changes the engine, `method`) that would start inside
+  //! it: from its own callback with ReentryError (the loop would lose its place: steps, blocks,
+  //! callback times), from another thread with check_idle's InputError.
+  class InRun {
+   public:
+    explicit InRun(Simulation& s) : s_(s) { s_.check_not_in_run("run"), s_.run_thread_ = std::this_thread::get_id(); }
+    ~InRun() { s_.run_thread_.reset(); }
+    InRun(const InRun&) = delete;
+    InRun& operator=(const InRun&) = delete;
+
+   private:
+    Simulation& s_;
+  };
+  void check_not_in_run(const char* method) const;
+  //! Marks the engine as running (a chunk with the GIL released) for the lifetime of the object.
   class Running {
    public:
     explicit Running(Simulation& s) : s_(s) { s_.check_idle(), s_.running_ = true; }
@@ -80,6 +104,7 @@ class Simulation {
  private:
   mutable std::shared_ptr<const ParticleSystem> snapshot_;
   std::atomic<bool> running_{false};
+  std::optional<std::thread::id> run_thread_;  // the thread in run(), set and read with the GIL held
   double kinetic0_ = 0, potential0_ = 0;
   std::shared_ptr<const ParticleSystem> start_;  // the state at the start of the measurement
   Vec3d momentum0_;
@@ -90,6 +115,7 @@ class StepperSim final : public Simulation {
  public:
   StepperSim(const SystemData& start, const Physics& physics, const StepperConfig& cfg, Precision precision);
   const char* name() const override { return "stepper"; }
+  const char* class_name() const override { return "Stepper"; }
   void run(std::int64_t steps);
   //! Refuses (InputError, the CLI's message) `steps` more steps over the work limit.
   void check_work(std::int64_t steps) const;
@@ -116,6 +142,7 @@ class EventSim final : public Simulation {
  public:
   EventSim(const SystemData& start, const Physics& physics, const EventConfig& cfg);
   const char* name() const override { return "event"; }
+  const char* class_name() const override { return "EventEngine"; }
   //! Runs to the absolute time `t_end` (since construction), part of a run ending at `run_end`.
   void run_until(double t_end, double run_end);
   //! Refuses (InputError, the CLI's message) a run of `duration` over the work limit.
