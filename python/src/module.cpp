@@ -9,6 +9,7 @@
 #include <stdexcept>
 
 #include "arrays.hpp"
+#include "hardsphere/atomic_file.hpp"
 #include "hardsphere/errors.hpp"
 #include "hardsphere/init.hpp"
 #include "hardsphere/lammps_io.hpp"
@@ -169,6 +170,7 @@ PYBIND11_MODULE(_hardsphere, m) {
           "write_data",
           [](const SystemData& d, const std::string& path, const std::string& title) {
             file_call([&] {
+              install_cleanup_signal_handlers();
               check_output_paths({{"write_data", path}});
               write_data(path, d.sys, title);
             });
@@ -184,7 +186,7 @@ PYBIND11_MODULE(_hardsphere, m) {
       .def(
           "write",
           [](DumpFile& d, py::object sim) {
-            if (d.closed()) throw InputError("DumpWriter '" + d.path() + "' is closed");
+            d.check_usable();
             const Simulation* s = nullptr;
             if (py::isinstance<StepperSim>(sim))
               s = &sim.cast<const StepperSim&>();
@@ -197,7 +199,11 @@ PYBIND11_MODULE(_hardsphere, m) {
           "sim"_a,
           "Appends a frame of the engine's current state (timestep: its steps or events so far, as the CLI's frames).")
       .def(
-          "close", [](DumpFile& d) { file_call([&] { d.close(); }); },
+          "close",
+          [](DumpFile& d) {
+            if (!d.closed()) d.check_usable();
+            file_call([&] { d.close(); });
+          },
           "Commits the file (renamed into place); closing twice does nothing.")
       .def("discard", &DumpFile::discard, "Removes the unfinished file; nothing is left.")
       .def_property_readonly("closed", &DumpFile::closed)
@@ -205,10 +211,12 @@ PYBIND11_MODULE(_hardsphere, m) {
       .def_property_readonly("path", &DumpFile::path)
       .def("__enter__", [](py::object self) { return self; })
       .def("__exit__", [](DumpFile& d, py::object type, py::object, py::object) {
-        if (type.is_none())
+        if (type.is_none()) {
+          if (!d.closed()) d.check_usable();
           file_call([&] { d.close(); });
-        else
+        } else {
           d.discard();
+        }
         return false;
       });
 

@@ -2,6 +2,8 @@
 // (standalone/src/run), so a Python run reports what the CLI reports for the same run.
 #include "simulation.hpp"
 
+#include <unistd.h>
+
 #include <cmath>
 #include <limits>
 #include <optional>
@@ -69,34 +71,52 @@ nlohmann::json Simulation::observables(int histogram_bins) const {
 
 void Simulation::write_data(const std::string& path) const {
   check_output_paths({{"write_data", path}});
+  install_cleanup_signal_handlers();
   hardsphere::write_data(path, *state(), title());
 }
 
 void Simulation::write_dump(const std::string& path) const {
   check_output_paths({{"write_dump", path}});
+  install_cleanup_signal_handlers();
   DumpWriter dump(path, physics_.rough());
   dump.write_frame(dump_timestep(), *state());
   dump.commit();
 }
 
-DumpFile::DumpFile(const std::string& path) : path_(path) {
+DumpFile::DumpFile(const std::string& path) : path_(path), owner_(::getpid()) {
   check_output_paths({{"DumpWriter", path}});
+  // Before the temporary exists: a terminating signal removes it from then on (signals Python
+  // or the user handle keep their handlers; the process then ends by unwinding, which discards).
+  install_cleanup_signal_handlers();
   dump_.emplace(path);
 }
 
-DumpWriter& DumpFile::open() {
+void DumpFile::check_usable() const {
   if (!dump_) throw InputError("DumpWriter '" + path_ + "' is closed");
+  if (owner_ != ::getpid())
+    throw InputError("DumpWriter '" + path_ + "' was opened by process " + std::to_string(owner_) +
+                     "; a forked process cannot write or close it");
+}
+
+DumpWriter& DumpFile::open() {
+  check_usable();
   return *dump_;
 }
 
 void DumpFile::write(const Simulation& sim) {
   if (frames_ == 0) open().set_omega(sim.physics().rough());  // the first engine's columns for every frame
   sim.write_frame(open());
+  // Nothing stays buffered between frames: a forked child's copy of the buffer, flushed at its
+  // exit, would write part of a frame into the parent's file again.
+  auto& out = open().file().stream();
+  out.flush();
+  if (!out) throw InputError("error while writing '" + path_ + "'");
   ++frames_;
 }
 
 void DumpFile::close() {
   if (!dump_) return;
+  check_usable();  // a forked child's copy
   // Committed or not, the writer is done: a failed commit leaves no file and no open temporary.
   struct Done {
     std::optional<DumpWriter>& d;

@@ -2,6 +2,8 @@
 //! The engines as the Python module holds them: a shared snapshot of the current state (the
 //! arrays Python sees), the observables as the CLI's JSON summary reports them, and the CLI's
 //! outputs. Plain C++ over the public headers; the Python glue is in module.cpp and run_loop.cpp.
+#include <sys/types.h>
+
 #include <atomic>
 #include <cstdint>
 #include <memory>
@@ -172,12 +174,15 @@ class EventSim final : public Simulation {
 };
 
 //! hs.DumpWriter: the CLI's --dump, a frame per write(), the file committed by close() (until
-//! then it is a temporary, removed if the writer is discarded or the process dies).
+//! then it is a temporary, removed if the writer is discarded or the process dies, by a signal
+//! too). It belongs to the process that opened it: a forked child may not write or close it.
 class DumpFile {
  public:
   explicit DumpFile(const std::string& path);
   void write(const Simulation& sim);
   void close();
+  //! Refuses (InputError) a closed writer and one a forked child inherited.
+  void check_usable() const;
   void discard() { dump_.reset(); }
   bool closed() const { return !dump_; }
   std::int64_t frames() const { return frames_; }
@@ -186,6 +191,7 @@ class DumpFile {
  private:
   DumpWriter& open();
   std::string path_;
+  pid_t owner_;
   std::optional<DumpWriter> dump_;
   std::int64_t frames_ = 0;
 };
