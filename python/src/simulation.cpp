@@ -16,6 +16,10 @@
 
 namespace hardsphere::python {
 
+namespace {
+constexpr std::int64_t kMaxBins = 1000000;  // the CLI's --histogram-bins bound (cli/options.cpp)
+}  // namespace
+
 void Simulation::check_idle() const {
   if (running_) throw InputError("the engine is running in another thread; wait for its run() to return");
 }
@@ -53,13 +57,15 @@ void Simulation::reset_counters() {
   start_measurement();
 }
 
-nlohmann::json Simulation::observables(int histogram_bins) const {
+nlohmann::json Simulation::observables(std::int64_t histogram_bins) const {
   if (histogram_bins < 1) throw InputError("histogram_bins " + std::to_string(histogram_bins) + " must be >= 1");
+  if (histogram_bins > kMaxBins)
+    throw InputError("histogram_bins " + std::to_string(histogram_bins) + " is more than " + std::to_string(kMaxBins));
   const ParticleSystem& fin = *state();
   RunTotals t = totals();
   t.kinetic_energy_initial = kinetic0_;
   t.momentum_initial = momentum0_;
-  nlohmann::json j = physics_summary(fin, t, origin_.com_removed, origin_.seed, histogram_bins,
+  nlohmann::json j = physics_summary(fin, t, origin_.com_removed, origin_.seed, int(histogram_bins),
                                      overlap_tolerance(fin, rounding_epsilon()));
   j["engine"] = name();
   add_energy_summary(j, kinetic0_, potential0_, potential_energy(fin, physics_.gravity), physics_);

@@ -47,7 +47,7 @@ class Simulation {
   //! The current state in id order; shared, so arrays handed out stay valid after later runs.
   std::shared_ptr<const ParticleSystem> state() const;
   //! The CLI's JSON summary of the measurement so far.
-  nlohmann::json observables(int histogram_bins) const;
+  nlohmann::json observables(std::int64_t histogram_bins) const;
   void reset_counters();
   //! The CLI's --write-data and a one-frame --dump of the current state, as atomic files.
   void write_data(const std::string& path) const;
