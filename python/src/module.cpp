@@ -278,7 +278,7 @@ PYBIND11_MODULE(_hardsphere, m) {
            cfg.dt = dt;
            cfg.detect = parse_detect(text_arg(detect, "detect"));
            cfg.cells = cells_of(cells);
-           cfg.max_particle_steps = work_limit;
+           cfg.max_particle_steps = work_limit_of(work_limit);
            const Physics p = physics_of(s.sys.box, restitution, contact_time, gravity, resting_time,
                                         tangential_restitution, friction, inertia);
            return std::make_unique<StepperSim>(s, p, cfg, parse_precision(text_arg(precision, "precision")));
@@ -313,7 +313,7 @@ PYBIND11_MODULE(_hardsphere, m) {
            EventConfig cfg;
            cfg.cells = cells_of(cells);
            cfg.shell = shell;
-           cfg.max_events = work_limit;
+           cfg.max_events = work_limit_of(work_limit);
            const Physics p = physics_of(s.sys.box, restitution, contact_time, gravity, resting_time,
                                         tangential_restitution, friction, inertia);
            return std::make_unique<EventSim>(s, p, cfg);

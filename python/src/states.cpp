@@ -154,6 +154,13 @@ Physics physics_of(const Box& box, double restitution, std::optional<double> con
                     "tangential_restitution", "friction", "inertia"});
 }
 
+double work_limit_of(double limit) {
+  if (!(limit > 0) || !std::isfinite(limit))
+    throw InputError("work_limit " + format_exact(limit) +
+                     " must be positive and finite (the most particle-steps or events a run may take)");
+  return limit;
+}
+
 std::array<int, 3> cells_of(const py::object& cells) {
   if (py::isinstance<py::str>(cells)) {
     const std::string text = text_arg(cells, "cells");

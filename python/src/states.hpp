@@ -63,6 +63,9 @@ Physics physics_of(const Box& box, double restitution, std::optional<double> con
                    std::optional<std::array<double, 3>> gravity, double resting_time, double tangential_restitution,
                    double friction, double inertia);
 
+//! work_limit: positive and finite (a NaN or infinity would be no limit at all).
+double work_limit_of(double limit);
+
 //! "auto", K or (Kx, Ky, Kz).
 std::array<int, 3> cells_of(const pybind11::object& cells);
 
