@@ -5,17 +5,22 @@
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
+#include <cstdint>
+#include <cstring>
 #include <limits>
 #include <stdexcept>
 
 #include "arrays.hpp"
+#include "hardsphere/atomic_file.hpp"
 #include "hardsphere/errors.hpp"
+#include "hardsphere/format.hpp"
 #include "hardsphere/init.hpp"
 #include "hardsphere/lammps_io.hpp"
 #include "hardsphere/stepper.hpp"
 #include "run_loop.hpp"
 #include "simulation.hpp"
 #include "states.hpp"
+#include "values.hpp"
 
 namespace py = pybind11;
 using namespace py::literals;
@@ -25,6 +30,19 @@ using namespace hardsphere::python;
 namespace {
 
 py::dict json_dict(const nlohmann::json& j) { return py::module_::import("json").attr("loads")(j.dump()); }
+
+std::optional<std::int64_t> optional_whole(const py::object& v, const char* what) {
+  if (v.is_none()) return std::nullopt;
+  return whole_arg(v, what, INT64_MIN, INT64_MAX);
+}
+
+//! A message as Python text: bytes that are not UTF-8 (a path given as bytes) escaped, not lost.
+void set_error(PyObject* type, const char* what) {
+  PyObject* text = PyUnicode_DecodeUTF8(what, Py_ssize_t(std::strlen(what)), "backslashreplace");
+  if (!text) return;  // the decoding error is raised instead
+  PyErr_SetObject(type, text);
+  Py_DECREF(text);
+}
 
 //! The array properties common to System, Stepper and EventEngine.
 template <class C, class Get>
@@ -62,17 +80,30 @@ void add_simulation(py::class_<Sim>& c) {
       "box", [](Sim& s) { return s.state()->box; }, "the box (a copy)");
   c.def_property_readonly("sim_time", &Sim::sim_time, "simulated time since construction or reset_counters()");
   c.def(
-      "observables", [](Sim& s, int bins) { return json_dict(s.observables(bins)); }, "histogram_bins"_a = 40,
+      "observables",
+      [](Sim& s, py::object bins) {
+        return json_dict(s.observables(whole_arg(bins, "histogram_bins", INT64_MIN, INT64_MAX)));
+      },
+      "histogram_bins"_a = 40,
       "The CLI's JSON summary (docs/cli.md) of the measurement since construction or reset_counters(): "
       "compressibility_factor, pressure, temperature, collisions, collision_rate_per_particle, kinetic and "
       "potential energies, momentum, speed_histogram, ... as a dict.");
   c.def("reset_counters", &Sim::reset_counters,
         "Starts a new measurement: counters, energy and momentum references, loop CPU time.");
   c.def(
-      "write_data", [](Sim& s, const std::string& p) { file_call([&] { s.write_data(p); }); }, "path"_a,
-      "Writes the current state as the CLI's --write-data does (LAMMPS data file, 17 digits, atomic).");
+      "write_data",
+      [](Sim& s, py::object path) {
+        const std::string p = path_arg(path, "write_data");
+        file_call([&] { s.write_data(p); });
+      },
+      "path"_a, "Writes the current state as the CLI's --write-data does (LAMMPS data file, 17 digits, atomic).");
   c.def(
-      "write_dump", [](Sim& s, const std::string& p) { file_call([&] { s.write_dump(p); }); }, "path"_a,
+      "write_dump",
+      [](Sim& s, py::object path) {
+        const std::string p = path_arg(path, "write_dump");
+        file_call([&] { s.write_dump(p); });
+      },
+      "path"_a,
       "Writes the current state as one frame of the CLI's --dump (LAMMPS text dump, atomic); hs.DumpWriter "
       "writes several.");
   c.def(
@@ -91,14 +122,19 @@ PYBIND11_MODULE(_hardsphere, m) {
     try {
       if (p) std::rethrow_exception(p);
     } catch (const FileError& e) {
-      PyErr_SetString(PyExc_OSError, e.what());
+      set_error(PyExc_OSError, e.what());
     } catch (const InputError& e) {
-      PyErr_SetString(PyExc_ValueError, e.what());
+      set_error(PyExc_ValueError, e.what());
+    } catch (const ReentryError& e) {
+      set_error(PyExc_RuntimeError, e.what());
     }
   });
 
   py::class_<Box>(m, "Box", "An axis-aligned box, periodic ('p') or walled ('w') per axis.")
-      .def(py::init(&make_box), "lengths"_a, "boundary"_a = "p", "lo"_a = py::none(),
+      .def(py::init([](py::object lengths, py::object boundary, py::object lo) {
+             return make_box(lengths, text_arg(boundary, "boundary"), lo);
+           }),
+           "lengths"_a, "boundary"_a = "p", "lo"_a = py::none(),
            "Box(lengths, boundary='p', lo=(0, 0, 0)): lengths one value or three; boundary 'p', 'w' or e.g. 'p,p,w'.")
       .def_property_readonly("lo", [](const Box& b) { return b.lo; })
       .def_property_readonly("hi", [](const Box& b) { return b.hi; })
@@ -110,8 +146,12 @@ PYBIND11_MODULE(_hardsphere, m) {
       .def_property_readonly("boundary", [](const Box& b) { return boundary_string(b.periodic); })
       .def_property_readonly("volume", &Box::volume)
       .def("__repr__", [](const Box& b) {
-        return "Box(lengths=(" + std::to_string(b.length(0)) + ", " + std::to_string(b.length(1)) + ", " +
-               std::to_string(b.length(2)) + "), boundary='" + boundary_string(b.periodic) + "')";
+        // Shortest exact digits (std::to_string showed a length of 1e-7 as 0.000000).
+        auto three = [](const std::array<double, 3>& x) {
+          return "(" + format_exact(x[0]) + ", " + format_exact(x[1]) + ", " + format_exact(x[2]) + ")";
+        };
+        return "Box(lengths=" + three({b.length(0), b.length(1), b.length(2)}) + ", boundary='" +
+               boundary_string(b.periodic) + "', lo=" + three(b.lo) + ")";
       });
 
   py::class_<SystemData, std::shared_ptr<SystemData>> sys(
@@ -124,37 +164,45 @@ PYBIND11_MODULE(_hardsphere, m) {
           "checked as a data file is (no overlaps, inside walls, ...); periodic coordinates are wrapped.");
   sys.def_static(
       "random",
-      [](std::int64_t n, std::optional<double> phi, py::object box, std::uint64_t seed, double radius, double mass,
-         double temperature, std::optional<double> speed, const std::string& boundary, const std::string& method,
-         std::optional<double> rotational_temperature, double inertia) {
-        return generate(parse_init_method(method), n, phi, box, seed, radius, mass, temperature, speed, boundary,
-                        rotational_temperature, inertia);
+      [](py::object n, std::optional<double> phi, py::object box, py::object seed, double radius, double mass,
+         std::optional<double> temperature, std::optional<double> speed, py::object boundary, py::object method,
+         std::optional<double> rotational_temperature, std::optional<double> inertia) {
+        return generate(parse_init_method(text_arg(method, "method")), whole_arg(n, "n", INT64_MIN, INT64_MAX), phi,
+                        box, unsigned_arg(seed, "seed"), radius, mass, temperature, speed,
+                        text_arg(boundary, "boundary"), rotational_temperature, inertia);
       },
       "n"_a = 1000, "phi"_a = py::none(), "box"_a = py::none(), "seed"_a = 1, "radius"_a = 0.5, "mass"_a = 1.0,
-      "temperature"_a = 1.0, "speed"_a = py::none(), "boundary"_a = "p", "method"_a = "auto",
-      "rotational_temperature"_a = py::none(), "inertia"_a = 0.4,
+      "temperature"_a = py::none(), "speed"_a = py::none(), "boundary"_a = "p", "method"_a = "auto",
+      "rotational_temperature"_a = py::none(), "inertia"_a = py::none(),
       "A generated state as the CLI's --n/--phi/--box/--init make it: n spheres at packing fraction phi "
-      "(default 0.2) or in a box of these lengths, Maxwell-Boltzmann velocities at temperature (or one speed), "
-      "momentum zeroed; with rotational_temperature, angular velocities for rough spheres (each component normal "
-      "with variance T/I, I = inertia m r^2; the CLI's default is the translational temperature, here none: zero). "
+      "(default 0.2) or in a box of these lengths, Maxwell-Boltzmann velocities at temperature (default 1) or one "
+      "speed, momentum zeroed; with rotational_temperature, angular velocities for rough spheres (each component "
+      "normal with variance T/I, I = inertia m r^2, inertia 0.4 by default; the CLI's default is the translational "
+      "temperature, here none: zero). "
       "method: auto (random insertion up to phi 0.25, lattice up to 0.55, dense up to 0.64), "
       "random, lattice or dense (docs/initial_states.md).");
   sys.def_static(
       "dense",
-      [](std::int64_t n, std::optional<double> phi, py::object box, std::uint64_t seed, double radius, double mass,
-         double temperature, std::optional<double> speed, const std::string& boundary,
-         std::optional<double> rotational_temperature, double inertia) {
-        return generate(InitMethod::Dense, n, phi, box, seed, radius, mass, temperature, speed, boundary,
+      [](py::object n, std::optional<double> phi, py::object box, py::object seed, double radius, double mass,
+         std::optional<double> temperature, std::optional<double> speed, py::object boundary,
+         std::optional<double> rotational_temperature, std::optional<double> inertia) {
+        return generate(InitMethod::Dense, whole_arg(n, "n", INT64_MIN, INT64_MAX), phi, box,
+                        unsigned_arg(seed, "seed"), radius, mass, temperature, speed, text_arg(boundary, "boundary"),
                         rotational_temperature, inertia);
       },
       "n"_a = 1000, "phi"_a = py::none(), "box"_a = py::none(), "seed"_a = 1, "radius"_a = 0.5, "mass"_a = 1.0,
-      "temperature"_a = 1.0, "speed"_a = py::none(), "boundary"_a = "p", "rotational_temperature"_a = py::none(),
-      "inertia"_a = 0.4,
+      "temperature"_a = py::none(), "speed"_a = py::none(), "boundary"_a = "p", "rotational_temperature"_a = py::none(),
+      "inertia"_a = py::none(),
       "System.random(..., method='dense'): an amorphous quench and compression (--init dense), up to phi 0.64.");
-  sys.def_static("from_data", &from_data, "path"_a, "boundary"_a = "p", "precision"_a = "double",
-                 "Reads a LAMMPS data file (atom_style sphere) as --read-data does; overlaps up to the rounding of "
-                 "an engine of this precision are accepted. OSError if unreadable, ValueError (file:line) if "
-                 "malformed or invalid.");
+  sys.def_static(
+      "from_data",
+      [](py::object path, py::object boundary, py::object precision) {
+        return from_data(path_arg(path, "from_data"), text_arg(boundary, "boundary"), text_arg(precision, "precision"));
+      },
+      "path"_a, "boundary"_a = "p", "precision"_a = "double",
+      "Reads a LAMMPS data file (atom_style sphere) as --read-data does; overlaps up to the rounding of "
+      "an engine of this precision are accepted. OSError if unreadable, ValueError (file:line) if "
+      "malformed or invalid.");
   add_arrays(
       sys, [](py::object self, Field f) { return view(self.cast<SystemData&>().sys, f, self); },
       ". A read-only view of the System's memory (the array keeps the System alive).");
@@ -165,8 +213,11 @@ PYBIND11_MODULE(_hardsphere, m) {
       .def_property_readonly("seed", [](const SystemData& d) { return d.seed; })
       .def(
           "write_data",
-          [](const SystemData& d, const std::string& path, const std::string& title) {
+          [](const SystemData& d, py::object path_obj, py::object title_obj) {
+            const std::string path = path_arg(path_obj, "write_data");
+            const std::string title = text_arg(title_obj, "title", true);
             file_call([&] {
+              install_cleanup_signal_handlers();
               check_output_paths({{"write_data", path}});
               write_data(path, d.sys, title);
             });
@@ -176,13 +227,15 @@ PYBIND11_MODULE(_hardsphere, m) {
   py::class_<DumpFile>(m, "DumpWriter",
                        "A LAMMPS text dump as the CLI's --dump writes it, one frame per write(sim); the file appears "
                        "complete at close() (a with block closes it, or discards it on an exception).")
-      .def(
-          py::init([](const std::string& path) { return file_call([&] { return std::make_unique<DumpFile>(path); }); }),
-          "path"_a)
+      .def(py::init([](py::object path) {
+             const std::string p = path_arg(path, "DumpWriter");
+             return file_call([&] { return std::make_unique<DumpFile>(p); });
+           }),
+           "path"_a)
       .def(
           "write",
           [](DumpFile& d, py::object sim) {
-            if (d.closed()) throw InputError("DumpWriter '" + d.path() + "' is closed");
+            d.check_usable();
             const Simulation* s = nullptr;
             if (py::isinstance<StepperSim>(sim))
               s = &sim.cast<const StepperSim&>();
@@ -195,7 +248,11 @@ PYBIND11_MODULE(_hardsphere, m) {
           "sim"_a,
           "Appends a frame of the engine's current state (timestep: its steps or events so far, as the CLI's frames).")
       .def(
-          "close", [](DumpFile& d) { file_call([&] { d.close(); }); },
+          "close",
+          [](DumpFile& d) {
+            if (!d.closed()) d.check_usable();
+            file_call([&] { d.close(); });
+          },
           "Commits the file (renamed into place); closing twice does nothing.")
       .def("discard", &DumpFile::discard, "Removes the unfinished file; nothing is left.")
       .def_property_readonly("closed", &DumpFile::closed)
@@ -203,26 +260,28 @@ PYBIND11_MODULE(_hardsphere, m) {
       .def_property_readonly("path", &DumpFile::path)
       .def("__enter__", [](py::object self) { return self; })
       .def("__exit__", [](DumpFile& d, py::object type, py::object, py::object) {
-        if (type.is_none())
+        if (type.is_none()) {
+          if (!d.closed()) d.check_usable();
           file_call([&] { d.close(); });
-        else
+        } else {
           d.discard();
+        }
         return false;
       });
 
   py::class_<StepperSim> st(m, "Stepper", "The time stepper (the CLI's default engine).");
   st.def(py::init([](const SystemData& s, double dt, double restitution, std::optional<double> contact_time,
-                     std::optional<std::array<double, 3>> gravity, double resting_time, const std::string& detect,
-                     const std::string& precision, py::object cells, double work_limit, double tangential_restitution,
+                     std::optional<std::array<double, 3>> gravity, double resting_time, py::object detect,
+                     py::object precision, py::object cells, double work_limit, double tangential_restitution,
                      double friction, double inertia) {
            StepperConfig cfg;
            cfg.dt = dt;
-           cfg.detect = parse_detect(detect);
+           cfg.detect = parse_detect(text_arg(detect, "detect"));
            cfg.cells = cells_of(cells);
-           cfg.max_particle_steps = work_limit;
+           cfg.max_particle_steps = work_limit_of(work_limit);
            const Physics p = physics_of(s.sys.box, restitution, contact_time, gravity, resting_time,
                                         tangential_restitution, friction, inertia);
-           return std::make_unique<StepperSim>(s, p, cfg, parse_precision(precision));
+           return std::make_unique<StepperSim>(s, p, cfg, parse_precision(text_arg(precision, "precision")));
          }),
          "system"_a, py::kw_only(), "dt"_a = 0.01, "restitution"_a = 1.0, "contact_time"_a = py::none(),
          "gravity"_a = py::none(), "resting_time"_a = 0.0, "detect"_a = "auto", "precision"_a = "double",
@@ -233,9 +292,11 @@ PYBIND11_MODULE(_hardsphere, m) {
          "tangential_restitution=-1, friction=inf, inertia=0.4): the CLI's options.");
   st.def(
       "_run",
-      [](py::object self, std::optional<std::int64_t> steps, std::optional<double> time, py::object callback,
-         std::optional<std::int64_t> every,
-         py::object progress) { run_stepper(self.cast<StepperSim&>(), self, steps, time, callback, every, progress); },
+      [](py::object self, py::object steps, std::optional<double> time, py::object callback, py::object every,
+         py::object progress) {
+        run_stepper(self.cast<StepperSim&>(), self, optional_whole(steps, "steps"), time, callback,
+                    optional_whole(every, "every"), progress);
+      },
       "steps"_a = py::none(), "time"_a = py::none(), "callback"_a = py::none(), "every"_a = py::none(),
       "progress"_a = py::none());
   st.def_property_readonly("dt", &StepperSim::dt);
@@ -252,7 +313,7 @@ PYBIND11_MODULE(_hardsphere, m) {
            EventConfig cfg;
            cfg.cells = cells_of(cells);
            cfg.shell = shell;
-           cfg.max_events = work_limit;
+           cfg.max_events = work_limit_of(work_limit);
            const Physics p = physics_of(s.sys.box, restitution, contact_time, gravity, resting_time,
                                         tangential_restitution, friction, inertia);
            return std::make_unique<EventSim>(s, p, cfg);
@@ -265,9 +326,11 @@ PYBIND11_MODULE(_hardsphere, m) {
          "friction=inf, inertia=0.4): the CLI's options.");
   ev.def(
       "_run",
-      [](py::object self, std::optional<std::int64_t> steps, std::optional<double> time, py::object callback,
-         std::optional<double> every, py::object progress,
-         int blocks) { run_event(self.cast<EventSim&>(), self, steps, time, callback, every, progress, blocks); },
+      [](py::object self, py::object steps, std::optional<double> time, py::object callback,
+         std::optional<double> every, py::object progress, py::object blocks) {
+        run_event(self.cast<EventSim&>(), self, optional_whole(steps, "steps"), time, callback, every, progress,
+                  whole_arg(blocks, "blocks", INT64_MIN, INT64_MAX));
+      },
       "steps"_a = py::none(), "time"_a = py::none(), "callback"_a = py::none(), "every"_a = py::none(),
       "progress"_a = py::none(), "blocks"_a = 20);
   ev.def_property_readonly("time", &EventSim::time, "simulated time since construction");

@@ -18,6 +18,8 @@ namespace {
 
 //! Work per chunk: particle-steps for the stepper, events for the event engine.
 constexpr double kChunkWork = 1e6;
+//! The most callbacks of an event-engine run (the stepper's are bounded by its steps).
+constexpr double kMaxCallbacks = 1e15;
 
 //! Measures CPU time of the loop without the user's callbacks.
 class LoopClock {
@@ -65,6 +67,7 @@ std::string number(double x) {
 
 void run_stepper(StepperSim& sim, py::object self, std::optional<std::int64_t> steps, std::optional<double> time,
                  py::object callback, std::optional<std::int64_t> every, py::object progress) {
+  const Simulation::InRun in_run(sim);
   if (steps && time) throw InputError("steps and time both set the run length; give one");
   if (!steps && !time) throw InputError("run needs steps=N or time=T");
   const double dt = sim.dt();
@@ -76,6 +79,8 @@ void run_stepper(StepperSim& sim, py::object self, std::optional<std::int64_t> s
   if (*steps < 0) throw InputError("steps = " + std::to_string(*steps) + " must be >= 0");
   if (every && *every < 1) throw InputError("every = " + std::to_string(*every) + " must be >= 1 (steps)");
   if (!callback.is_none() && !every) throw InputError("callback needs every=K (steps between calls)");
+  if (callback.is_none() && every)
+    throw InputError("every = " + std::to_string(*every) + " needs a callback (it says when to call it)");
   const std::int64_t total = *steps;
   sim.check_work(total);
   const double n = double(std::max<std::size_t>(sim.state()->size(), 1));
@@ -100,7 +105,8 @@ void run_stepper(StepperSim& sim, py::object self, std::optional<std::int64_t> s
 }
 
 void run_event(EventSim& sim, py::object self, std::optional<std::int64_t> steps, std::optional<double> time,
-               py::object callback, std::optional<double> every, py::object progress, int blocks) {
+               py::object callback, std::optional<double> every, py::object progress, std::int64_t blocks) {
+  const Simulation::InRun in_run(sim);
   if (steps) throw InputError("steps is a stepper option; the event engine runs for time (simulated time)");
   if (!time) throw InputError("the event engine needs time=T (simulated time to run)");
   if (!(*time > 0) || !std::isfinite(*time))
@@ -109,11 +115,24 @@ void run_event(EventSim& sim, py::object self, std::optional<std::int64_t> steps
   if (every && (!(*every > 0) || !std::isfinite(*every)))
     throw InputError("every = " + number(*every) + " must be positive and finite (simulated time)");
   if (!callback.is_none() && !every) throw InputError("callback needs every=T (simulated time between calls)");
+  if (callback.is_none() && every)
+    throw InputError("every = " + number(*every) + " needs a callback (it says when to call it)");
   if (blocks < 1) throw InputError("blocks = " + std::to_string(blocks) + " must be >= 1");
   if (blocks > kMaxBlocks)
     throw InputError("blocks = " + std::to_string(blocks) + " is more than " + std::to_string(kMaxBlocks));
   sim.check_work(*time);
   const double t0 = sim.time(), target = t0 + *time;
+  if (every) {
+    // Callback times t0 + k every must increase on the clock: every at least two roundings of
+    // the end time (a smaller one would call back at the same time forever).
+    const double ulp = std::nextafter(target, INFINITY) - target;
+    if (*every < 2 * ulp)
+      throw InputError("every = " + number(*every) + " is below the resolution of the clock at time " + number(target) +
+                       " (" + number(ulp) + "); callbacks would not advance the run");
+    if (*time / *every > kMaxCallbacks)
+      throw InputError("every = " + number(*every) + " gives more than " + number(kMaxCallbacks) +
+                       " callbacks over time " + number(*time));
+  }
   // Chunks of about kChunkWork events, from the event rate of the last chunk; the first from the
   // neighbour-list events alone (one per half shell moved), times a margin for the collisions.
   double speeds = 0;

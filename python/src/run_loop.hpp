@@ -21,6 +21,6 @@ void run_stepper(StepperSim& sim, pybind11::object self, std::optional<std::int6
 //! `time` of simulated time in `blocks` blocks (the CLI's --blocks, for the error bars);
 //! `callback(self)` after every `every` of it.
 void run_event(EventSim& sim, pybind11::object self, std::optional<std::int64_t> steps, std::optional<double> time,
-               pybind11::object callback, std::optional<double> every, pybind11::object progress, int blocks);
+               pybind11::object callback, std::optional<double> every, pybind11::object progress, std::int64_t blocks);
 
 }  // namespace hardsphere::python

@@ -2,6 +2,8 @@
 // (standalone/src/run), so a Python run reports what the CLI reports for the same run.
 #include "simulation.hpp"
 
+#include <unistd.h>
+
 #include <cmath>
 #include <limits>
 #include <optional>
@@ -14,8 +16,24 @@
 
 namespace hardsphere::python {
 
+namespace {
+constexpr std::int64_t kMaxBins = 1000000;  // the CLI's --histogram-bins bound (cli/options.cpp)
+}  // namespace
+
 void Simulation::check_idle() const {
   if (running_) throw InputError("the engine is running in another thread; wait for its run() to return");
+}
+
+void Simulation::check_not_in_run(const char* method) const {
+  check_idle();
+  if (!run_thread_) return;
+  if (*run_thread_ != std::this_thread::get_id())
+    throw InputError("the engine is running in another thread; wait for its run() to return");
+  const std::string call = std::string(class_name()) + "." + method + "()";
+  throw ReentryError(call + " called from inside this " + class_name() +
+                     "'s own run() (its callback or progress function): the run in progress would lose its place; " +
+                     "return from the callback (returning False stops the run) and call " + call +
+                     " after run() returns");
 }
 
 std::shared_ptr<const ParticleSystem> Simulation::state() const {
@@ -34,18 +52,20 @@ void Simulation::start_measurement() {
 }
 
 void Simulation::reset_counters() {
-  check_idle();
+  check_not_in_run("reset_counters");
   engine_reset();
   start_measurement();
 }
 
-nlohmann::json Simulation::observables(int histogram_bins) const {
+nlohmann::json Simulation::observables(std::int64_t histogram_bins) const {
   if (histogram_bins < 1) throw InputError("histogram_bins " + std::to_string(histogram_bins) + " must be >= 1");
+  if (histogram_bins > kMaxBins)
+    throw InputError("histogram_bins " + std::to_string(histogram_bins) + " is more than " + std::to_string(kMaxBins));
   const ParticleSystem& fin = *state();
   RunTotals t = totals();
   t.kinetic_energy_initial = kinetic0_;
   t.momentum_initial = momentum0_;
-  nlohmann::json j = physics_summary(fin, t, origin_.com_removed, origin_.seed, histogram_bins,
+  nlohmann::json j = physics_summary(fin, t, origin_.com_removed, origin_.seed, int(histogram_bins),
                                      overlap_tolerance(fin, rounding_epsilon()));
   j["engine"] = name();
   add_energy_summary(j, kinetic0_, potential0_, potential_energy(fin, physics_.gravity), physics_);
@@ -57,34 +77,52 @@ nlohmann::json Simulation::observables(int histogram_bins) const {
 
 void Simulation::write_data(const std::string& path) const {
   check_output_paths({{"write_data", path}});
+  install_cleanup_signal_handlers();
   hardsphere::write_data(path, *state(), title());
 }
 
 void Simulation::write_dump(const std::string& path) const {
   check_output_paths({{"write_dump", path}});
+  install_cleanup_signal_handlers();
   DumpWriter dump(path, physics_.rough());
   dump.write_frame(dump_timestep(), *state());
   dump.commit();
 }
 
-DumpFile::DumpFile(const std::string& path) : path_(path) {
+DumpFile::DumpFile(const std::string& path) : path_(path), owner_(::getpid()) {
   check_output_paths({{"DumpWriter", path}});
+  // Before the temporary exists: a terminating signal removes it from then on (signals Python
+  // or the user handle keep their handlers; the process then ends by unwinding, which discards).
+  install_cleanup_signal_handlers();
   dump_.emplace(path);
 }
 
-DumpWriter& DumpFile::open() {
+void DumpFile::check_usable() const {
   if (!dump_) throw InputError("DumpWriter '" + path_ + "' is closed");
+  if (owner_ != ::getpid())
+    throw InputError("DumpWriter '" + path_ + "' was opened by process " + std::to_string(owner_) +
+                     "; a forked process cannot write or close it");
+}
+
+DumpWriter& DumpFile::open() {
+  check_usable();
   return *dump_;
 }
 
 void DumpFile::write(const Simulation& sim) {
   if (frames_ == 0) open().set_omega(sim.physics().rough());  // the first engine's columns for every frame
   sim.write_frame(open());
+  // Nothing stays buffered between frames: a forked child's copy of the buffer, flushed at its
+  // exit, would write part of a frame into the parent's file again.
+  auto& out = open().file().stream();
+  out.flush();
+  if (!out) throw InputError("error while writing '" + path_ + "'");
   ++frames_;
 }
 
 void DumpFile::close() {
   if (!dump_) return;
+  check_usable();  // a forked child's copy
   // Committed or not, the writer is done: a failed commit leaves no file and no open temporary.
   struct Done {
     std::optional<DumpWriter>& d;

@@ -2,12 +2,16 @@
 //! The engines as the Python module holds them: a shared snapshot of the current state (the
 //! arrays Python sees), the observables as the CLI's JSON summary reports them, and the CLI's
 //! outputs. Plain C++ over the public headers; the Python glue is in module.cpp and run_loop.cpp.
+#include <sys/types.h>
+
 #include <atomic>
 #include <cstdint>
 #include <memory>
 #include <nlohmann/json.hpp>
 #include <optional>
+#include <stdexcept>
 #include <string>
+#include <thread>
 
 #include "hardsphere/event_engine.hpp"
 #include "hardsphere/lammps_io.hpp"
@@ -27,16 +31,23 @@ struct SystemData {
   double rounding_eps = 0;   //!< overlaps accepted when read (an engine's rounding)
 };
 
+//! A call that would change an engine from inside its own run() (a callback): RuntimeError.
+struct ReentryError : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
 //! What both engines share: the measurement since construction or reset_counters().
 class Simulation {
  public:
   Simulation(const SystemData& start, const Physics& physics) : physics_(physics), origin_(start) {}
   virtual ~Simulation() = default;
   virtual const char* name() const = 0;
+  //! The Python class ("Stepper", "EventEngine"), for messages.
+  virtual const char* class_name() const = 0;
   //! The current state in id order; shared, so arrays handed out stay valid after later runs.
   std::shared_ptr<const ParticleSystem> state() const;
   //! The CLI's JSON summary of the measurement so far.
-  nlohmann::json observables(int histogram_bins) const;
+  nlohmann::json observables(std::int64_t histogram_bins) const;
   void reset_counters();
   //! The CLI's --write-data and a one-frame --dump of the current state, as atomic files.
   void write_data(const std::string& path) const;
@@ -50,7 +61,22 @@ class Simulation {
   const Physics& physics() const { return physics_; }
   //! Refuses (InputError) to touch an engine that another thread is running (its GIL is released).
   void check_idle() const;
-  //! Marks the engine as running for the lifetime of the object.
+  //! A run() in progress, from its checks to its return, callbacks and progress reports included.
+  //! Refuses a run() (or another call that changes the engine, `method`) that would start inside
+  //! it: from its own callback with ReentryError (the loop would lose its place: steps, blocks,
+  //! callback times), from another thread with check_idle's InputError.
+  class InRun {
+   public:
+    explicit InRun(Simulation& s) : s_(s) { s_.check_not_in_run("run"), s_.run_thread_ = std::this_thread::get_id(); }
+    ~InRun() { s_.run_thread_.reset(); }
+    InRun(const InRun&) = delete;
+    InRun& operator=(const InRun&) = delete;
+
+   private:
+    Simulation& s_;
+  };
+  void check_not_in_run(const char* method) const;
+  //! Marks the engine as running (a chunk with the GIL released) for the lifetime of the object.
   class Running {
    public:
     explicit Running(Simulation& s) : s_(s) { s_.check_idle(), s_.running_ = true; }
@@ -80,6 +106,7 @@ class Simulation {
  private:
   mutable std::shared_ptr<const ParticleSystem> snapshot_;
   std::atomic<bool> running_{false};
+  std::optional<std::thread::id> run_thread_;  // the thread in run(), set and read with the GIL held
   double kinetic0_ = 0, potential0_ = 0;
   std::shared_ptr<const ParticleSystem> start_;  // the state at the start of the measurement
   Vec3d momentum0_;
@@ -90,6 +117,7 @@ class StepperSim final : public Simulation {
  public:
   StepperSim(const SystemData& start, const Physics& physics, const StepperConfig& cfg, Precision precision);
   const char* name() const override { return "stepper"; }
+  const char* class_name() const override { return "Stepper"; }
   void run(std::int64_t steps);
   //! Refuses (InputError, the CLI's message) `steps` more steps over the work limit.
   void check_work(std::int64_t steps) const;
@@ -116,6 +144,7 @@ class EventSim final : public Simulation {
  public:
   EventSim(const SystemData& start, const Physics& physics, const EventConfig& cfg);
   const char* name() const override { return "event"; }
+  const char* class_name() const override { return "EventEngine"; }
   //! Runs to the absolute time `t_end` (since construction), part of a run ending at `run_end`.
   void run_until(double t_end, double run_end);
   //! Refuses (InputError, the CLI's message) a run of `duration` over the work limit.
@@ -145,12 +174,15 @@ class EventSim final : public Simulation {
 };
 
 //! hs.DumpWriter: the CLI's --dump, a frame per write(), the file committed by close() (until
-//! then it is a temporary, removed if the writer is discarded or the process dies).
+//! then it is a temporary, removed if the writer is discarded or the process dies, by a signal
+//! too). It belongs to the process that opened it: a forked child may not write or close it.
 class DumpFile {
  public:
   explicit DumpFile(const std::string& path);
   void write(const Simulation& sim);
   void close();
+  //! Refuses (InputError) a closed writer and one a forked child inherited.
+  void check_usable() const;
   void discard() { dump_.reset(); }
   bool closed() const { return !dump_; }
   std::int64_t frames() const { return frames_; }
@@ -159,6 +191,7 @@ class DumpFile {
  private:
   DumpWriter& open();
   std::string path_;
+  pid_t owner_;
   std::optional<DumpWriter> dump_;
   std::int64_t frames_ = 0;
 };

@@ -6,14 +6,17 @@
 #include <pybind11/numpy.h>
 #include <pybind11/stl.h>
 
+#include <climits>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <limits>
 #include <vector>
 
+#include "hardsphere/format.hpp"
 #include "hardsphere/lammps_io.hpp"
 #include "hardsphere/stepper.hpp"
+#include "values.hpp"
 
 namespace py = pybind11;
 
@@ -22,31 +25,8 @@ namespace hardsphere::python {
 namespace {
 
 std::array<double, 3> three(const py::object& v, const char* what) {
-  if (py::isinstance<py::float_>(v) || py::isinstance<py::int_>(v)) {
-    const double x = v.cast<double>();
-    return {x, x, x};
-  }
-  const auto list = v.cast<std::vector<double>>();
-  if (list.size() != 3) throw InputError(std::string(what) + " needs one value or three (x, y, z)");
-  return {list[0], list[1], list[2]};
-}
-
-//! An (N, k) float64 array's rows, or one value for all N when `v` is a number.
-std::vector<double> column(const py::object& v, std::size_t n, const char* what) {
-  if (py::isinstance<py::float_>(v) || py::isinstance<py::int_>(v)) return std::vector<double>(n, v.cast<double>());
-  auto a = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(v);
-  if (!a || a.ndim() != 1 || std::size_t(a.shape(0)) != n)
-    throw InputError(std::string(what) + " must be a number or have shape (N,) with N = " + std::to_string(n));
-  return std::vector<double>(a.data(), a.data() + n);
-}
-
-template <class T>
-py::array_t<T, py::array::c_style | py::array::forcecast> rows3(const py::object& v, std::size_t n, const char* what) {
-  auto a = py::array_t<T, py::array::c_style | py::array::forcecast>::ensure(v);
-  if (!a || a.ndim() != 2 || a.shape(1) != 3 || (n != std::size_t(-1) && std::size_t(a.shape(0)) != n))
-    throw InputError(std::string(what) + " must have shape (N, 3)" +
-                     (n != std::size_t(-1) ? " with N = " + std::to_string(n) : std::string()));
-  return a;
+  const auto x = one_or_three(v, what);
+  return {x[0], x[1], x[2]};
 }
 
 }  // namespace
@@ -65,44 +45,40 @@ Box make_box(const py::object& lengths, const std::string& boundary, const py::o
 std::shared_ptr<SystemData> make_system(const Box& box, const py::object& positions, const py::object& velocities,
                                         const py::object& radii, const py::object& masses, const py::object& ids,
                                         const py::object& types, const py::object& images, const py::object& omegas) {
-  const auto pos = rows3<double>(positions, std::size_t(-1), "positions");
-  const std::size_t n = std::size_t(pos.shape(0));
+  const auto pos = real_array(positions, kAnyRows, 3, "positions", false);
+  const std::size_t n = pos.size() / 3;
   auto data = std::make_shared<SystemData>();
   ParticleSystem& s = data->sys;
   s.box = box;
   s.resize(n);
-  const auto r = column(radii, n, "radii"), m = column(masses, n, "masses");
+  const auto r = real_array(radii, n, 1, "radii", true), m = real_array(masses, n, 1, "masses", true);
+  auto vec3 = [](const std::vector<double>& a, std::size_t i) { return Vec3d{a[3 * i], a[3 * i + 1], a[3 * i + 2]}; };
   for (std::size_t i = 0; i < n; ++i) {
     s.id[i] = std::int64_t(i + 1), s.type[i] = 1, s.radius[i] = r[i], s.mass[i] = m[i];
-    s.pos[i] = {pos.at(i, 0), pos.at(i, 1), pos.at(i, 2)};
-    s.vel[i] = {0, 0, 0}, s.image[i] = {0, 0, 0};
+    s.pos[i] = vec3(pos, i), s.vel[i] = {0, 0, 0}, s.image[i] = {0, 0, 0};
   }
   if (!velocities.is_none()) {
-    const auto v = rows3<double>(velocities, n, "velocities");
-    for (std::size_t i = 0; i < n; ++i) s.vel[i] = {v.at(i, 0), v.at(i, 1), v.at(i, 2)};
+    const auto v = real_array(velocities, n, 3, "velocities", false);
+    for (std::size_t i = 0; i < n; ++i) s.vel[i] = vec3(v, i);
   }
   if (!omegas.is_none()) {
-    const auto w = rows3<double>(omegas, n, "omegas");
-    for (std::size_t i = 0; i < n; ++i) s.omega[i] = {w.at(i, 0), w.at(i, 1), w.at(i, 2)};
+    const auto w = real_array(omegas, n, 3, "omegas", false);
+    for (std::size_t i = 0; i < n; ++i) s.omega[i] = vec3(w, i);
   }
+  // Integers as a data file has them: whole, in range, refused naming the value as given.
   if (!images.is_none()) {
-    const auto im = rows3<std::int32_t>(images, n, "images");
-    for (std::size_t i = 0; i < n; ++i) s.image[i] = {im.at(i, 0), im.at(i, 1), im.at(i, 2)};
+    const auto im = whole_array(images, n, 3, "images", INT32_MIN, INT32_MAX, "32-bit integers");
+    // A wall axis has no images: set to 0, as the data reader does (and LAMMPS's read_data).
+    for (std::size_t i = 0; i < n; ++i)
+      for (std::size_t d = 0; d < 3; ++d) s.image[i][d] = box.periodic[d] ? std::int32_t(im[3 * i + d]) : 0;
   }
   if (!ids.is_none()) {
-    auto a = py::array_t<std::int64_t, py::array::c_style | py::array::forcecast>::ensure(ids);
-    if (!a || a.ndim() != 1 || std::size_t(a.shape(0)) != n)
-      throw InputError("ids must have shape (N,) with N = " + std::to_string(n));
-    for (std::size_t i = 0; i < n; ++i) s.id[i] = a.at(i);
+    const auto id = whole_array(ids, n, 1, "ids", 1, INT64_MAX, "ids are 1 to " + std::to_string(INT64_MAX));
+    for (std::size_t i = 0; i < n; ++i) s.id[i] = id[i];
   }
   if (!types.is_none()) {
-    auto a = py::array_t<int, py::array::c_style | py::array::forcecast>::ensure(types);
-    if (!a || a.ndim() != 1 || std::size_t(a.shape(0)) != n)
-      throw InputError("types must have shape (N,) with N = " + std::to_string(n));
-    for (std::size_t i = 0; i < n; ++i) {
-      if (a.at(i) < 1) throw InputError("types must be >= 1 (found " + std::to_string(a.at(i)) + ")");
-      s.type[i] = a.at(i);
-    }
+    const auto t = whole_array(types, n, 1, "types", 1, INT32_MAX, "types are 1 to " + std::to_string(INT32_MAX));
+    for (std::size_t i = 0; i < n; ++i) s.type[i] = int(t[i]);
   }
   validate_and_wrap(s, "System");
   return data;
@@ -110,23 +86,34 @@ std::shared_ptr<SystemData> make_system(const Box& box, const py::object& positi
 
 std::shared_ptr<SystemData> generate(InitMethod method, std::int64_t n, std::optional<double> phi,
                                      const py::object& box, std::uint64_t seed, double radius, double mass,
-                                     double temperature, std::optional<double> speed, const std::string& boundary,
-                                     std::optional<double> rotational_temperature, double inertia) {
+                                     std::optional<double> temperature, std::optional<double> speed,
+                                     const std::string& boundary, std::optional<double> rotational_temperature,
+                                     std::optional<double> inertia) {
+  // Keywords that would be ignored are refused, as the CLI refuses --temperature with --init-speed.
+  if (temperature && speed) throw InputError("temperature and speed both set the velocities; give one");
+  if (inertia && !rotational_temperature)
+    throw InputError("inertia " + format_exact(*inertia) +
+                     " sets the spins' distribution: it needs rotational_temperature (without it the spheres do "
+                     "not spin)");
   InitSpec spec;
-  spec.rotational_temperature = rotational_temperature, spec.inertia = inertia;
-  spec.n = n, spec.radius = radius, spec.mass = mass, spec.temperature = temperature, spec.speed = speed;
+  spec.rotational_temperature = rotational_temperature, spec.inertia = inertia.value_or(0.4);
+  spec.n = n, spec.radius = radius, spec.mass = mass, spec.temperature = temperature.value_or(1.0), spec.speed = speed;
   spec.seed = seed, spec.method = method;
   const auto periodic = parse_boundary(boundary);
   if (!(radius > 0) || !std::isfinite(radius))
-    throw InputError("radius " + std::to_string(radius) + " must be positive and finite");
+    throw InputError("radius " + format_exact(radius) + " must be positive and finite");
   if (!box.is_none()) {
     if (phi) throw InputError("phi and box both set the box size; give one");
     spec.box = make_box(box, boundary, py::none());
   } else {
     const double p = phi.value_or(0.2);
-    if (!(p > 0)) throw InputError("phi " + std::to_string(p) + " must be positive");
+    if (!(p > 0) || !std::isfinite(p)) throw InputError("phi " + format_exact(p) + " must be positive and finite");
     // n < 1: any box, make_initial_state refuses the count with its own message.
     const double l = n < 1 ? 1.0 : std::cbrt(double(n) * 4.0 / 3.0 * M_PI * radius * radius * radius / p);
+    if (!(std::isfinite(l) && l > 0))  // as the CLI's --phi
+      throw InputError("phi " + format_exact(p) + " with radius " + format_number(radius) + " and n " +
+                       std::to_string(n) + " gives a box length " + format_number(l) +
+                       " that is not a positive finite number");
     spec.box = Box::from_lengths({l, l, l}, periodic);
   }
   auto data = std::make_shared<SystemData>();
@@ -167,10 +154,18 @@ Physics physics_of(const Box& box, double restitution, std::optional<double> con
                     "tangential_restitution", "friction", "inertia"});
 }
 
+double work_limit_of(double limit) {
+  if (!(limit > 0) || !std::isfinite(limit))
+    throw InputError("work_limit " + format_exact(limit) +
+                     " must be positive and finite (the most particle-steps or events a run may take)");
+  return limit;
+}
+
 std::array<int, 3> cells_of(const py::object& cells) {
   if (py::isinstance<py::str>(cells)) {
-    if (cells.cast<std::string>() == "auto") return {0, 0, 0};
-    throw InputError("cells '" + cells.cast<std::string>() + "' must be auto, K or (Kx, Ky, Kz)");
+    const std::string text = text_arg(cells, "cells");
+    if (text == "auto") return {0, 0, 0};
+    throw InputError("cells '" + text + "' must be auto, K or (Kx, Ky, Kz)");
   }
   const auto v = three(cells, "cells");
   std::array<int, 3> k{};

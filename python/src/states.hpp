@@ -46,11 +46,13 @@ std::shared_ptr<SystemData> make_system(const Box& box, const pybind11::object& 
                                         const pybind11::object& types, const pybind11::object& images,
                                         const pybind11::object& omegas);
 
-//! A generated state as the CLI's --n/--phi/--box/... make it.
+//! A generated state as the CLI's --n/--phi/--box/... make it (temperature 1 and inertia 0.4
+//! when not given; either is refused where it would be ignored).
 std::shared_ptr<SystemData> generate(InitMethod method, std::int64_t n, std::optional<double> phi,
                                      const pybind11::object& box, std::uint64_t seed, double radius, double mass,
-                                     double temperature, std::optional<double> speed, const std::string& boundary,
-                                     std::optional<double> rotational_temperature, double inertia);
+                                     std::optional<double> temperature, std::optional<double> speed,
+                                     const std::string& boundary, std::optional<double> rotational_temperature,
+                                     std::optional<double> inertia);
 
 //! A data file as --read-data reads it; FileError if it cannot be opened.
 std::shared_ptr<SystemData> from_data(const std::string& path, const std::string& boundary,
@@ -60,6 +62,9 @@ std::shared_ptr<SystemData> from_data(const std::string& path, const std::string
 Physics physics_of(const Box& box, double restitution, std::optional<double> contact_time,
                    std::optional<std::array<double, 3>> gravity, double resting_time, double tangential_restitution,
                    double friction, double inertia);
+
+//! work_limit: positive and finite (a NaN or infinity would be no limit at all).
+double work_limit_of(double limit);
 
 //! "auto", K or (Kx, Ky, Kz).
 std::array<int, 3> cells_of(const pybind11::object& cells);

@@ -123,3 +123,90 @@ def test_engine_busy_in_another_thread_is_refused(gas):
         worker.join()
     assert refused >= 3
     sim.run(steps=1)  # usable after
+
+
+# ---- re-entry (issue 42 item 16): a run cannot start, or its measurement restart, inside itself
+
+def reentry_message(cls, method):
+    call = f"{cls}.{method}()"
+    return (f"{call} called from inside this {cls}'s own run() (its callback or progress function): the run in "
+            f"progress would lose its place; return from the callback (returning False stops the run) and call "
+            f"{call} after run() returns")
+
+
+@pytest.mark.parametrize("engine,run,nested,stopped_at", [
+    ("Stepper", {"steps": 100, "every": 10}, {"steps": 100}, 10),
+    ("EventEngine", {"time": 1.0, "every": 0.1}, {"time": 1.0}, 0.1),
+])
+def test_run_from_its_own_callback_is_refused(gas, engine, run, nested, stopped_at):
+    """Before: the event engine ended at 1.1 with 1 of 10 callbacks, the stepper at 200 steps."""
+    sim = getattr(hs, engine)(gas)
+    calls = []
+
+    def again(s):
+        calls.append(s.sim_time)
+        s.run(**nested)
+    with pytest.raises(RuntimeError) as err:
+        sim.run(callback=again, **run)
+    assert str(err.value) == reentry_message(engine, "run")
+    assert len(calls) == 1 and abs(sim.sim_time - stopped_at * (0.01 if engine == "Stepper" else 1)) < 1e-12
+    sim.run(**nested)  # usable after
+
+
+@pytest.mark.parametrize("engine,run", [("Stepper", {"steps": 20}), ("EventEngine", {"time": 0.2})])
+def test_reset_or_run_from_progress_or_callback_is_refused(gas, engine, run):
+    sim = getattr(hs, engine)(gas)
+    with pytest.raises(RuntimeError) as err:
+        sim.run(progress=lambda f, t: sim.run(**run), **run)
+    assert str(err.value) == reentry_message(engine, "run")
+    every = {"every": 5} if engine == "Stepper" else {"every": 0.05}
+    with pytest.raises(RuntimeError) as err:
+        sim.run(callback=lambda s: s.reset_counters(), **every, **run)
+    assert str(err.value) == reentry_message(engine, "reset_counters")
+
+
+@pytest.mark.parametrize("engine,run,every", [("Stepper", {"steps": 40}, 10), ("EventEngine", {"time": 0.4}, 0.1)])
+def test_reading_and_writing_from_a_callback_is_allowed(gas, tmp_path, engine, run, every):
+    """What reads the state (arrays, observables, files, a System, another engine's run) changes nothing."""
+    sim = getattr(hs, engine)(gas)
+    other = hs.Stepper(gas)
+    seen = []
+
+    def look(s):
+        k = len(seen)
+        seen.append((s.positions.copy(), s.observables()["collisions"]))
+        s.write_data(str(tmp_path / f"{k}.data"))
+        s.write_dump(str(tmp_path / f"{k}.dump"))
+        dump.write(s)
+        s.system()
+        other.run(steps=1)
+    with hs.DumpWriter(str(tmp_path / "traj.dump")) as dump:
+        sim.run(callback=look, every=every, **run)
+    assert len(seen) == 4 and other.steps == 4 and dump.frames == 4
+    assert np.array_equal(seen[-1][0], sim.positions)
+    assert len(os.listdir(tmp_path)) == 9
+
+
+def test_another_threads_run_during_a_callback_is_refused():
+    """Between chunks (in a callback) the run is still in progress: another thread may read the
+    state but not run the engine (before, its run interleaved with this one)."""
+    import threading
+    sim = hs.Stepper(hs.System.random(n=300, phi=0.2, seed=3))
+    outcome = []
+
+    def from_other_thread():
+        try:
+            sim.run(steps=5)
+            outcome.append("ran")
+        except ValueError as e:
+            outcome.append(str(e))
+        outcome.append(sim.positions.shape)
+
+    def callback(s):
+        t = threading.Thread(target=from_other_thread)
+        t.start()
+        t.join()
+    sim.run(steps=20, callback=callback, every=10)
+    assert outcome == ["the engine is running in another thread; wait for its run() to return", (300, 3),
+                       "the engine is running in another thread; wait for its run() to return", (300, 3)]
+    assert sim.steps == 20

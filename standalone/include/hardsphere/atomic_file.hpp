@@ -3,6 +3,8 @@
 //! (the target's name + ".tmp." + pid, in the target's directory) and renamed into place only
 //! when the whole run succeeded. Every open temporary is listed in a fixed table that a signal
 //! handler can read without allocating, so a terminating signal removes them too.
+#include <sys/types.h>
+
 #include <fstream>
 #include <initializer_list>
 #include <string>
@@ -34,6 +36,7 @@ class AtomicFile {
   std::string path_, target_, tmp_;
   std::ofstream out_;
   int slot_ = -1;  // entry in the signal handler's table
+  pid_t owner_{};  // the process that made the temporary (a forked child leaves it alone)
   bool committed_ = false;
 };
 
@@ -43,10 +46,12 @@ void commit_together(std::initializer_list<AtomicFile*> files);
 
 //! Installs handlers for every catchable signal whose default action ends the process (SIGHUP,
 //! SIGINT, SIGTERM, SIGUSR1/2, SIGALRM, SIGPIPE, SIGABRT, faults, real-time signals, ...) that
-//! remove every open temporary file, then let the process die by the same signal (default
-//! action re-raised). Signals that are ignored at the time of the call (e.g. SIGHUP under nohup)
-//! stay ignored.
-//! The CLI calls this once; library users writing outputs may call it too.
+//! remove every open temporary file of this process, then let the process die by the same
+//! signal (default action re-raised). Only signals at their default action are taken: one that
+//! is ignored at the time of the call (e.g. SIGHUP under nohup) stays ignored, and one that has
+//! a handler keeps it (the host's handler decides whether the process ends; Python's
+//! KeyboardInterrupt stays). Calling it again takes signals set back to the default since.
+//! The CLI calls this once; the Python module before each file it writes.
 void install_cleanup_signal_handlers();
 
 //! The absolute path a file name refers to, with symlinks resolved as far as the path exists

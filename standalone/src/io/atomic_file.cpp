@@ -23,11 +23,13 @@ namespace fs = std::filesystem;
 // The temporaries a signal handler must remove, in storage that needs no allocation: a slot's
 // path is written while the slot is free and published by `used` (lock-free, so the handler may
 // read it). Registration happens before the file is created, removal of the entry after the
-// file is gone, so a signal at any moment finds every temporary that exists.
+// file is gone, so a signal at any moment finds every temporary that exists. A forked child
+// inherits the table and the AtomicFiles: `owner` keeps it from removing its parent's files.
 constexpr int kSlots = 32;
 constexpr std::size_t kSlotPath = 4096 + 64;
 struct Slot {
   std::atomic<int> used{0};
+  pid_t owner = 0;
   char path[kSlotPath];
 };
 Slot g_slots[kSlots];
@@ -54,6 +56,7 @@ int register_temporary(const std::string& tmp, const std::string& shown) {
   }
   if (free_slot < 0) throw std::runtime_error("more than " + std::to_string(kSlots) + " output files open at once");
   std::memcpy(g_slots[free_slot].path, tmp.c_str(), tmp.size() + 1);
+  g_slots[free_slot].owner = ::getpid();
   g_slots[free_slot].used.store(1, std::memory_order_release);
   return free_slot;
 }
@@ -64,8 +67,9 @@ void unregister_temporary(int slot) {
 
 extern "C" void remove_temporaries_and_die(int sig) {
   const int saved = errno;
+  const pid_t self = ::getpid();
   for (auto& s : g_slots)
-    if (s.used.load(std::memory_order_acquire)) ::unlink(s.path);
+    if (s.used.load(std::memory_order_acquire) && s.owner == self) ::unlink(s.path);
   errno = saved;
   // Die by the same signal, so the parent sees "killed by SIGxxx": it is blocked while this
   // handler runs and delivered with the default action as soon as the handler returns.
@@ -143,7 +147,8 @@ void check_output_paths(const std::vector<std::pair<std::string, std::string>>& 
 AtomicFile::AtomicFile(std::string path) : path_(std::move(path)) {
   target_ = resolved_output_path(path_);
   check_target(target_, "output '" + path_ + "'");
-  tmp_ = target_ + ".tmp." + std::to_string(::getpid());
+  owner_ = ::getpid();
+  tmp_ = target_ + ".tmp." + std::to_string(owner_);
   slot_ = register_temporary(tmp_, path_);  // before the file exists, see g_slots
   out_.open(tmp_, std::ios::out | std::ios::trunc);
   if (!out_) {
@@ -155,7 +160,7 @@ AtomicFile::AtomicFile(std::string path) : path_(std::move(path)) {
 }
 
 AtomicFile::~AtomicFile() {
-  if (!committed_) {
+  if (!committed_ && owner_ == ::getpid()) {  // a forked child's copy leaves its parent's file
     out_.close();
     ::unlink(tmp_.c_str());
     unregister_temporary(slot_);  // after the file is gone, see g_slots
@@ -207,8 +212,10 @@ void install_cleanup_signal_handlers() {
   sa.sa_mask = cleanup_signal_set();  // one cleanup at a time
   sa.sa_flags = 0;
   for_each_cleanup_signal([&](int s) {
+    // Only the default action is replaced: a signal that is ignored, or handled by the host
+    // program (Python's KeyboardInterrupt), does not end the process here.
     struct sigaction old {};
-    if (sigaction(s, nullptr, &old) != 0 || old.sa_handler == SIG_IGN) return;
+    if (sigaction(s, nullptr, &old) != 0 || (old.sa_flags & SA_SIGINFO) || old.sa_handler != SIG_DFL) return;
     sigaction(s, &sa, nullptr);
   });
 }
