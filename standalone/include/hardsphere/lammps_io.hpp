@@ -33,12 +33,13 @@ void write_data(const std::string& path, const ParticleSystem& sys, const std::s
 void write_data(std::ostream& out, const ParticleSystem& sys, const std::string& title);
 
 //! LAMMPS text dump ("ITEM: ATOMS id type radius x y z vx vy vz ix iy iz", then "wx wy wz" for
-//! rough spheres), readable by OVITO and VMD.
+//! rough spheres, or when the first frame has a spin that is not +0), readable by OVITO and VMD.
 class DumpWriter {
  public:
   explicit DumpWriter(const std::string& path, bool omega = false) : file_(path), omega_(omega) {}
   void write_frame(std::int64_t timestep, const ParticleSystem& sys);
-  //! Whether the frames carry wx wy wz (set before the first frame).
+  //! Whether the frames carry wx wy wz (set before the first frame; off, the first frame's spins
+  //! decide).
   void set_omega(bool on) { omega_ = on; }
   void commit() { file_.commit(); }
   AtomicFile& file() { return file_; }
@@ -46,6 +47,7 @@ class DumpWriter {
  private:
   AtomicFile file_;
   bool omega_ = false;
+  std::int64_t frames_ = 0;
 };
 
 }  // namespace hardsphere

@@ -66,8 +66,8 @@ ParticleSystem validated_spheres(const ParticleSystem& sys_in, const EventConfig
 struct EventEngine::Impl {
   Impl(const ParticleSystem& sys, const Physics& physics, const EventConfig& cfg)
       : proto(sys), loop(proto, physics, cfg) {}
-  // ids, types, radii, masses and input images in input order (positions unused); before the
-  // loop, which names atoms by its ids.
+  // ids, types, radii, masses, input images and (smooth spheres) spins in input order (positions
+  // unused); before the loop, which names atoms by its ids.
   ParticleSystem proto;
   event::EventLoop loop;
 };
@@ -89,11 +89,9 @@ void EventEngine::advance_events(std::int64_t count) { impl_->loop.run_events(co
 ParticleSystem EventEngine::state() const {
   ParticleSystem out = impl_->proto;
   impl_->loop.trajectories().observe(impl_->loop.now(), out);
+  // Smooth spheres keep the spins they were given (proto's), bit for bit.
   const std::vector<Vec3d>& omega = impl_->loop.omega();
-  if (omega.empty())
-    out.omega.assign(out.size(), Vec3d{});
-  else
-    out.omega = omega;
+  if (!omega.empty()) out.omega = omega;
   wrap_periodic(out);
   return out;
 }

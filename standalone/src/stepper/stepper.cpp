@@ -26,6 +26,7 @@
 #include "stepper/grid_choice.hpp"
 #include "stepper/list_guard.hpp"
 #include "stepper/pair_list.hpp"
+#include "stepper/smooth_spins.hpp"
 
 namespace hardsphere {
 
@@ -207,6 +208,15 @@ class Stepper final : public StepperBase, public StateExchange {
     refresh_speed_bound();
   }
   void scatter_omega(const std::uint32_t* dest, double* omega) const override {
+    if (omega_.empty()) {  // smooth: the spins carried
+      for (std::size_t k = 0; k < slot_.size(); ++k)
+        if (dest[k] != kNoRow) {
+          const Vec3d w = spins_.at(slot_[k]);
+          double* o = omega + 3 * std::size_t(dest[k]);
+          o[0] = w.x, o[1] = w.y, o[2] = w.z;
+        }
+      return;
+    }
     for (std::size_t k = 0; k < omega_.size(); ++k) {
       if (dest[k] == kNoRow) continue;
       double* o = omega + 3 * std::size_t(dest[k]);
@@ -214,6 +224,13 @@ class Stepper final : public StepperBase, public StateExchange {
     }
   }
   void gather_omega(const std::uint32_t* src, const double* omega) override {
+    if (omega_.empty()) {
+      for (std::size_t k = 0; k < slot_.size(); ++k) {
+        const double* o = omega + 3 * std::size_t(src[k]);
+        spins_.set(slot_[k], {o[0], o[1], o[2]}, slot_.size());
+      }
+      return;
+    }
     for (std::size_t k = 0; k < omega_.size(); ++k) {
       const double* o = omega + 3 * std::size_t(src[k]);
       omega_[k] = {Real(o[0]), Real(o[1]), Real(o[2])};
@@ -222,7 +239,7 @@ class Stepper final : public StepperBase, public StateExchange {
   void copy_omega(const std::uint32_t* slots, std::size_t count, Vec3d* out) const override {
     for (std::size_t i = 0; i < count; ++i) {
       if (omega_.empty()) {
-        out[i] = {0, 0, 0};
+        out[i] = spins_.at(slot_[slots[i]]);
         continue;
       }
       const auto& w = omega_[slots[i]];
@@ -230,7 +247,10 @@ class Stepper final : public StepperBase, public StateExchange {
     }
   }
   void set_omega(const std::uint32_t* slots, std::size_t count, const Vec3d* w) override {
-    if (omega_.empty()) return;
+    if (omega_.empty()) {
+      for (std::size_t i = 0; i < count; ++i) spins_.set(slot_[slots[i]], w[i], slot_.size());
+      return;
+    }
     for (std::size_t i = 0; i < count; ++i) omega_[slots[i]] = {Real(w[i].x), Real(w[i].y), Real(w[i].z)};
   }
   double iw2_sum() const override {
@@ -465,6 +485,7 @@ class Stepper final : public StepperBase, public StateExchange {
   std::array<Real, 3> gravity_{0, 0, 0};  // uniform acceleration (wall axes only)
   bool has_gravity_ = false;
   std::vector<V3<Real>> omega_;  // angular velocities in cell order, rough scenes only (else empty)
+  detail::SmoothSpins spins_;    // smooth scenes: the spins given, unchanged, by id rank
   double inertia_ = 0.4;         // q of I = q m r^2
 };
 
@@ -578,6 +599,8 @@ Stepper<Real, Mono>::Stepper(const ParticleSystem& sys, const Physics& physics, 
     }
     inertia_ = physics.inertia;
     resolver_.set_roughness({Real(physics.tangential_restitution), Real(physics.friction), Real(physics.inertia)});
+  } else {
+    spins_.take(sys.omega, by_id);
   }
   if (n) sigma_ = Real(2) * r_[0];
   max_radius_ = Real(sys.max_radius());
@@ -879,7 +902,8 @@ ParticleSystem Stepper<Real, Mono>::state() const {
     for (std::size_t d = 0; d < 3; ++d)
       image[d] = std::int32_t(
           std::clamp(std::int64_t(image0_[s][d]) + image_[s][d], std::int64_t(INT32_MIN), std::int64_t(INT32_MAX)));
-    const Vec3d w = omega_.empty() ? Vec3d{} : Vec3d{double(omega_[k].x), double(omega_[k].y), double(omega_[k].z)};
+    const Vec3d w =
+        omega_.empty() ? spins_.at(s) : Vec3d{double(omega_[k].x), double(omega_[k].y), double(omega_[k].z)};
     out.push_back(id_[s], type_[s], double(r_[k]), double(m_[k]), p,
                   {double(vel_[k].x), double(vel_[k].y), double(vel_[k].z)}, image, w);
   }
