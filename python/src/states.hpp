@@ -58,8 +58,8 @@ std::shared_ptr<SystemData> from_data(const std::string& path, const std::string
 
 //! The physics keywords, validated with the keywords' names in messages.
 Physics physics_of(const Box& box, double restitution, std::optional<double> contact_time,
-                   std::optional<std::array<double, 3>> gravity, double resting_time, double tangential_restitution,
-                   double friction, double inertia);
+                   std::optional<std::array<double, 3>> gravity, std::optional<double> resting_time,
+                   double tangential_restitution, std::optional<double> friction, std::optional<double> inertia);
 
 //! "auto", K or (Kx, Ky, Kz).
 std::array<int, 3> cells_of(const pybind11::object& cells);
