@@ -386,6 +386,7 @@ hardsphere::StepperConfig FixHardSphere::stepper_config() const {
   cfg.dt = dt;
   cfg.detect = sweep ? hardsphere::Detect::Sweep : hardsphere::Detect::Overlap;
   cfg.max_events_per_step = max_events;
+  cfg.names = physics_names();  // the keywords in the library's advice
   return cfg;
 }
 

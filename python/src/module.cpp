@@ -220,6 +220,7 @@ PYBIND11_MODULE(_hardsphere, m) {
            cfg.detect = parse_detect(detect);
            cfg.cells = cells_of(cells);
            cfg.max_particle_steps = work_limit;
+           cfg.names = physics_names();
            const Physics p = physics_of(s.sys.box, restitution, contact_time, gravity, resting_time,
                                         tangential_restitution, friction, inertia);
            return std::make_unique<StepperSim>(s, p, cfg, parse_precision(precision));
@@ -255,6 +256,7 @@ PYBIND11_MODULE(_hardsphere, m) {
            cfg.cells = cells_of(cells);
            cfg.shell = shell;
            cfg.max_events = work_limit;
+           cfg.names = physics_names();
            const Physics p = physics_of(s.sys.box, restitution, contact_time, gravity, resting_time,
                                         tangential_restitution, friction, inertia);
            return std::make_unique<EventSim>(s, p, cfg);

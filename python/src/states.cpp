@@ -167,10 +167,14 @@ Physics physics_of(const Box& box, double restitution, std::optional<double> con
   PhysicsGiven given;
   given.contact_time = contact_time.has_value(), given.resting_time = resting_time.has_value();
   given.friction = friction.has_value(), given.inertia = inertia.has_value();
-  return validated(p, box.periodic,
-                   {"restitution", "contact_time", "gravity", "walls on that axis (boundary ...,w)", "resting_time",
-                    "tangential_restitution", "friction", "inertia"},
-                   given);
+  return validated(p, box.periodic, physics_names(), given);
+}
+
+const PhysicsNames& physics_names() {
+  static const PhysicsNames names{
+      "restitution",  "contact_time",           "gravity",  "walls on that axis (boundary ...,w)",
+      "resting_time", "tangential_restitution", "friction", "inertia"};
+  return names;
 }
 
 std::array<int, 3> cells_of(const py::object& cells) {

@@ -56,6 +56,9 @@ std::shared_ptr<SystemData> generate(InitMethod method, std::int64_t n, std::opt
 std::shared_ptr<SystemData> from_data(const std::string& path, const std::string& boundary,
                                       const std::string& precision);
 
+//! The keywords' names of the physics settings, for the library's messages.
+const PhysicsNames& physics_names();
+
 //! The physics keywords, validated with the keywords' names in messages.
 Physics physics_of(const Box& box, double restitution, std::optional<double> contact_time,
                    std::optional<std::array<double, 3>> gravity, std::optional<double> resting_time,

@@ -274,6 +274,7 @@ CommandLine parse_command_line(int argc, const char* const* argv) {
   given.contact_time = o_contact_time->count(), given.resting_time = o_resting_time->count();
   given.friction = o_friction->count(), given.inertia = o_inertia->count();
   spec.physics = validated(spec.physics, spec.periodic, physics_names(), given);
+  spec.stepper.names = spec.event.names = physics_names();
   // Initial rotation is the command line's own (no other face makes states and physics together).
   if (o_t_rot->count() && !spec.physics.rough())
     throw InputError("--rotational-temperature " + t_rot_s + ": smooth spheres (" +

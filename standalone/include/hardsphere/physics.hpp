@@ -85,4 +85,9 @@ struct PhysicsGiven {
 Physics validated(Physics p, const std::array<bool, 3>& periodic, const PhysicsNames& names = {},
                   const PhysicsGiven& given = {});
 
+//! What a refusal of jammed spheres adds for inelastic collisions (empty when elastic): the
+//! chain may be an inelastic collapse (a settling bed), which a longer contact time lets
+//! through, named as the face names it.
+std::string collapse_advice(const Physics& p, const PhysicsNames& names);
+
 }  // namespace hardsphere

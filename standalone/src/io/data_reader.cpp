@@ -310,6 +310,7 @@ class DataFile {
     const auto missing = std::find(given.begin(), given.end(), 0L);
     if (missing != given.end())
       r_.fail("Velocities section has no row for atom id " + std::to_string(sys_.id[missing - given.begin()]));
+    velocity_line_ = std::move(given);
   }
 
   // Per-type masses are not used (atom_style sphere takes mass from per-atom density), but the
@@ -346,6 +347,8 @@ class DataFile {
 
   ParticleSystem take() { return std::move(sys_); }
   const std::vector<long>& atom_lines() const { return atom_line_; }
+  //! Each atom's Velocities line (empty without that section).
+  const std::vector<long>& velocity_lines() const { return velocity_line_; }
 
  private:
   void atom_row(const Words& w) {
@@ -397,7 +400,7 @@ class DataFile {
   const std::string type_range_;  // for messages, built once
   ParticleSystem sys_;
   std::unordered_map<std::int64_t, std::size_t> index_;  // atom id -> row
-  std::vector<long> atom_line_;
+  std::vector<long> atom_line_, velocity_line_;
   double max_radius_ = 0;
   std::size_t widest_ = 0;  // row of the largest sphere
 };
@@ -440,9 +443,11 @@ ParticleSystem read_data(std::istream& in, const std::string& name, std::array<b
   }
   if (!seen.count("Atoms")) r.fail("no Atoms section");
   data.check_periodic_lengths();
-  const std::vector<long> lines = data.atom_lines();
   ParticleSystem sys = data.take();
-  validate_and_wrap(sys, name, &lines, rounding_eps);
+  sys.source = name;  // later refusals (engines, work estimates) name the atom's line too
+  sys.source_line = data.atom_lines();
+  sys.velocity_line = data.velocity_lines();
+  validate_and_wrap(sys, name, &sys.source_line, rounding_eps);
   return sys;
 }
 

@@ -96,4 +96,12 @@ Physics validated(Physics p, const std::array<bool, 3>& periodic, const PhysicsN
   return p;
 }
 
+std::string collapse_advice(const Physics& p, const PhysicsNames& names) {
+  if (p.elastic()) return "";
+  return "; with " + names.restitution + " " + format_number(p.restitution) +
+         " it may also be an inelastic collapse (spheres settling onto each other), which a longer " +
+         names.contact_time + " (now " + format_number(p.contact_time) +
+         ") lets through: the TC model makes a sphere's collisions elastic within that time of its last one";
+}
+
 }  // namespace hardsphere
