@@ -71,8 +71,9 @@ nlohmann::json run_simulation(const RunSpec& spec);
 //! Refuses (InputError) output paths that collide or cannot be written (see check_output_paths).
 void check_outputs(const RunSpec& spec);
 
-//! The initial state a RunSpec describes (generated or read), validated.
-ParticleSystem initial_state(const RunSpec& spec);
+//! The initial state a RunSpec describes (generated or read), validated; what read_data skipped
+//! of the data file goes to `notes` (the summary's warnings).
+ParticleSystem initial_state(const RunSpec& spec, std::vector<std::string>* notes = nullptr);
 
 //! CPU time of this process in seconds (what the seed paper measured).
 double process_cpu_seconds();
