@@ -94,6 +94,23 @@ def test_malformed_coefficients_and_boxes_are_refused(hs, tmp_path, edit, needle
         assert n in p.stderr, (n, p.stderr)
 
 
+@pytest.mark.parametrize("edit,warning", [
+    # LAMMPS refuses per-type masses for atom_style sphere; hardsphere reads them and says it does not use them
+    (("\nAtoms # sphere", "\nMasses\n\n1 2.0\n2 3.0\n\nAtoms # sphere"),
+     "lmp2025_granular.data:10: Masses skipped: atom_style sphere takes each atom's mass from its density"),
+    # LAMMPS resets image flags on non-periodic axes with a warning: so does hardsphere
+    (("4.5 1.2 2 1 -2 0", "4.5 1.2 2 1 -2 3"),
+     "lmp2025_granular.data:14: atom 3: image flag 3 on the wall axis z set to 0, as LAMMPS does"),
+])
+def test_values_read_and_not_used_are_named(hs, tmp_path, edit, warning):
+    text = (DATA / "lmp2025_granular.data").read_text()
+    assert edit[0] in text
+    f = tmp_path / "lmp2025_granular.data"
+    f.write_text(text.replace(edit[0], edit[1], 1))
+    p = run(hs, "--read-data", f, "--boundary", "p,p,w", "--steps", 0)
+    assert p.returncode == 0 and f"hardsphere: warning: {f.parent}/{warning}" in p.stderr, p.stderr
+
+
 def test_a_tilted_box_is_refused_naming_its_line(hs, tmp_path):
     p, _ = through_hardsphere(hs, tmp_path, "lmp2026_tilted.data")
     assert p.returncode == 2, p.stderr

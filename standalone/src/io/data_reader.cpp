@@ -170,9 +170,13 @@ class DataFile {
     velocity_line_ = std::move(given);
   }
 
-  // Per-type masses are not used (atom_style sphere takes mass from per-atom density), but the
-  // rows must still be well-formed: `type mass`, each type 1..ntypes once, mass positive.
+  // Per-type masses are not used (atom_style sphere takes mass from per-atom density; LAMMPS
+  // refuses the section for it), but the rows must still be well-formed: `type mass`, each type
+  // 1..ntypes once, mass positive; the section is skipped with a note.
   void masses() {
+    notes_.push_back(r_.name() + ":" + std::to_string(r_.line()) +
+                     ": Masses skipped: atom_style sphere takes each atom's mass from its density (LAMMPS refuses "
+                     "per-type masses for it)");
     std::unordered_map<std::int64_t, long> seen;
     Words w;
     for (std::int64_t k = 0; k < h_.ntypes; ++k) {
@@ -207,6 +211,15 @@ class DataFile {
   const std::vector<long>& atom_lines() const { return atom_line_; }
   //! Each atom's Velocities line (empty without that section).
   const std::vector<long>& velocity_lines() const { return velocity_line_; }
+  //! What was read and not used: a Masses section, image flags on wall axes.
+  std::vector<std::string> notes() const {
+    std::vector<std::string> out = notes_;
+    if (wall_images_ > 0)
+      out.push_back(first_wall_image_ +
+                    (wall_images_ > 1 ? " and " + std::to_string(wall_images_ - 1) + " more on wall axes" : "") +
+                    " set to 0, as LAMMPS does: a wall axis has no periodic images");
+    return out;
+  }
 
  private:
   void atom_row(const Words& w) {
@@ -248,8 +261,13 @@ class DataFile {
       widest_ = sys_.size();
     }
     atom_line_.push_back(r_.line());
-    for (int d = 0; d < 3; ++d)
-      if (!sys_.box.periodic[d]) image[std::size_t(d)] = 0;  // walls: no images (as LAMMPS)
+    for (int d = 0; d < 3; ++d)  // walls: no images; reset with a note, as LAMMPS does
+      if (!sys_.box.periodic[d] && image[std::size_t(d)] != 0) {
+        if (wall_images_++ == 0)
+          first_wall_image_ = r_.name() + ":" + std::to_string(r_.line()) + ": atom " + id_s + ": image flag " +
+                              w[7 + std::size_t(d)] + " on the wall axis " + "xyz"[d];
+        image[std::size_t(d)] = 0;
+      }
     sys_.push_back(id, int(type), radius, mass, p, {}, image);
   }
 
@@ -259,6 +277,9 @@ class DataFile {
   ParticleSystem sys_;
   std::unordered_map<std::int64_t, std::size_t> index_;  // atom id -> row
   std::vector<long> atom_line_, velocity_line_;
+  std::vector<std::string> notes_;
+  std::int64_t wall_images_ = 0;  // image flags on wall axes reset to 0, the first of them named
+  std::string first_wall_image_;
   double max_radius_ = 0;
   std::size_t widest_ = 0;  // row of the largest sphere
 };
@@ -310,7 +331,11 @@ ParticleSystem read_data(std::istream& in, const std::string& name, std::array<b
   if (!seen.count("Atoms")) r.fail("no Atoms section");
   data.check_periodic_lengths();
   extra.check(data.system(), data.atom_lines(), name);
-  if (notes) notes->insert(notes->end(), extra.notes().begin(), extra.notes().end());
+  if (notes) {
+    notes->insert(notes->end(), extra.notes().begin(), extra.notes().end());
+    const std::vector<std::string> own = data.notes();
+    notes->insert(notes->end(), own.begin(), own.end());
+  }
   ParticleSystem sys = data.take();
   sys.source = name;  // later refusals (engines, work estimates) name the atom's line too
   sys.source_line = data.atom_lines();
