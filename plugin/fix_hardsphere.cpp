@@ -53,12 +53,15 @@ FixHardSphere::FixHardSphere(LAMMPS *lmp, int narg, char **arg) : Fix(lmp, narg,
       physics.restitution = utils::numeric(FLERR, arg[a + 1], false, lmp);
     } else if (key == "contact_time") {
       physics.contact_time = utils::numeric(FLERR, arg[a + 1], false, lmp);
+      given.contact_time = true;
     } else if (key == "tangential_restitution") {
       physics.tangential_restitution = utils::numeric(FLERR, arg[a + 1], false, lmp);
     } else if (key == "friction") {
       physics.friction = utils::numeric(FLERR, arg[a + 1], false, lmp);
+      given.friction = true;
     } else if (key == "inertia") {
       physics.inertia = utils::numeric(FLERR, arg[a + 1], false, lmp);
+      given.inertia = true;
     } else if (key == "ghost") {
       if (val == "auto")
         ghost_auto = true;
@@ -84,7 +87,7 @@ FixHardSphere::FixHardSphere(LAMMPS *lmp, int narg, char **arg) : Fix(lmp, narg,
     }
   }
   try {  // gravity comes from fix gravity at setup, checked there against the boundaries
-    physics = hardsphere::validated(physics, {false, false, false}, physics_names());
+    physics = hardsphere::validated(physics, {false, false, false}, physics_names(), given);
   } catch (const std::exception &e) {
     error->all(FLERR, std::string("fix hardsphere: ") + e.what());
   }
@@ -384,6 +387,7 @@ hardsphere::StepperConfig FixHardSphere::stepper_config() const {
   cfg.dt = dt;
   cfg.detect = sweep ? hardsphere::Detect::Sweep : hardsphere::Detect::Overlap;
   cfg.max_events_per_step = max_events;
+  cfg.names = physics_names();  // the keywords in the library's advice
   return cfg;
 }
 

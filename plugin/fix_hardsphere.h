@@ -112,7 +112,8 @@ class FixHardSphere : public Fix {
   //! Restitution, contact time, tangential restitution, friction and inertia from the keywords,
   //! gravity from the fix gravity commands (read at setup); validated at setup.
   hardsphere::Physics physics{1.0, hardsphere::kDefaultContactTime, {0, 0, 0}};
-  PartTimer timing;  //!< 'timing yes': wall time per part, printed at the end of each run
+  hardsphere::PhysicsGiven given;  //!< the keywords given: one that would have no effect is refused
+  PartTimer timing;                //!< 'timing yes': wall time per part, printed at the end of each run
 
   double dt = 0.0;
   std::unique_ptr<StepPath> path;    //!< made at the first init(): serial on one rank, else owned + ghost

@@ -339,7 +339,7 @@ void FixHardSphere::read_gravity() {
   try {
     physics = hardsphere::validated(
         physics, {domain->periodicity[0] != 0, domain->periodicity[1] != 0, domain->periodicity[2] != 0},
-        physics_names());
+        physics_names(), given);
   } catch (const std::exception &e) {
     error->all(FLERR, std::string("fix hardsphere: ") + e.what());
   }

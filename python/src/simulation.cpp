@@ -140,7 +140,7 @@ StepperSim::StepperSim(const SystemData& start, const Physics& physics, const St
 }
 
 void StepperSim::check_work(std::int64_t steps) const {
-  check_stepper_work(engine(), cfg_, *state(), steps, cfg_.max_particle_steps);
+  check_stepper_work(engine(), cfg_, *state(), steps, cfg_.max_particle_steps, physics_);
 }
 
 void StepperSim::run(std::int64_t steps) {
@@ -178,7 +178,7 @@ void EventSim::run_until(double t_end, double run_end) {
 }
 
 void EventSim::check_work(double duration) const {
-  check_event_work(*state(), engine().shell(), duration, cfg_.max_events, physics_.gravity);
+  check_event_work(*state(), engine().shell(), duration, cfg_.max_events, physics_);
 }
 
 RunTotals EventSim::totals() const { return run_totals(engine_->counters(), 0, {}); }

@@ -141,17 +141,27 @@ std::shared_ptr<SystemData> from_data(const std::string& path, const std::string
 }
 
 Physics physics_of(const Box& box, double restitution, std::optional<double> contact_time,
-                   std::optional<std::array<double, 3>> gravity, double resting_time, double tangential_restitution,
-                   double friction, double inertia) {
+                   std::optional<std::array<double, 3>> gravity, std::optional<double> resting_time,
+                   double tangential_restitution, std::optional<double> friction, std::optional<double> inertia) {
   Physics p;
-  p.tangential_restitution = tangential_restitution, p.friction = friction, p.inertia = inertia;
+  p.tangential_restitution = tangential_restitution;
+  p.friction = friction.value_or(p.friction), p.inertia = inertia.value_or(p.inertia);
   p.restitution = restitution;
   p.contact_time = contact_time.value_or(restitution < 1 ? kDefaultContactTime : 0.0);
   if (gravity) p.gravity = *gravity;
-  p.resting_time = resting_time;
-  return validated(p, box.periodic,
-                   {"restitution", "contact_time", "gravity", "walls on that axis (boundary ...,w)", "resting_time",
-                    "tangential_restitution", "friction", "inertia"});
+  p.resting_time = resting_time.value_or(0.0);
+  // The library's option rules refuse a keyword given where it has no effect.
+  PhysicsGiven given;
+  given.contact_time = contact_time.has_value(), given.resting_time = resting_time.has_value();
+  given.friction = friction.has_value(), given.inertia = inertia.has_value();
+  return validated(p, box.periodic, physics_names(), given);
+}
+
+const PhysicsNames& physics_names() {
+  static const PhysicsNames names{
+      "restitution",  "contact_time",           "gravity",  "walls on that axis (boundary ...,w)",
+      "resting_time", "tangential_restitution", "friction", "inertia"};
+  return names;
 }
 
 double work_limit_of(double limit) {

@@ -58,10 +58,13 @@ std::shared_ptr<SystemData> generate(InitMethod method, std::int64_t n, std::opt
 std::shared_ptr<SystemData> from_data(const std::string& path, const std::string& boundary,
                                       const std::string& precision);
 
+//! The keywords' names of the physics settings, for the library's messages.
+const PhysicsNames& physics_names();
+
 //! The physics keywords, validated with the keywords' names in messages.
 Physics physics_of(const Box& box, double restitution, std::optional<double> contact_time,
-                   std::optional<std::array<double, 3>> gravity, double resting_time, double tangential_restitution,
-                   double friction, double inertia);
+                   std::optional<std::array<double, 3>> gravity, std::optional<double> resting_time,
+                   double tangential_restitution, std::optional<double> friction, std::optional<double> inertia);
 
 //! work_limit: positive and finite (a NaN or infinity would be no limit at all).
 double work_limit_of(double limit);

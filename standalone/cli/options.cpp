@@ -118,6 +118,14 @@ void check_command(int argc, const char* const* argv) {
     throw InputError("unknown command '" + first + "': the command is 'run', e.g. 'hardsphere run --n 1000'");
 }
 
+//! The command line's names of the physics settings, for the library's messages.
+const PhysicsNames& physics_names() {
+  static const PhysicsNames names{
+      "--restitution",  "--contact-time",           "--gravity",  "walls on that axis (--boundary ...,w)",
+      "--resting-time", "--tangential-restitution", "--friction", "--inertia"};
+  return names;
+}
+
 }  // namespace
 
 CommandLine parse_command_line(int argc, const char* const* argv) {
@@ -175,14 +183,12 @@ CommandLine parse_command_line(int argc, const char* const* argv) {
       run->add_option("--contact-time", contact_time_s,
                       "TC model: a collision within this time of a sphere's previous one is elastic (default 1e-4; "
                       "> 0 when --restitution is below 1)")
-          ->type_name("FLOAT")
-          ->needs(o_restitution);
+          ->type_name("FLOAT");
   auto* o_resting_time =
       run->add_option("--resting-time", resting_time_s,
                       "a wall contact slower than |g| times this rests on the wall for this time instead of bouncing "
                       "(default: the stepper's sub-step; the event engine's 0.01 sqrt(d/|g|), d the smallest diameter)")
-          ->type_name("FLOAT")
-          ->needs(o_gravity);
+          ->type_name("FLOAT");
   auto* o_beta = run->add_option("--tangential-restitution", beta_s,
                                  "rough spheres: tangential restitution beta of the contact points' relative velocity, "
                                  "-1 <= beta <= 1 (default -1: smooth; 1: perfectly rough)")
@@ -190,12 +196,10 @@ CommandLine parse_command_line(int argc, const char* const* argv) {
   auto* o_friction = run->add_option("--friction", friction_s,
                                      "Walton's Coulomb friction mu >= 0: the tangential impulse slides at mu times the "
                                      "normal one (--tangential-restitution is then the sticking limit beta0)")
-                         ->type_name("FLOAT")
-                         ->needs(o_beta);
+                         ->type_name("FLOAT");
   auto* o_inertia =
       run->add_option("--inertia", inertia_s, "rough spheres: I = q m r^2, 0 < q <= 2/3 (default 0.4: solid sphere)")
-          ->type_name("FLOAT")
-          ->needs(o_beta);
+          ->type_name("FLOAT");
   auto* o_t_rot = run->add_option("--rotational-temperature", t_rot_s,
                                   "rough spheres: initial angular velocities at this temperature, each component "
                                   "normal with variance T/I (default: the translational temperature)")
@@ -252,8 +256,9 @@ CommandLine parse_command_line(int argc, const char* const* argv) {
   if (o_bins->count()) spec.histogram_bins = int(whole("--histogram-bins", bins_s, 1, kMaxBins));
   if (o_restitution->count()) {
     spec.physics.restitution = real("--restitution", restitution_s);
-    spec.physics.contact_time = o_contact_time->count() ? real("--contact-time", contact_time_s) : kDefaultContactTime;
+    spec.physics.contact_time = kDefaultContactTime;
   }
+  if (o_contact_time->count()) spec.physics.contact_time = real("--contact-time", contact_time_s);
   if (o_gravity->count()) {
     if (std::count(gravity_s.begin(), gravity_s.end(), ',') != 2)
       throw InputError("--gravity '" + gravity_s + "' needs three values gx,gy,gz");
@@ -264,15 +269,17 @@ CommandLine parse_command_line(int argc, const char* const* argv) {
   if (o_beta->count()) spec.physics.tangential_restitution = real("--tangential-restitution", beta_s);
   if (o_friction->count()) spec.physics.friction = real("--friction", friction_s);
   if (o_inertia->count()) spec.physics.inertia = real("--inertia", inertia_s);
-  spec.physics = validated(spec.physics, spec.periodic,
-                           {"--restitution", "--contact-time", "--gravity", "walls on that axis (--boundary ...,w)",
-                            "--resting-time", "--tangential-restitution", "--friction", "--inertia"});
-  // Smooth spheres carry no rotation: its settings would be ignored.
-  for (auto* o : {o_inertia, o_t_rot})
-    if (o->count() && !spec.physics.rough())
-      throw InputError(o->get_name() + " " + (o == o_inertia ? inertia_s : t_rot_s) +
-                       ": smooth spheres (--tangential-restitution -1) do not rotate; give a tangential restitution "
-                       "above -1");
+  // The option rules (a setting given where it has no effect) are the library's, as for every face.
+  PhysicsGiven given;
+  given.contact_time = o_contact_time->count(), given.resting_time = o_resting_time->count();
+  given.friction = o_friction->count(), given.inertia = o_inertia->count();
+  spec.physics = validated(spec.physics, spec.periodic, physics_names(), given);
+  spec.stepper.names = spec.event.names = physics_names();
+  // Initial rotation is the command line's own (no other face makes states and physics together).
+  if (o_t_rot->count() && !spec.physics.rough())
+    throw InputError("--rotational-temperature " + t_rot_s + ": smooth spheres (" +
+                     physics_names().tangential_restitution + " -1) do not rotate; give a " +
+                     physics_names().tangential_restitution + " above -1");
   const double time = o_time->count() ? real("--time", time_s) : 0.0;
   const double etime = o_etime->count() ? real("--equilibrate-time", etime_s) : 0.0;
 

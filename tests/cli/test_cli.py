@@ -243,7 +243,10 @@ def test_restitution_cools_the_gas_and_accounts_the_energy(hs, engine):
     (("--restitution", 1.2), "--restitution 1.2 must be in (0, 1]"),
     (("--restitution", "nan"), "--restitution"),
     (("--restitution", 0.5, "--contact-time", -1), "--contact-time -1 must be finite and >= 0"),
-    (("--contact-time", 0.1), "--contact-time requires --restitution"),
+    (("--contact-time", 0.1), "--contact-time 0.1 has no effect with --restitution 1"),
+    (("--restitution", 1, "--contact-time", 0.1), "--contact-time 0.1 has no effect with --restitution 1"),
+    (("--resting-time", 0.3), "--resting-time 0.3 has no effect without gravity"),
+    (("--boundary", "p,p,w", "--gravity", "0,0,0", "--resting-time", 0.3), "--resting-time 0.3 has no effect"),
 ])
 def test_bad_restitution_is_refused(hs, args, message):
     p = run(hs, "--n", 100, "--steps", 1, *args)

@@ -145,3 +145,47 @@ def test_big_sphere_in_a_fine_user_grid_runs(hs, tmp_path):
     j = run_json(hs, "--read-data", f, "--steps", 100, "--cells", 10)
     assert j["cells_per_dim"] == [10, 10, 10]
     assert j["max_overlap"] == 0
+
+
+# --- angular velocities (issue 42, items 3, 7, 15) ------------------------------------------
+
+def spin_file(path, w1, w2=(0.125, 7, -1.5)):
+    """Two spheres 3 apart meeting at t = 1, with the given angular velocities (Velocities line 17
+    for atom 1)."""
+    data = lammps_files.spheres([(2, 5, 5), (5, 5, 5)], [(1, 0, 0), (-1, 0, 0)], box=((0, 10),) * 3,
+                                density=lammps_files.UNIT_DENSITY, omega=[w1, w2], title="spins")
+    lammps_files.write_data(path, data)
+    return path
+
+
+@pytest.mark.parametrize("engine", [["--steps", 300], ["--steps", 300, "--precision", "float"],
+                                    ["--engine", "event", "--time", 3]])
+def test_smooth_spheres_keep_their_spins(hs, tmp_path, engine):
+    f = spin_file(tmp_path / "s.data", (0.5, -0.25, 3), (-0.0, 1e-310, 1e100))
+    j = run_json(hs, "--read-data", f, *engine, "--write-data", tmp_path / "out.data", "--dump", tmp_path / "d.dump")
+    assert j["collisions"] == 1
+    before, after = lammps_files.read_data(f), lammps_files.read_data(tmp_path / "out.data")
+    assert after.omega.tobytes() == before.omega.tobytes()  # bit for bit, -0 and subnormals too
+    frames = lammps_files.read_dump_frames(tmp_path / "d.dump")
+    assert frames[-1]["wz"].tolist() == [3.0, 1e100]
+
+
+@pytest.mark.parametrize("args,needles", [
+    # float, rough: a surface speed float cannot carry
+    (["--precision", "float", "--tangential-restitution", 1, "--steps", 100],
+     ["stepper in single precision: ", "s.data:17: atom 1: angular velocity 0 0 1e+45", "above 6.98146e+09"]),
+    # double: the square of the surface speed would overflow, whatever the law
+    (["--steps", 100, "W200"], ["s.data:17: atom 1: angular velocity 1e+200 0 1e+200", "would overflow"]),
+    (["--engine", "event", "--time", 1, "W200"], ["s.data:17: atom 1: angular velocity 1e+200 0 1e+200"]),
+    # a spin whose speed no step or clock follows: refused up front, not as a jam or an endless step
+    (["--tangential-restitution", 1, "--steps", 1000, "W20"],
+     ["particle-steps", "the rotation of ", "s.data:17: atom 1 (angular velocity 0 0 1e+20) into a speed of 3.16228e+19"]),
+    (["--tangential-restitution", 1, "--engine", "event", "--time", 3, "W20"],
+     ["events", "s.data:17: atom 1 (angular velocity 0 0 1e+20) alone up to 3.16228e+19"]),
+])
+def test_angular_velocities_beyond_the_arithmetic_are_refused(hs, tmp_path, args, needles):
+    w1 = (1e200, 0, 1e200) if "W200" in args else (0, 0, 1e20) if "W20" in args else (0, 0, 1e45)
+    f = spin_file(tmp_path / "s.data", w1, (0, 0, -w1[2]) if "W200" not in args else (0, -1e200, 0))
+    p = run(hs, "--read-data", f, *[a for a in args if a not in ("W200", "W20")], "--json", tmp_path / "j.json")
+    refused(p, *needles)
+    assert "jammed" not in p.stderr and not (tmp_path / "j.json").exists()

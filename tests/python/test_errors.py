@@ -187,19 +187,12 @@ def test_work_limit_must_be_positive_and_finite(gas, engine, limit, shown):
                               "(the most particle-steps or events a run may take)")
 
 
-# The library's table of option rules (another branch, issue 42 item 14) refuses these for all
-# three faces; the module passes the keywords through. Remove the marks once it is merged.
-LIBRARY_RULES = pytest.mark.xfail(strict=True, reason="library rule table (issue 42 item 14)")
-
-
-@LIBRARY_RULES
 @pytest.mark.parametrize("engine", [hs.Stepper, hs.EventEngine])
 def test_inertia_on_smooth_spheres_is_refused(gas, engine):
     with pytest.raises(ValueError, match="inertia"):
         engine(gas, inertia=0.5)
 
 
-@LIBRARY_RULES
 @pytest.mark.parametrize("engine", [hs.Stepper, hs.EventEngine])
 def test_resting_time_without_gravity_is_refused(gas, engine):
     with pytest.raises(ValueError, match="resting_time"):

@@ -563,6 +563,45 @@ def exit_status(ctx):
     refused(ctx, "99999999999999", "--read-data", huge, "--steps", 1)
 
 
+def spin_data(ctx, name, omega):
+    """A gas of 200 spheres (phi 0.3) with the given angular velocities, rows of wx wy wz."""
+    src = read_data(gas(ctx, "spin_gas.data", "--n", 200, "--phi", 0.3))
+    src.omega = np.asarray(omega, dtype=float)
+    path = ctx.work / name
+    lammps_files.write_data(path, src)
+    return str(path)
+
+
+@case("class 13: angular velocities", "smooth spheres keep the spins of a data file bit for bit in every engine "
+      "(dump and data file); spins beyond the arithmetic (1e45 in float, 1e200) or beyond any step or clock (1e20 "
+      "with --tangential-restitution 1) refused up front naming the Velocities line, not as NaN, a jam or a step")
+def spins(ctx):
+    rng = np.random.default_rng(5)
+    omega = rng.normal(0, 3, (200, 3)) * np.array([1, 1e-310, 1e100])
+    omega[0] = (-0.0, 0.0, 5e-324)
+    data = spin_data(ctx, "spins.data", omega)
+    runs = every_engine(ctx, data, 2.0, 0.01)
+    sound_all(runs)
+    for label, j in runs.items():
+        check(j["collisions"] > 100, f"{label}: {j['collisions']} collisions")
+        check(j["_final"].omega.tobytes() == read_data(data).omega.tobytes(), f"{label}: spins changed")
+    for w, args, needle in (
+            (1e45, ("--precision", "float", "--tangential-restitution", 1, "--steps", 10), "above 6.98146e+09"),
+            (1e200, ("--steps", 10), "would overflow"),
+            (1e200, ("--engine", "event", "--time", 1), "would overflow"),
+            (1e20, ("--tangential-restitution", 1, "--steps", 1000), "particle-steps"),
+            (1e20, ("--tangential-restitution", 1, "--engine", "event", "--time", 3), "events")):
+        spun = rng.normal(0, 1, (200, 3))
+        spun[0] = (0, 0, w)
+        path = spin_data(ctx, "spun.data", spun)
+        lines = Path(path).read_text().splitlines()
+        velocities = lines.index("Velocities")
+        line = next(k + 1 for k in range(velocities, len(lines)) if lines[k].split()[:1] == ["1"])  # atom 1's row
+        p = ctx.run("--read-data", path, *args, expect=2)
+        check(f"spun.data:{line}: atom 1" in p.stderr and "angular velocity" in p.stderr and needle in p.stderr,
+              f"{w} {args}: {p.stderr.strip()!r}")
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--hardsphere", required=True)

@@ -3,10 +3,14 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <sstream>
 
 #include "hardsphere/errors.hpp"
 #include "hardsphere/event_engine.hpp"
+#include "hardsphere/lammps_io.hpp"
 #include "hardsphere/observables.hpp"
+#include "hardsphere/scene_limits.hpp"
+#include "hardsphere/simulation.hpp"
 #include "hardsphere/stepper.hpp"
 #include "scenes.hpp"
 
@@ -154,4 +158,77 @@ TEST(WorkLimits, EnginesStopWhenARunOutgrowsItsLimit) {
   ec.max_events = 1000;
   EventEngine e(s, {}, ec);
   EXPECT_NE(refusal([&] { e.advance(1e6); }).find("more than 1000 events"), std::string::npos);
+}
+
+// Angular velocities are range-checked like speeds (issue 42, item 7): as the surface speed |w| r,
+// which rough collisions turn into translation, in double always and per precision where the
+// engine computes with it (rough spheres); smooth spheres only carry their spins.
+TEST(Arithmetic, AngularVelocitiesAreRangeCheckedLikeSpeeds) {
+  auto base = test::two({5, 5, 5}, {1, 0, 0}, {7, 5, 5}, {0, 0, 0});
+  auto nan = base;
+  nan.omega[1].y = std::nan("");
+  EXPECT_NE(refusal([&] { check_scene_numbers(nan, "t"); }).find("angular velocity must be finite"), std::string::npos);
+  auto huge = base;
+  huge.omega[0] = {1e200, 0, 1e200};
+  const std::string m = refusal([&] { validate_and_wrap(huge, "t"); });
+  EXPECT_NE(m.find("t: atom 1: angular velocity 1e+200 0 1e+200 turns the surface at |w| r = 7.07107e+199"),
+            std::string::npos)
+      << m;
+  EXPECT_NE(refusal([&] { EventEngine e(huge); }).find("angular velocity 1e+200"), std::string::npos);
+  EXPECT_NE(refusal([&] { make_stepper(huge, {}, StepperConfig{}); }).find("angular velocity 1e+200"),
+            std::string::npos);
+  // The kinetic energy with rotation (I up to 2/3 m r^2) must stay finite.
+  auto spinning = base;
+  spinning.mass = {1e150, 1e150};
+  spinning.omega[0] = {0, 0, 1e150};
+  EXPECT_NE(refusal([&] { check_scene_numbers(spinning, "t"); }).find("m v^2 + I w^2"), std::string::npos);
+  // Per precision, for rough spheres only: float carries surface speeds up to ~7e9.
+  Physics rough;
+  rough.tangential_restitution = 1;
+  auto fast = base;
+  fast.omega[0] = {0, 0, 1e45};
+  EXPECT_NE(refusal([&] { make_stepper(fast, rough, StepperConfig{}, Precision::Float); })
+                .find("stepper in single precision: atom 1: angular velocity 0 0 1e+45 turns the surface at |w| r = "
+                      "5e+44, above 6.98146e+09"),
+            std::string::npos);
+  EXPECT_EQ(refusal([&] { make_stepper(fast, {}, StepperConfig{}, Precision::Float); }), "");  // smooth: carried
+  EXPECT_EQ(refusal([&] { make_stepper(fast, rough, StepperConfig{}, Precision::Double); }), "");
+  fast.omega[0] = {0, 0, 1e101};
+  EXPECT_NE(refusal([&] { EventEngine e(fast, rough); }).find("angular velocity 0 0 1e+101"), std::string::npos);
+  EXPECT_EQ(refusal([&] { EventEngine e(fast); }), "");
+}
+
+// A file's spheres keep their lines, so an engine's refusal names the Velocities row of the value.
+TEST(Arithmetic, EngineRefusalsNameTheFileLine) {
+  std::istringstream in(
+      "t\n\n2 atoms\n1 atom types\n0 10 xlo xhi\n0 10 ylo yhi\n0 10 zlo zhi\n\nAtoms\n\n"
+      "1 1 1 1.9098593171027443 2 5 5\n2 1 1 1.9098593171027443 5 5 5\n\nVelocities\n\n"
+      "2 -1 0 0 0 0 0\n1 1 0 0 0 0 1e45\n");
+  const ParticleSystem s = read_data(in, "spin.data", {true, true, true});
+  Physics rough;
+  rough.tangential_restitution = 1;
+  EXPECT_NE(refusal([&] {
+              make_stepper(s, rough, StepperConfig{}, Precision::Float);
+            }).find("stepper in single precision: spin.data:17: atom 1: angular velocity"),
+            std::string::npos);
+}
+
+// The run-length estimates count what rough collisions can make of rotation: a spin that no step
+// or clock could follow is refused up front, naming it (issue 42, item 15).
+TEST(WorkLimits, RotationCountsAsTheSpeedItCanBecome) {
+  auto s = test::two({2, 5, 5}, {1, 0, 0}, {5, 5, 5}, {-1, 0, 0});
+  s.omega[0] = {0, 0, 1e20};
+  Physics rough;
+  rough.tangential_restitution = 1;
+  StepperConfig cfg;
+  auto st = make_stepper(s, rough, cfg);
+  const std::string m = refusal([&] { check_stepper_work(*st, cfg, s, 1000, 1e15, rough); });
+  EXPECT_NE(m.find("rough collisions can turn the rotation of atom 1 (angular velocity 0 0 1e+20) into a speed of "
+                   "3.16228e+19"),
+            std::string::npos)
+      << m;
+  EXPECT_EQ(refusal([&] { check_stepper_work(*st, cfg, s, 1000, 1e15); }), "");  // smooth: nothing to turn
+  const std::string e = refusal([&] { check_event_work(s, 1.0, 3.0, 1e15, rough); });
+  EXPECT_NE(e.find("atom 1 (angular velocity 0 0 1e+20) alone up to 3.16228e+19"), std::string::npos) << e;
+  EXPECT_EQ(refusal([&] { check_event_work(s, 1.0, 3.0, 1e15, Physics{}); }), "");
 }

@@ -38,22 +38,24 @@ ParticleSystem cubic_lattice_at_contact(int k) {
   return s;
 }
 
-std::string stepper_refusal(const ParticleSystem& s) {
+std::string stepper_refusal(const ParticleSystem& s, const Physics& physics = {}, const PhysicsNames& names = {}) {
   StepperConfig cfg;
   cfg.dt = 0.01;
+  cfg.names = names;
   try {
-    make_stepper(s, Physics{}, cfg)->run(5);
+    make_stepper(s, physics, cfg)->run(5);
   } catch (const InputError& e) {
     return e.what();
   }
   return "";
 }
 
-std::string event_refusal(const ParticleSystem& s) {
+std::string event_refusal(const ParticleSystem& s, const Physics& physics = {}, const PhysicsNames& names = {}) {
   EventConfig cfg;
   cfg.max_events = 1e7;  // far above the jam bound: a hang is refused rather than waited for
+  cfg.names = names;
   try {
-    EventEngine(s, Physics{}, cfg).advance(0.05);
+    EventEngine(s, physics, cfg).advance(0.05);
   } catch (const InputError& e) {
     return e.what();
   }
@@ -71,6 +73,50 @@ TEST(JammedContacts, CubicLatticeAtContactIsRefusedByBothEngines) {
   for (const std::string& m :
        {stepper_refusal(cubic_lattice_at_contact(4)), event_refusal(cubic_lattice_at_contact(4))})
     EXPECT_NE(m.find("jammed spheres: atoms "), std::string::npos) << m;
+}
+
+// With inelastic collisions a pile-up at one instant may be a collapse that a longer contact time
+// lets through: the refusal names that setting as the face names it (issue 42, item 6).
+TEST(JammedContacts, InelasticRefusalsNameTheContactTimeInTheFacesWords) {
+  Physics inelastic;
+  inelastic.restitution = 0.2, inelastic.contact_time = 1e-4;
+  for (const char* tc : {"--contact-time", "contact_time"}) {
+    PhysicsNames names;
+    names.restitution = tc[0] == '-' ? "--restitution" : "restitution", names.contact_time = tc;
+    const std::string advice = names.restitution +
+                               " 0.2 it may also be an inelastic collapse (spheres settling "
+                               "onto each other), which a longer " +
+                               std::string(tc) + " (now 0.0001) lets through";
+    for (const std::string& m : {stepper_refusal(pressed_between_walls(), inelastic, names),
+                                 event_refusal(pressed_between_walls(), inelastic, names)}) {
+      EXPECT_NE(m.find("jammed spheres: atoms "), std::string::npos) << m;
+      EXPECT_NE(m.find(advice), std::string::npos) << m;
+    }
+  }
+  // Elastic collisions cannot collapse: no such advice.
+  EXPECT_EQ(stepper_refusal(pressed_between_walls()).find("inelastic collapse"), std::string::npos);
+}
+
+// Events at one instant that are one sphere's list rebuilds: no chain and no wall, a sphere too
+// fast for the clock, named with its speed (issue 42, item 15).
+TEST(JammedContacts, ASphereTooFastForTheClockIsNamedWithItsSpeed) {
+  // Perfectly rough: the collision at t = 1 turns the spin into a speed of ~3e19, whose list
+  // rebuilds at ~2e-20 apart the clock no longer tells apart.
+  ParticleSystem s = test::two({2, 5, 5}, {1, 0, 0}, {5, 5, 5}, {-1, 0, 0});
+  s.omega[0] = {0, 0, 1e20};
+  Physics rough;
+  rough.tangential_restitution = 1;
+  EventConfig cfg;
+  cfg.max_events = 1e7;
+  std::string m;
+  try {
+    EventEngine(s, rough, cfg).advance(3.0);
+  } catch (const InputError& e) {
+    m = e.what();
+  }
+  EXPECT_NE(m.find("took more than 10200 events at one instant (time 1"), std::string::npos) << m;
+  EXPECT_NE(m.find(", it rebuilds its neighbour list every"), std::string::npos) << m;
+  EXPECT_EQ(m.find("wall"), std::string::npos) << m;
 }
 
 TEST(JammedContacts, OpenChainsAndLeavingPairsRun) {

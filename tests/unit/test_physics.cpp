@@ -52,3 +52,42 @@ TEST(Physics, GravityAlongPeriodicAxesIsRefusedButRoundingIsNot) {
   EXPECT_EQ(validated({1, 0, {1e-290, 0, -1e300}}, floor).gravity[0], 0.0);
   EXPECT_NE(refusal({1, 0, {1e-9, 0, -1}}, floor).find("periodic axis x"), std::string::npos);
 }
+
+// The option rules: a setting given where it has no effect is refused, one table for every face,
+// each naming the setting in its own words (issue 42, item 14).
+TEST(Physics, SettingsGivenWhereTheyHaveNoEffectAreRefused) {
+  const std::array<bool, 3> floor{true, true, false};
+  auto refused = [&](Physics p, PhysicsGiven given, const PhysicsNames& names = {}) {
+    try {
+      validated(p, floor, names, given);
+    } catch (const InputError& e) {
+      return std::string(e.what());
+    }
+    return std::string();
+  };
+  PhysicsGiven inertia, resting, contact, friction;
+  inertia.inertia = resting.resting_time = contact.contact_time = friction.friction = true;
+  Physics smooth;
+  smooth.inertia = 0.5;
+  EXPECT_EQ(refused(smooth, inertia),
+            "inertia 0.5 has no effect: smooth spheres (tangential restitution -1) do not "
+            "rotate; give a tangential restitution above -1");
+  Physics rough = smooth;
+  rough.tangential_restitution = 0.5;
+  EXPECT_EQ(refused(rough, inertia), "");
+  EXPECT_EQ(refused(smooth, {}), "");  // not given: the default, which nothing reads
+  smooth.friction = std::numeric_limits<double>::infinity();
+  EXPECT_NE(refused(smooth, friction).find("friction inf needs a tangential restitution above -1"), std::string::npos);
+  Physics still;
+  still.resting_time = 0.3;
+  EXPECT_NE(refused(still, resting).find("resting time 0.3 has no effect without gravity"), std::string::npos);
+  still.gravity = {0, 0, -1};
+  EXPECT_EQ(refused(still, resting), "");
+  Physics elastic;
+  elastic.contact_time = 1e-3;
+  const PhysicsNames lammps{"restitution", "contact_time"};
+  EXPECT_NE(refused(elastic, contact, lammps).find("contact_time 0.001 has no effect with restitution 1"),
+            std::string::npos);
+  elastic.restitution = 0.5;
+  EXPECT_EQ(refused(elastic, contact, lammps), "");
+}

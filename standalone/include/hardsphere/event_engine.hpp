@@ -62,6 +62,9 @@ struct EventConfig {
   //! The most events the engine may process since construction before it refuses to go on
   //! (InputError); a guard against runs that would not end.
   double max_events = std::numeric_limits<double>::infinity();
+  //! How the adapter names the physics settings, for the advice of a refusal (e.g. which
+  //! contact time lets an inelastic collapse through).
+  PhysicsNames names;
 };
 
 struct EventCounters {

@@ -30,8 +30,14 @@ struct ParticleSystem {
   //! Periodic images crossed (LAMMPS's image flags): the unwrapped position, continuous in
   //! time, is pos + image * box length per periodic axis. Zero on wall axes.
   std::vector<std::array<std::int32_t, 3>> image;
-  //! Angular velocities (rough spheres; zeros otherwise), same size as pos.
+  //! Angular velocities, same size as pos: rough spheres' change in collisions, smooth spheres
+  //! keep theirs.
   std::vector<Vec3d> omega;
+  //! Where the spheres were read from, so that every later refusal (an engine's range checks, a
+  //! run's work estimate) names "file:line": the file, each sphere's Atoms line and its
+  //! Velocities line (0: none), set by read_data; ignored unless there is one line per sphere.
+  std::string source;
+  std::vector<long> source_line, velocity_line;
 
   std::size_t size() const { return pos.size(); }
   void resize(std::size_t n);
@@ -72,9 +78,15 @@ void validate_and_wrap(ParticleSystem& sys, const std::string& source, const std
 //! (coordinates in the engine's type, distances from absolute double coordinates).
 double overlap_tolerance(const ParticleSystem& sys, double eps);
 
-//! "source: atom ID" or, with the atom's line known, "source:LINE: atom ID".
+//! "source: atom ID" or, with the atom's line known, "source:LINE: atom ID"; without
+//! `atom_lines`, the line the system records (source_line) as "source: file:LINE: atom ID".
 std::string atom_origin(const ParticleSystem& sys, std::size_t i, const std::string& source,
                         const std::vector<long>* atom_lines);
+
+//! The same for a refusal of the sphere's velocity or angular velocity: its Velocities line when
+//! the system records one, else as atom_origin.
+std::string velocity_origin(const ParticleSystem& sys, std::size_t i, const std::string& source,
+                            const std::vector<long>* atom_lines);
 
 //! Largest pair overlap max(0, R_i + R_j - |r_ij|) over all pairs (minimum image), via a cell grid.
 double max_overlap(const ParticleSystem& sys);

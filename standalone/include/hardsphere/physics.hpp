@@ -65,12 +65,29 @@ struct PhysicsNames {
   std::string inertia = "inertia";
 };
 
+//! Which settings the user gave (each adapter knows its own options or keywords). A setting given
+//! where it has no effect is refused, by the same rules on every face (the option rules in
+//! validated()): a contact time with a restitution of 1 (elastic collisions), a resting time
+//! without gravity, a friction or an inertia for smooth spheres (tangential restitution -1).
+struct PhysicsGiven {
+  bool contact_time = false;
+  bool resting_time = false;
+  bool friction = false;
+  bool inertia = false;
+};
+
 //! `p` checked against boxes with these periodic axes, with gravity components at rounding level
 //! (kGravityRounding) set to zero. Throws InputError naming the value: a restitution outside
 //! (0, 1], a contact time that is negative, not finite or 0 with a restitution below 1, a gravity
 //! that is not finite or has a component along a periodic axis, a tangential restitution outside
 //! [-1, 1], a friction below 0 or NaN, or finite without a tangential restitution above -1, an
-//! inertia outside (0, 2/3].
-Physics validated(Physics p, const std::array<bool, 3>& periodic, const PhysicsNames& names = {});
+//! inertia outside (0, 2/3]; then a setting in `given` that would have no effect (PhysicsGiven).
+Physics validated(Physics p, const std::array<bool, 3>& periodic, const PhysicsNames& names = {},
+                  const PhysicsGiven& given = {});
+
+//! What a refusal of jammed spheres adds for inelastic collisions (empty when elastic): the
+//! chain may be an inelastic collapse (a settling bed), which a longer contact time lets
+//! through, named as the face names it.
+std::string collapse_advice(const Physics& p, const PhysicsNames& names);
 
 }  // namespace hardsphere

@@ -71,8 +71,9 @@ nlohmann::json run_simulation(const RunSpec& spec);
 //! Refuses (InputError) output paths that collide or cannot be written (see check_output_paths).
 void check_outputs(const RunSpec& spec);
 
-//! The initial state a RunSpec describes (generated or read), validated.
-ParticleSystem initial_state(const RunSpec& spec);
+//! The initial state a RunSpec describes (generated or read), validated; what read_data skipped
+//! of the data file goes to `notes` (the summary's warnings).
+ParticleSystem initial_state(const RunSpec& spec, std::vector<std::string>* notes = nullptr);
 
 //! CPU time of this process in seconds (what the seed paper measured).
 double process_cpu_seconds();
@@ -81,14 +82,18 @@ double process_cpu_seconds();
 // implemented once in the run layer.
 
 //! Refuses (InputError, the CLI's message) a stepper run of `steps` steps from `sys` on `engine`
-//! (made with `cfg`) that would take more than `work_limit` particle-steps (sub-steps and wall
-//! bounces included), or whose wall bounces alone would pass cfg.max_events_per_step.
+//! (made with `cfg` and `physics`) that would take more than `work_limit` particle-steps (sub-steps
+//! and wall bounces included), or whose wall bounces alone would pass cfg.max_events_per_step.
+//! Rough spheres count their rotational energy as the speed collisions can turn it into,
+//! sqrt(v^2 + q r^2 w^2); the message names the sphere and its file:line.
 void check_stepper_work(const StepperBase& engine, const StepperConfig& cfg, const ParticleSystem& sys,
-                        std::int64_t steps, double work_limit);
+                        std::int64_t steps, double work_limit, const Physics& physics = {});
 
 //! Refuses (InputError, the CLI's message) an event-engine run of simulated `time` from `sys`
-//! whose lower bound of events (neighbour-list events for `shell`, wall bounces, gravity) is
-//! more than `work_limit`.
+//! whose estimate of events (neighbour-list events for `shell`, wall bounces, gravity; rough
+//! spheres' rotation counted as speed, as for the stepper) is more than `work_limit`.
+void check_event_work(const ParticleSystem& sys, double shell, double time, double work_limit, const Physics& physics);
+//! The same for smooth spheres under `gravity`.
 void check_event_work(const ParticleSystem& sys, double shell, double time, double work_limit,
                       const std::array<double, 3>& gravity);
 

@@ -60,8 +60,8 @@ class StateExchange {
   virtual void set_spheres(const std::uint32_t* slots, std::size_t count, const Vec3d* pos, const Vec3d* vel) = 0;
   //! Angular velocities (rough spheres, Physics::rough()), as the velocities above: slot k to row
   //! dest[k] of a flat array (3 doubles per row; kNoRow skipped), slot k from row src[k], the
-  //! given slots out and in. A smooth engine holds none: scatter, gather and set do nothing,
-  //! copy writes zeros.
+  //! given slots out and in. A smooth engine carries the spins it was given unchanged (no smooth
+  //! collision changes them) and counts no rotational energy.
   virtual void scatter_omega(const std::uint32_t* dest, double* omega) const = 0;
   virtual void gather_omega(const std::uint32_t* src, const double* omega) = 0;
   virtual void copy_omega(const std::uint32_t* slots, std::size_t count, Vec3d* out) const = 0;

@@ -81,6 +81,9 @@ struct StepperConfig {
   //! Count each sphere's pair collisions (StepperBase::sphere(), pair_collisions_per_sphere()).
   //! Off by default: two scattered increments per collision cost dense gases a few per cent.
   bool count_per_sphere = false;
+  //! How the adapter names the physics settings, for the advice of a refusal (e.g. which
+  //! contact time lets an inelastic collapse through).
+  PhysicsNames names;
 };
 
 struct StepCounters {
@@ -122,6 +125,8 @@ class StepperBase {
   virtual bool sweep_detection() const = 0;      //!< the detection mode in use (Auto resolved) is sweep
   //! Sub-steps the next step needs at the current speeds (1 unless dt is long for the skin).
   virtual double substeps_per_step() const = 0;
+  //! Sub-steps a step needs while a sphere moves at `speed` (the same rule).
+  virtual double substeps_at(double speed) const = 0;
   //! An upper bound of every sphere's speed during the last step (collisions and gravity
   //! included), so that speed times dt bounds every sphere's move in it.
   virtual double step_speed_bound() const = 0;

@@ -5,6 +5,7 @@
 #include <memory>
 #include <string>
 
+#include "common/jam_guard.hpp"
 #include "common/neighbour_entry.hpp"
 #include "event/event_loop.hpp"
 #include "hardsphere/errors.hpp"
@@ -38,12 +39,18 @@ ParticleSystem sorted_by_id(const ParticleSystem& sys) {
     out.push_back(sys.id[i], sys.type[i], sys.radius[i], sys.mass[i], sys.pos[i], sys.vel[i],
                   i < sys.image.size() ? sys.image[i] : std::array<std::int32_t, 3>{0, 0, 0},
                   i < sys.omega.size() ? sys.omega[i] : Vec3d{});
+  if (sys.source_line.size() == sys.size()) {
+    out.source = sys.source;
+    for (const std::size_t i : order) out.source_line.push_back(sys.source_line[i]);
+    if (sys.velocity_line.size() == sys.size())
+      for (const std::size_t i : order) out.velocity_line.push_back(sys.velocity_line[i]);
+  }
   return out;
 }
 
 //! The spheres checked (consistent, representable, few enough to index) and sorted by id, with
 //! the configuration's own limits checked; the rest is the physics' and the geometry's.
-ParticleSystem validated_spheres(const ParticleSystem& sys_in, const EventConfig& cfg) {
+ParticleSystem validated_spheres(const ParticleSystem& sys_in, const EventConfig& cfg, bool rough) {
   if (sys_in.radius.size() != sys_in.size() || sys_in.mass.size() != sys_in.size() ||
       sys_in.vel.size() != sys_in.size() || sys_in.id.size() != sys_in.size() || sys_in.type.size() != sys_in.size())
     throw InputError("event engine: inconsistent particle arrays");
@@ -53,7 +60,7 @@ ParticleSystem validated_spheres(const ParticleSystem& sys_in, const EventConfig
     throw InputError("too many spheres for the event engine: " + std::to_string(n) + " (at most " +
                      std::to_string(std::size_t(kMaxAdjIndex) + 1) + ")");
   check_scene_numbers(sys, "event engine");
-  check_engine_numbers<double>(sys, 0, "event engine");
+  check_engine_numbers<double>(sys, 0, "event engine", 0, rough);
   if (!(cfg.max_events > 0)) throw InputError("event engine: max_events must be positive");
   if (!(cfg.shell >= 0) || !std::isfinite(cfg.shell))
     throw InputError("event engine: shell " + std::to_string(cfg.shell) + " must be positive (or 0 for auto)");
@@ -65,15 +72,26 @@ ParticleSystem validated_spheres(const ParticleSystem& sys_in, const EventConfig
 
 struct EventEngine::Impl {
   Impl(const ParticleSystem& sys, const Physics& physics, const EventConfig& cfg)
-      : proto(sys), loop(proto, physics, cfg) {}
-  // ids, types, radii, masses and input images in input order (positions unused); before the
-  // loop, which names atoms by its ids.
+      : proto(sys), loop(proto, physics, cfg), collapse_advice(hardsphere::collapse_advice(physics, cfg.names)) {}
+  //! Runs f, completing a jam refusal in the face's words.
+  template <class F>
+  void guarded(F&& f) {
+    try {
+      f();
+    } catch (const JammedSpheres& e) {
+      if (collapse_advice.empty()) throw;
+      throw JammedSpheres(e.what() + collapse_advice);
+    }
+  }
+  // ids, types, radii, masses, input images and (smooth spheres) spins in input order (positions
+  // unused); before the loop, which names atoms by its ids.
   ParticleSystem proto;
   event::EventLoop loop;
+  std::string collapse_advice;  // added to a jam refusal (inelastic collisions)
 };
 
 EventEngine::EventEngine(const ParticleSystem& sys, const Physics& physics, const EventConfig& cfg)
-    : impl_(std::make_unique<Impl>(validated_spheres(sys, cfg), physics, cfg)) {}
+    : impl_(std::make_unique<Impl>(validated_spheres(sys, cfg, physics.rough()), physics, cfg)) {}
 
 EventEngine::~EventEngine() = default;
 
@@ -81,19 +99,20 @@ void EventEngine::advance(double duration, std::optional<double> run_end) {
   if (!(duration >= 0) || !std::isfinite(duration))
     throw InputError("event engine: run time " + std::to_string(duration) + " must be finite and >= 0");
   const double end = time() + duration;
-  impl_->loop.run_until(end, run_end.value_or(end));
+  impl_->guarded([&] { impl_->loop.run_until(end, run_end.value_or(end)); });
 }
 
-void EventEngine::advance_events(std::int64_t count) { impl_->loop.run_events(count); }
+void EventEngine::advance_events(std::int64_t count) {
+  impl_->guarded([&] { impl_->loop.run_events(count); });
+}
 
 ParticleSystem EventEngine::state() const {
   ParticleSystem out = impl_->proto;
+  out.source.clear(), out.source_line.clear(), out.velocity_line.clear();  // the engine's state, not the file's
   impl_->loop.trajectories().observe(impl_->loop.now(), out);
+  // Smooth spheres keep the spins they were given (proto's), bit for bit.
   const std::vector<Vec3d>& omega = impl_->loop.omega();
-  if (omega.empty())
-    out.omega.assign(out.size(), Vec3d{});
-  else
-    out.omega = omega;
+  if (!omega.empty()) out.omega = omega;
   wrap_periodic(out);
   return out;
 }

@@ -363,9 +363,13 @@ void EventLoop::refuse_more_events(double t_end) const {
 }
 
 void EventLoop::refuse_jam(int i) const {
-  const bool pair = predictions_.collision_first(i);
   const auto id = [this](int k) { return (*ids_)[trajectories_.input_index(std::size_t(k))]; };
-  jam_.refuse("event engine", id(i), pair ? id(predictions_.partner(i)) : -1);
+  if (predictions_.collision_first(i)) jam_.refuse("event engine", id(i), id(predictions_.partner(i)));
+  if (predictions_.wall_axis(i) >= 0) jam_.refuse("event engine", id(i), -1);
+  // Neighbour-list rebuilds at one instant: no chain, a sphere too fast for the clock.
+  const Body& b = trajectories_[std::size_t(i)];
+  jam_.refuse_fast("event engine", id(i), std::sqrt(b.vx * b.vx + b.vy * b.vy + b.vz * b.vz), 0.5 * geometry_.shell(),
+                   base_ + now_);
 }
 
 }  // namespace hardsphere::event

@@ -20,174 +20,18 @@
 #include "hardsphere/format.hpp"
 #include "hardsphere/lammps_io.hpp"
 #include "hardsphere/limits.hpp"
+#include "io/data_sections.hpp"
+#include "io/line_reader.hpp"
 
 namespace hardsphere {
 
 namespace {
 
-using Words = std::vector<std::string>;
-
-bool is_blank(char c) { return c == ' ' || c == '\t' || c == '\r' || c == '\v' || c == '\f'; }
-
-Words split(const std::string& line) {
-  Words words;
-  std::size_t i = 0;
-  while (i < line.size()) {
-    while (i < line.size() && is_blank(line[i])) ++i;
-    const std::size_t start = i;
-    while (i < line.size() && !is_blank(line[i])) ++i;
-    if (i > start) words.push_back(line.substr(start, i - start));
-  }
-  return words;
-}
-
-std::string strip_comment(const std::string& line) {
-  const auto hash = line.find('#');
-  return hash == std::string::npos ? line : line.substr(0, hash);
-}
-
-std::string shown(const std::string& w);
-
-std::string join(const Words& w) {
-  std::string all;
-  for (const auto& x : w) all += (all.empty() ? "" : " ") + x;
-  return shown(all);
-}
-
-//! Control characters escaped: a NUL from the file would cut the message short.
-std::string escaped(const std::string& m) {
-  std::string out;
-  for (const char ch : m) {
-    const unsigned char c = static_cast<unsigned char>(ch);
-    if (c < 0x20 || c == 0x7f) {
-      char hex[8];
-      std::snprintf(hex, sizeof hex, "\\x%02x", c);
-      out += hex;
-    } else {
-      out += ch;
-    }
-  }
-  return out;
-}
-
-//! A value as messages show it: long words shortened (a 64 KiB "number" is not worth repeating).
-std::string shown(const std::string& w) { return w.size() > 64 ? w.substr(0, 64) + "..." : w; }
-
-bool is_section_name(const std::string& w) {
-  static const char* names[] = {"Atoms",
-                                "Velocities",
-                                "Masses",
-                                "Bonds",
-                                "Angles",
-                                "Dihedrals",
-                                "Impropers",
-                                "Ellipsoids",
-                                "Lines",
-                                "Triangles",
-                                "Bodies",
-                                "Pair",
-                                "PairIJ",
-                                "Bond",
-                                "Angle",
-                                "Dihedral",
-                                "Improper",
-                                "BondBond",
-                                "BondAngle",
-                                "MiddleBondTorsion",
-                                "EndBondTorsion",
-                                "AngleTorsion",
-                                "AngleAngleTorsion",
-                                "BondBond13",
-                                "AngleAngle"};
-  for (const char* n : names)
-    if (w == n) return true;
-  return false;
-}
-
-class LineReader {
- public:
-  LineReader(std::istream& in, std::string name) : in_(in), name_(std::move(name)) {}
-
-  //! The next line without its '\n'; false at end of input. Lines are bounded (kMaxDataLine),
-  //! so a file without newlines cannot grow one string without limit.
-  bool next(std::string& line) {
-    line.clear();
-    std::streambuf* buf = in_.rdbuf();
-    bool any = false;
-    for (;;) {
-      const int c = buf ? buf->sbumpc() : std::char_traits<char>::eof();
-      if (c == std::char_traits<char>::eof()) break;
-      any = true;
-      if (c == '\n') break;
-      if (line.size() >= kMaxDataLine) {
-        ++line_no_;
-        fail("line is longer than " + std::to_string(kMaxDataLine) + " characters (not a LAMMPS data file?)");
-      }
-      line.push_back(char(c));
-    }
-    if (!any) return false;
-    ++line_no_;
-    return true;
-  }
-
-  //! The next line with words (comments removed); false at end of input.
-  bool next_content(Words& words, std::string* raw = nullptr) {
-    std::string line;
-    while (next(line)) {
-      words = split(strip_comment(line));
-      if (raw) *raw = line;
-      if (!words.empty()) return true;
-    }
-    return false;
-  }
-
-  [[noreturn]] void fail(const std::string& what) const { throw FormatError(name_, line_no_, escaped(what)); }
-  //! "<what> [<who>] '<w>' <why>", e.g. "x of atom 7 '1.2.3' is not a number".
-  [[noreturn]] void fail_value(const char* what, const std::string* who, const std::string& w,
-                               const std::string& why) const {
-    fail(std::string(what) + (who ? " " + *who : "") + " '" + shown(w) + "' " + why);
-  }
-
-  //! A finite double written as LAMMPS reads numbers (digits, signs, '.' and an exponent only:
-  //! no hexadecimal, inf or nan, which LAMMPS refuses, so every file read here reads in LAMMPS).
-  //! Values that underflow to a subnormal or zero are what strtod rounds them to (hardsphere
-  //! writes subnormals itself); overflow is refused.
-  double real(const std::string& w, const char* what, const std::string* who = nullptr) const {
-    for (const char c : w)
-      if (!((c >= '0' && c <= '9') || c == '+' || c == '-' || c == '.' || c == 'e' || c == 'E'))
-        fail_value(what, who, w, "is not a number (LAMMPS reads digits, a sign, '.' and an exponent only)");
-    char* end = nullptr;
-    errno = 0;
-    const double v = std::strtod(w.c_str(), &end);
-    if (w.empty() || end != w.c_str() + w.size()) fail_value(what, who, w, "is not a number");
-    if (!std::isfinite(v)) fail_value(what, who, w, errno == ERANGE ? "is too large for a double" : "is not finite");
-    return v;
-  }
-
-  //! A decimal integer in [lo, hi]; `range` explains the bounds when it is outside.
-  //! The message is built only on failure: these run six times per atom.
-  std::int64_t integer(const std::string& w, const char* what, std::int64_t lo = LLONG_MIN, std::int64_t hi = LLONG_MAX,
-                       const std::string& range = {}, const std::string* who = nullptr) const {
-    char* end = nullptr;
-    errno = 0;
-    const long long v = std::strtoll(w.c_str(), &end, 10);
-    if (w.empty() || end != w.c_str() + w.size()) fail_value(what, who, w, "is not an integer");
-    if (errno == ERANGE || v < lo || v > hi)
-      fail_value(what, who, w, range.empty() ? "is out of range" : "is out of range (" + range + ")");
-    return v;
-  }
-
-  long line() const { return line_no_; }
-  const std::string& name() const { return name_; }
-
- private:
-  std::istream& in_;
-  std::string name_;
-  long line_no_ = 0;
-};
+using namespace data;
 
 struct Header {
   std::int64_t natoms = -1, ntypes = -1;
+  TypeCounts types;  // every type count, for the coefficient and label sections
   Box box;
   bool have_box[3] = {false, false, false};
   long box_line[3] = {0, 0, 0};
@@ -224,15 +68,36 @@ bool read_header(LineReader& r, Header& h, Words& w, std::string& raw) {
       h.have_box[d] = true;
       h.box_line[d] = r.line();
     } else if (w.size() == 6 && w[3] == "xy" && w[4] == "xz" && w[5] == "yz") {
-      r.fail("triclinic boxes (xy xz yz) are not supported");
-    } else if (w.size() == 2 && (w[1] == "bonds" || w[1] == "angles" || w[1] == "dihedrals" || w[1] == "impropers")) {
+      // LAMMPS writes the tilt factors of a box made triclinic; all zero, it is orthogonal.
+      once("xy xz yz");
+      for (int k = 0; k < 3; ++k)
+        if (r.real(w[std::size_t(k)], "tilt factor") != 0)
+          r.fail("triclinic box (tilt factors xy xz yz = " + join({w[0], w[1], w[2]}) +
+                 ") is not supported: hardsphere simulates orthogonal boxes");
+    } else if ((w.size() == 4 && (w[3] == "avec" || w[3] == "bvec" || w[3] == "cvec")) ||
+               (w.size() == 5 && w[3] == "abc" && w[4] == "origin")) {
+      r.fail("general triclinic box ('" + join(w) + "') is not supported: hardsphere simulates orthogonal boxes");
+    } else if (w.size() == 2 && (w[1] == "bonds" || w[1] == "angles" || w[1] == "dihedrals" || w[1] == "impropers" ||
+                                 w[1] == "ellipsoids" || w[1] == "lines" || w[1] == "triangles" || w[1] == "bodies" ||
+                                 w[1] == "crossterms")) {
       once(w[1]);
-      if (r.integer(w[0], "topology count", 0) != 0)
-        r.fail("molecular topology (" + w[0] + " " + w[1] + ") is not supported for hard spheres");
+      if (r.integer(w[0], "count", 0) != 0)
+        r.fail(w[0] + " " + w[1] +
+               " are not supported: hardsphere simulates atom_style sphere (no topology, no "
+               "other particle shapes)");
     } else if (w.size() == 3 && w[2] == "types" &&
                (w[1] == "bond" || w[1] == "angle" || w[1] == "dihedral" || w[1] == "improper")) {
       once(w[1] + " types");
-      r.integer(w[0], "topology type count", 0);  // harmless without bonds, but must be a count
+      // Harmless without bonds (LAMMPS writes them for a hybrid style), but a count.
+      const std::int64_t n = r.integer(w[0], "topology type count", 0, INT_MAX, "0 to " + std::to_string(INT_MAX));
+      (w[1] == "bond"       ? h.types.bond
+       : w[1] == "angle"    ? h.types.angle
+       : w[1] == "dihedral" ? h.types.dihedral
+                            : h.types.improper) = n;
+    } else if (w.size() == 5 && w[1] == "extra" && w[3] == "per" && w[4] == "atom") {
+      // "N extra bond per atom" and the like: room LAMMPS reserves for bonds made later.
+      once(w[2] + " per atom");
+      r.integer(w[0], "extra count", 0);
     } else {
       r.fail("unknown header line '" + join(w) + "'");
     }
@@ -240,18 +105,10 @@ bool read_header(LineReader& r, Header& h, Words& w, std::string& raw) {
   }
   if (h.natoms < 0) r.fail("header has no 'N atoms' line");
   if (h.ntypes < 0) r.fail("header has no 'N atom types' line");
+  h.types.atom = h.ntypes;
   for (int d = 0; d < 3; ++d)
     if (!h.have_box[d]) r.fail(std::string("header has no '") + char('x' + d) + "lo " + char('x' + d) + "hi' line");
   return have_section;
-}
-
-// Reads the next row of a section that must have `rows` of them; refuses end of file or a
-// section name in its place, naming how many rows came.
-void next_row(LineReader& r, Words& w, const char* section, std::int64_t k, std::int64_t rows, const char* unit) {
-  const std::string count = std::to_string(k) + " of " + std::to_string(rows) + " " + unit;
-  if (!r.next_content(w)) r.fail(std::string(section) + " section ends after " + count + " (end of file)");
-  if (w.size() == 1 && is_section_name(w[0]))
-    r.fail(std::string(section) + " section ends after " + count + ": found section '" + w[0] + "'");
 }
 
 class DataFile {
@@ -310,11 +167,16 @@ class DataFile {
     const auto missing = std::find(given.begin(), given.end(), 0L);
     if (missing != given.end())
       r_.fail("Velocities section has no row for atom id " + std::to_string(sys_.id[missing - given.begin()]));
+    velocity_line_ = std::move(given);
   }
 
-  // Per-type masses are not used (atom_style sphere takes mass from per-atom density), but the
-  // rows must still be well-formed: `type mass`, each type 1..ntypes once, mass positive.
+  // Per-type masses are not used (atom_style sphere takes mass from per-atom density; LAMMPS
+  // refuses the section for it), but the rows must still be well-formed: `type mass`, each type
+  // 1..ntypes once, mass positive; the section is skipped with a note.
   void masses() {
+    notes_.push_back(r_.name() + ":" + std::to_string(r_.line()) +
+                     ": Masses skipped: atom_style sphere takes each atom's mass from its density (LAMMPS refuses "
+                     "per-type masses for it)");
     std::unordered_map<std::int64_t, long> seen;
     Words w;
     for (std::int64_t k = 0; k < h_.ntypes; ++k) {
@@ -345,7 +207,19 @@ class DataFile {
   }
 
   ParticleSystem take() { return std::move(sys_); }
+  const ParticleSystem& system() const { return sys_; }
   const std::vector<long>& atom_lines() const { return atom_line_; }
+  //! Each atom's Velocities line (empty without that section).
+  const std::vector<long>& velocity_lines() const { return velocity_line_; }
+  //! What was read and not used: a Masses section, image flags on wall axes.
+  std::vector<std::string> notes() const {
+    std::vector<std::string> out = notes_;
+    if (wall_images_ > 0)
+      out.push_back(first_wall_image_ +
+                    (wall_images_ > 1 ? " and " + std::to_string(wall_images_ - 1) + " more on wall axes" : "") +
+                    " set to 0, as LAMMPS does: a wall axis has no periodic images");
+    return out;
+  }
 
  private:
   void atom_row(const Words& w) {
@@ -387,8 +261,13 @@ class DataFile {
       widest_ = sys_.size();
     }
     atom_line_.push_back(r_.line());
-    for (int d = 0; d < 3; ++d)
-      if (!sys_.box.periodic[d]) image[std::size_t(d)] = 0;  // walls: no images (as LAMMPS)
+    for (int d = 0; d < 3; ++d)  // walls: no images; reset with a note, as LAMMPS does
+      if (!sys_.box.periodic[d] && image[std::size_t(d)] != 0) {
+        if (wall_images_++ == 0)
+          first_wall_image_ = r_.name() + ":" + std::to_string(r_.line()) + ": atom " + id_s + ": image flag " +
+                              w[7 + std::size_t(d)] + " on the wall axis " + "xyz"[d];
+        image[std::size_t(d)] = 0;
+      }
     sys_.push_back(id, int(type), radius, mass, p, {}, image);
   }
 
@@ -397,14 +276,18 @@ class DataFile {
   const std::string type_range_;  // for messages, built once
   ParticleSystem sys_;
   std::unordered_map<std::int64_t, std::size_t> index_;  // atom id -> row
-  std::vector<long> atom_line_;
+  std::vector<long> atom_line_, velocity_line_;
+  std::vector<std::string> notes_;
+  std::int64_t wall_images_ = 0;  // image flags on wall axes reset to 0, the first of them named
+  std::string first_wall_image_;
   double max_radius_ = 0;
   std::size_t widest_ = 0;  // row of the largest sphere
 };
 
 }  // namespace
 
-ParticleSystem read_data(std::istream& in, const std::string& name, std::array<bool, 3> periodic, double rounding_eps) {
+ParticleSystem read_data(std::istream& in, const std::string& name, std::array<bool, 3> periodic, double rounding_eps,
+                         std::vector<std::string>* notes) {
   LineReader r(in, name);
   std::string line;
   if (!r.next(line)) throw InputError(name + ": empty file (a LAMMPS data file starts with a title line)");
@@ -413,26 +296,33 @@ ParticleSystem read_data(std::istream& in, const std::string& name, std::array<b
   std::string raw;
   bool have_section = read_header(r, h, w, raw);
   DataFile data(r, h, periodic);
+  ExtraSections extra;
   std::map<std::string, long> seen;  // section -> line, so a repeated section is refused
   while (have_section) {
-    const std::string name_w = w[0];
-    if (name_w != "Atoms" && name_w != "Velocities" && name_w != "Masses")
-      r.fail("section '" + join(w) +
-             "' is not supported (atom_style sphere needs Atoms and optional Velocities, Masses)");
-    if (w.size() != 1)
-      r.fail("unexpected '" + w[1] + "' after section name '" + name_w + "' (a style hint goes in a comment: '" +
-             name_w + " # sphere')");
+    const std::string name_w = ExtraSections::title(w);
+    const bool ours = name_w == "Atoms" || name_w == "Velocities" || name_w == "Masses";
+    if (!ours && !ExtraSections::handles(name_w)) {
+      if (w.size() > 1 && (w[0] == "Atoms" || w[0] == "Velocities" || w[0] == "Masses"))
+        r.fail("unexpected '" + w[1] + "' after section name '" + w[0] + "' (a style hint goes in a comment: '" + w[0] +
+               " # sphere')");
+      r.fail("section '" + name_w +
+             "' is not supported (atom_style sphere needs Atoms and optional Velocities, Masses; coefficient and "
+             "type label sections are read too)");
+    }
     const auto [it, fresh] = seen.emplace(name_w, r.line());
     if (!fresh) r.fail("second " + name_w + " section (first at line " + std::to_string(it->second) + ")");
-    const char* unit = "atoms";
+    std::string unit = "atoms";
     if (name_w == "Atoms") {
       data.atoms(raw);
     } else if (name_w == "Velocities") {
       if (!seen.count("Atoms")) r.fail("Velocities section before Atoms section");
       data.velocities();
-    } else {  // Masses
+    } else if (name_w == "Masses") {
       data.masses();
       unit = "atom types";
+    } else {
+      extra.read(r, name_w, raw, h.types);
+      unit = "rows of " + name_w;
     }
     have_section = r.next_content(w, &raw);
     if (have_section && !is_section_name(w[0]))
@@ -440,19 +330,28 @@ ParticleSystem read_data(std::istream& in, const std::string& name, std::array<b
   }
   if (!seen.count("Atoms")) r.fail("no Atoms section");
   data.check_periodic_lengths();
-  const std::vector<long> lines = data.atom_lines();
+  extra.check(data.system(), data.atom_lines(), name);
+  if (notes) {
+    notes->insert(notes->end(), extra.notes().begin(), extra.notes().end());
+    const std::vector<std::string> own = data.notes();
+    notes->insert(notes->end(), own.begin(), own.end());
+  }
   ParticleSystem sys = data.take();
-  validate_and_wrap(sys, name, &lines, rounding_eps);
+  sys.source = name;  // later refusals (engines, work estimates) name the atom's line too
+  sys.source_line = data.atom_lines();
+  sys.velocity_line = data.velocity_lines();
+  validate_and_wrap(sys, name, &sys.source_line, rounding_eps);
   return sys;
 }
 
-ParticleSystem read_data(const std::string& path, std::array<bool, 3> periodic, double rounding_eps) {
+ParticleSystem read_data(const std::string& path, std::array<bool, 3> periodic, double rounding_eps,
+                         std::vector<std::string>* notes) {
   struct stat st {};
   if (::stat(path.c_str(), &st) == 0 && S_ISDIR(st.st_mode))
     throw InputError("data file '" + path + "' is a directory");
   std::ifstream in(path, std::ios::binary);
   if (!in) throw InputError("cannot open data file '" + path + "': " + std::strerror(errno));
-  return read_data(in, path, periodic, rounding_eps);
+  return read_data(in, path, periodic, rounding_eps, notes);
 }
 
 }  // namespace hardsphere

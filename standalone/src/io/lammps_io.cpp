@@ -41,6 +41,11 @@ void write_data(const std::string& path, const ParticleSystem& sys, const std::s
 }
 
 void DumpWriter::write_frame(std::int64_t timestep, const ParticleSystem& sys) {
+  // Spins given to smooth spheres (which keep them) are dumped too: the first frame decides.
+  if (frames_++ == 0 && !omega_)
+    omega_ = std::any_of(sys.omega.begin(), sys.omega.end(), [](const Vec3d& w) {
+      return w.x != 0 || w.y != 0 || w.z != 0 || std::signbit(w.x) || std::signbit(w.y) || std::signbit(w.z);
+    });
   auto& o = file_.stream();
   o << "ITEM: TIMESTEP\n" << timestep << "\nITEM: NUMBER OF ATOMS\n" << sys.size() << "\nITEM: BOX BOUNDS";
   for (int d = 0; d < 3; ++d) o << (sys.box.periodic[d] ? " pp" : " ff");

@@ -11,6 +11,7 @@
 #include "hardsphere/observables.hpp"
 #include "hardsphere/scene_limits.hpp"
 #include "run/engine_run.hpp"
+#include "run/rotation_reach.hpp"
 
 namespace hardsphere {
 
@@ -44,8 +45,7 @@ class EventRun final : public EngineRun {
     EventConfig cfg = spec_.event;
     cfg.max_events = spec_.work_limit;
     engine_ = std::make_unique<EventEngine>(sys, spec_.physics, cfg);
-    check_event_work(sys, engine_->shell(), spec_.time + spec_.equilibrate_time, spec_.work_limit,
-                     spec_.physics.gravity);
+    check_event_work(sys, engine_->shell(), spec_.time + spec_.equilibrate_time, spec_.work_limit, spec_.physics);
     n_ = sys.size();
   }
   const char* name() const override { return "event"; }
@@ -121,12 +121,20 @@ void EventRun::add_summary(nlohmann::json& j, const ParticleSystem&, double cpu)
 std::unique_ptr<EngineRun> make_event_run(const RunSpec& spec) { return std::make_unique<EventRun>(spec); }
 
 //! A sphere re-lists its neighbours each time it has moved half the shell: at least
-//! sum |v_i| t / (shell / 2) events, whatever collisions add. Refuse up front what the engine's
-//! event limit would stop later.
+//! sum |v_i| t / (shell / 2) events, whatever collisions add (rough spheres: the speed their
+//! rotation can become, rotation_reach). Refuse up front what the engine's event limit would
+//! stop later.
 void check_event_work(const ParticleSystem& sys, double shell, double time, double limit,
                       const std::array<double, 3>& gravity) {
-  double speeds = 0;
-  for (const Vec3d& v : sys.vel) speeds += norm(v);
+  Physics smooth;
+  smooth.gravity = gravity;
+  check_event_work(sys, shell, time, limit, smooth);
+}
+
+void check_event_work(const ParticleSystem& sys, double shell, double time, double limit, const Physics& physics) {
+  const std::array<double, 3>& gravity = physics.gravity;
+  const RotationReach spin = rotation_reach(sys, physics);
+  double speeds = spin.sum;
   double bounces = wall_bounce_rate(sys) * time;
   // Under gravity a sphere falls across its gap G (at most the box) and bounces at least every
   // 2 sqrt(2 G / g), reaching speeds up to sqrt(2 g G): more bounces and list events.
@@ -139,11 +147,20 @@ void check_event_work(const ParticleSystem& sys, double shell, double time, doub
   }
   const double events = speeds * time / (0.5 * shell) + bounces;
   if (events > limit) {
+    // Most of it from rotation: name the spin that the clock could not follow.
+    const bool by_rotation = spin.from_spin * time / (0.5 * shell) > 0.5 * events;
     std::ostringstream m;
-    m << "the run would take at least " << events << " events (" << sys.size() << " spheres moving " << speeds * time
-      << " in all over time " << time << ", a neighbour-list event every " << 0.5 * shell;
+    m << "the run would take " << (by_rotation ? "about " : "at least ") << events << " events (" << sys.size()
+      << " spheres moving " << speeds * time << " in all over time " << time;
+    if (by_rotation)
+      m << ", as fast as rough collisions can turn rotation into speed (" << spin.describe(sys) << " alone up to "
+        << std::hypot(norm(sys.vel[spin.sphere]),
+                      std::sqrt(physics.inertia) * sys.radius[spin.sphere] * norm(sys.omega[spin.sphere]))
+        << ")";
+    m << ", a neighbour-list event every " << 0.5 * shell;
     if (bounces > 0) m << ", and " << bounces << " wall bounces";
-    m << "), more than the limit of " << limit << "; shorten --time, lower the speeds or the gravity";
+    m << "), more than the limit of " << limit << "; shorten --time, lower the speeds"
+      << (by_rotation ? ", the angular velocities" : "") << " or the gravity";
     throw InputError(m.str());
   }
 }

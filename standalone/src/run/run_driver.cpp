@@ -27,11 +27,11 @@ double process_cpu_seconds() {
   return double(ts.tv_sec) + 1e-9 * double(ts.tv_nsec);
 }
 
-ParticleSystem initial_state(const RunSpec& spec) {
+ParticleSystem initial_state(const RunSpec& spec, std::vector<std::string>* notes) {
   // A state this program wrote may overlap by the rounding of the engine that made it.
   const double eps = spec.precision == Precision::Float ? double(std::numeric_limits<float>::epsilon())
                                                         : std::numeric_limits<double>::epsilon();
-  if (spec.read_data) return read_data(*spec.read_data, spec.periodic, eps);
+  if (spec.read_data) return read_data(*spec.read_data, spec.periodic, eps, notes);
   InitSpec init = spec.init;
   if (spec.physics.rough()) {  // rotation at the translational temperature unless given
     init.inertia = spec.physics.inertia;
@@ -62,7 +62,8 @@ nlohmann::json run_simulation(const RunSpec& spec) {
   const std::unique_ptr<EngineRun> engine =
       spec.engine == Engine::Event ? make_event_run(spec) : make_stepper_run(spec);
 
-  ParticleSystem sys = initial_state(spec);
+  std::vector<std::string> notes;  // sections of the data file that were skipped
+  ParticleSystem sys = initial_state(spec, &notes);
   engine->start(sys);
   std::optional<Tracker> tracker;
   if (spec.track_id) {
@@ -90,6 +91,7 @@ nlohmann::json run_simulation(const RunSpec& spec) {
   nlohmann::json j = physics_summary(fin, totals, !spec.read_data.has_value(), spec.init.seed, spec.histogram_bins,
                                      overlap_tolerance(fin, engine->rounding_epsilon()));
   j["engine"] = engine->name();
+  for (auto n = notes.rbegin(); n != notes.rend(); ++n) j["warnings"].insert(j["warnings"].begin(), *n);
   add_energy_summary(j, e0, u0, potential_energy(fin, spec.physics.gravity), spec.physics);
   add_rough_summary(j, sys, fin, totals, spec.physics);
   j["loop_cpu_seconds"] = cpu;

@@ -9,6 +9,7 @@
 #include "hardsphere/scene_limits.hpp"
 #include "hardsphere/stepper.hpp"
 #include "run/engine_run.hpp"
+#include "run/rotation_reach.hpp"
 
 namespace hardsphere {
 
@@ -28,7 +29,7 @@ class StepperRun final : public EngineRun {
     cfg.max_particle_steps = spec_.work_limit;
     cfg.count_per_sphere = cfg.count_per_sphere || spec_.track_id.has_value();
     engine_ = make_stepper(sys, spec_.physics, cfg, spec_.precision);
-    check_stepper_work(*engine_, spec_.stepper, sys, spec_.steps + spec_.equilibrate, spec_.work_limit);
+    check_stepper_work(*engine_, spec_.stepper, sys, spec_.steps + spec_.equilibrate, spec_.work_limit, spec_.physics);
   }
   const char* name() const override { return "stepper"; }
   double measured_time() const override { return double(spec_.steps) * dt_; }
@@ -102,7 +103,7 @@ void StepperRun::add_summary(nlohmann::json& j, const ParticleSystem& fin, doubl
 std::unique_ptr<EngineRun> make_stepper_run(const RunSpec& spec) { return std::make_unique<StepperRun>(spec); }
 
 void check_stepper_work(const StepperBase& engine, const StepperConfig& cfg, const ParticleSystem& sys,
-                        std::int64_t steps, double work_limit) {
+                        std::int64_t steps, double work_limit, const Physics& physics) {
   const double dt = cfg.dt;
   // Flights between walls barely wider than a sphere bounce many times per step: refuse steps
   // that would run into the per-step event limit, and count the bounces as work.
@@ -114,15 +115,25 @@ void check_stepper_work(const StepperBase& engine, const StepperConfig& cfg, con
       << " events per step; use a smaller --dt or wider walls";
     throw InputError(m.str());
   }
-  const double substeps = engine.substeps_per_step();
+  double substeps = engine.substeps_per_step();
+  const RotationReach spin = rotation_reach(sys, physics);
+  const bool by_rotation = engine.substeps_at(spin.speed) > substeps;
+  if (by_rotation) substeps = engine.substeps_at(spin.speed);
   const double work = double(sys.size()) * double(steps) * substeps + bounces * double(steps);
   if (work > work_limit) {
     std::ostringstream m;
     m << "the run would take " << work << " particle-steps (" << sys.size() << " spheres, " << steps << " steps";
-    if (substeps > 1)
+    if (by_rotation)
+      m << " of " << substeps << " sub-steps each: with dt = " << dt << ", rough collisions can turn the rotation of "
+        << spin.describe(sys) << " into a speed of " << spin.speed
+        << ", which moves more than half the pair-list skin (" << engine.skin() << ") per step";
+    else if (substeps > 1)
       m << " of " << substeps << " sub-steps each: with dt = " << dt
         << " the fastest sphere moves more than half the pair-list skin (" << engine.skin() << ") per step";
-    m << "), more than the limit of " << work_limit << "; use fewer steps" << (substeps > 1 ? " or a smaller dt" : "");
+    m << "), more than the limit of " << work_limit << "; use fewer steps"
+      << (by_rotation    ? ", a smaller dt or smaller angular velocities"
+          : substeps > 1 ? " or a smaller dt"
+                         : "");
     throw InputError(m.str());
   }
 }

@@ -156,11 +156,29 @@ std::optional<Overlap> find_overlap(const ParticleSystem& sys, double slack) {
   return found;
 }
 
+namespace {
+//! "source[: file]:LINE: atom ID" for a line the system records.
+std::string recorded_origin(const ParticleSystem& sys, std::size_t i, const std::string& source, long line) {
+  std::string where = source;
+  if (sys.source != source) where += (where.empty() ? "" : ": ") + sys.source;
+  return where + ":" + std::to_string(line) + ": atom " + std::to_string(sys.id[i]);
+}
+}  // namespace
+
 std::string atom_origin(const ParticleSystem& sys, std::size_t i, const std::string& source,
                         const std::vector<long>* atom_lines) {
-  std::string where = source;
-  if (atom_lines && i < atom_lines->size()) where += ":" + std::to_string((*atom_lines)[i]);
-  return where + ": atom " + std::to_string(sys.id[i]);
+  if (atom_lines && i < atom_lines->size())
+    return source + ":" + std::to_string((*atom_lines)[i]) + ": atom " + std::to_string(sys.id[i]);
+  if (sys.source_line.size() == sys.size() && !sys.source.empty())
+    return recorded_origin(sys, i, source, sys.source_line[i]);
+  return source + ": atom " + std::to_string(sys.id[i]);
+}
+
+std::string velocity_origin(const ParticleSystem& sys, std::size_t i, const std::string& source,
+                            const std::vector<long>* atom_lines) {
+  if (sys.velocity_line.size() == sys.size() && sys.velocity_line[i] > 0 && !sys.source.empty())
+    return recorded_origin(sys, i, source, sys.velocity_line[i]);
+  return atom_origin(sys, i, source, atom_lines);
 }
 
 double overlap_tolerance(const ParticleSystem& sys, double eps) {

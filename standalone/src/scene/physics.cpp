@@ -15,7 +15,46 @@ std::array<double, 3> without_rounding(std::array<double, 3> g) {
   return g;
 }
 
-Physics validated(Physics p, const std::array<bool, 3>& periodic, const PhysicsNames& names) {
+namespace {
+
+//! The option rules: a setting given where it has no effect, and why, with each face's names.
+struct OptionRule {
+  bool PhysicsGiven::*given;
+  std::string PhysicsNames::*name;
+  double Physics::*value;
+  bool (*has_effect)(const Physics&);
+  std::string (*why)(const PhysicsNames&);
+};
+
+const OptionRule kOptionRules[] = {
+    {&PhysicsGiven::contact_time, &PhysicsNames::contact_time, &Physics::contact_time,
+     [](const Physics& p) { return !p.elastic(); },
+     [](const PhysicsNames& n) {
+       return "has no effect with " + n.restitution + " 1: the TC model makes inelastic collisions elastic, and " +
+              "these are elastic already; give a " + n.restitution + " below 1 or leave out " + n.contact_time;
+     }},
+    {&PhysicsGiven::resting_time, &PhysicsNames::resting_time, &Physics::resting_time,
+     [](const Physics& p) { return p.has_gravity(); },
+     [](const PhysicsNames& n) {
+       return "has no effect without gravity (resting contacts are wall contacts under " + n.gravity + "); give " +
+              n.gravity + " or leave out " + n.resting_time;
+     }},
+    {&PhysicsGiven::friction, &PhysicsNames::friction, &Physics::friction, [](const Physics& p) { return p.rough(); },
+     [](const PhysicsNames& n) {
+       return "needs a " + n.tangential_restitution + " above -1 as its sticking limit beta0 (smooth spheres " +
+              "take no tangential impulse)";
+     }},
+    {&PhysicsGiven::inertia, &PhysicsNames::inertia, &Physics::inertia, [](const Physics& p) { return p.rough(); },
+     [](const PhysicsNames& n) {
+       return "has no effect: smooth spheres (" + n.tangential_restitution + " -1) do not rotate; give a " +
+              n.tangential_restitution + " above -1";
+     }},
+};
+
+}  // namespace
+
+Physics validated(Physics p, const std::array<bool, 3>& periodic, const PhysicsNames& names,
+                  const PhysicsGiven& given) {
   const std::string e = format_number(p.restitution), tc = format_number(p.contact_time);
   if (!(p.restitution > 0 && p.restitution <= 1))
     throw InputError(names.restitution + " " + e + " must be in (0, 1] (1: elastic)");
@@ -51,7 +90,18 @@ Physics validated(Physics p, const std::array<bool, 3>& periodic, const PhysicsN
       throw InputError(names.gravity + " along periodic axis " + "xyz"[d] + " (" + format_number(g) +
                        ") would accelerate the spheres without end; put " + names.walls);
   }
+  for (const OptionRule& r : kOptionRules)
+    if (given.*r.given && !r.has_effect(p))
+      throw InputError(names.*r.name + " " + format_number(p.*r.value) + " " + r.why(names));
   return p;
+}
+
+std::string collapse_advice(const Physics& p, const PhysicsNames& names) {
+  if (p.elastic()) return "";
+  return "; with " + names.restitution + " " + format_number(p.restitution) +
+         " it may also be an inelastic collapse (spheres settling onto each other), which a longer " +
+         names.contact_time + " (now " + format_number(p.contact_time) +
+         ") lets through: the TC model makes a sphere's collisions elastic within that time of its last one";
 }
 
 }  // namespace hardsphere

@@ -26,6 +26,18 @@ double resolved_below(double tol) { return tol > 0 ? std::ldexp(1.0, std::ilogb(
 //! |v| without overflow in the squares.
 double speed(Vec3d v) { return std::hypot(std::hypot(v.x, v.y), v.z); }
 
+//! The speed |w| r of a sphere's surface (what a rough collision turns into translation).
+double surface_speed(const ParticleSystem& sys, std::size_t i) {
+  return i < sys.omega.size() ? speed(sys.omega[i]) * sys.radius[i] : 0.0;
+}
+
+//! "atom ID", or "file:LINE: atom ID" when the system records where it was read (the Velocities
+//! line for a velocity or angular velocity).
+std::string atom_name(const ParticleSystem& sys, std::size_t i, bool velocity = false) {
+  if (sys.source_line.size() != sys.size() || sys.source.empty()) return "atom " + std::to_string(sys.id[i]);
+  return velocity ? velocity_origin(sys, i, sys.source, nullptr) : atom_origin(sys, i, sys.source, nullptr);
+}
+
 double smallest_diameter(const ParticleSystem& sys) {
   double d = std::numeric_limits<double>::infinity();
   for (const double r : sys.radius) d = std::min(d, 2 * r);
@@ -58,12 +70,14 @@ void check_scene_numbers(const ParticleSystem& sys, const std::string& source, c
       sys.id.size() != sys.size())
     throw InputError(source + ": inconsistent particle arrays");
   for (std::size_t i = 0; i < sys.size(); ++i) {
-    const Vec3d p = sys.pos[i], v = sys.vel[i];
+    const Vec3d p = sys.pos[i], v = sys.vel[i], w = i < sys.omega.size() ? sys.omega[i] : Vec3d{};
     if (!(std::isfinite(sys.radius[i]) && sys.radius[i] > 0) || !(std::isfinite(sys.mass[i]) && sys.mass[i] > 0) ||
         !(std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z)) ||
-        !(std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z))) {
+        !(std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z)) ||
+        !(std::isfinite(w.x) && std::isfinite(w.y) && std::isfinite(w.z))) {
       throw InputError(atom_origin(sys, i, source, atom_lines) +
-                       ": radius, mass, position and velocity must be finite (radius and mass positive)");
+                       ": radius, mass, position, velocity and angular velocity must be finite (radius and mass "
+                       "positive)");
     }
   }
   const double dmin = smallest_diameter(sys), tol = kCoordinateResolution * dmin;
@@ -82,9 +96,9 @@ void check_scene_numbers(const ParticleSystem& sys, const std::string& source, c
   double sum_mv2 = 0;
   for (std::size_t i = 0; i < sys.size(); ++i) {
     const double m_i = sys.mass[i];
-    auto atom = [&] {
+    auto atom = [&](bool velocity = false) {
       auto m = message();
-      m << atom_origin(sys, i, source, atom_lines) << ": ";
+      m << (velocity ? velocity_origin(sys, i, source, atom_lines) : atom_origin(sys, i, source, atom_lines)) << ": ";
       return m;
     };
     const Vec3d p = sys.pos[i];
@@ -106,22 +120,32 @@ void check_scene_numbers(const ParticleSystem& sys, const std::string& source, c
     const Vec3d v = sys.vel[i];
     const double v2 = dot(v, v);
     if (!(v2 <= speed_hi * speed_hi)) {
-      auto m = atom();
+      auto m = atom(true);
       m << "speed " << speed(v) << " (velocity " << v.x << " " << v.y << " " << v.z << ") is above " << speed_hi
         << ": its square would overflow";
       throw InputError(m.str());
     }
-    sum_mv2 += m_i * v2;
+    // Rough spheres turn the surface's speed into translation and back: it is a speed like v.
+    const double surface = surface_speed(sys, i);
+    if (!(surface <= speed_hi)) {
+      const Vec3d w = sys.omega[i];
+      auto m = atom(true);
+      m << "angular velocity " << w.x << " " << w.y << " " << w.z << " turns the surface at |w| r = " << surface
+        << ", above " << speed_hi << ": its square would overflow";
+      throw InputError(m.str());
+    }
+    // m v^2 + I w^2 with the largest moment of inertia, 2/3 m r^2 (a thin shell).
+    sum_mv2 += m_i * v2 + 2.0 / 3.0 * m_i * surface * surface;
     if (!(sum_mv2 <= 1e300)) {
-      auto m = atom();
-      m << "the kinetic energy (sum of m v^2 up to this atom: " << sum_mv2 << ") overflows double precision";
+      auto m = atom(true);
+      m << "the kinetic energy (sum of m v^2 + I w^2 up to this atom: " << sum_mv2 << ") overflows double precision";
       throw InputError(m.str());
     }
   }
 }
 
 void check_engine_numbers(const ParticleSystem& sys, double eps, double largest, double dt, const std::string& what,
-                          double gravity) {
+                          double gravity, bool rotation) {
   if (sys.size() == 0) return;
   // Squares and products of speeds, masses and lengths must stay inside the type's range.
   const double big = std::cbrt(largest) / 1e3, small = 1 / big;
@@ -139,11 +163,15 @@ void check_engine_numbers(const ParticleSystem& sys, double eps, double largest,
     const double v2 = dot(sys.vel[i], sys.vel[i]);
     // The square decides away from the bound (big^2 is finite); hypot only near it.
     if (!(v2 <= 0.99 * big * big) && !(speed(sys.vel[i]) <= big))
-      fail("atom ", sys.id[i], ": speed ", speed(sys.vel[i]), " is above ", big,
+      fail(atom_name(sys, i, true), ": speed ", speed(sys.vel[i]), " is above ", big,
            ", the largest this precision carries");
     if (sys.mass[i] > big || sys.mass[i] < small)
-      fail("atom ", sys.id[i], ": mass ", sys.mass[i], " is outside [", small, ", ", big,
+      fail(atom_name(sys, i), ": mass ", sys.mass[i], " is outside [", small, ", ", big,
            "], the range this precision carries");
+    if (rotation && !(surface_speed(sys, i) <= big))
+      fail(atom_name(sys, i, true), ": angular velocity ", sys.omega[i].x, " ", sys.omega[i].y, " ", sys.omega[i].z,
+           " turns the surface at |w| r = ", surface_speed(sys, i), ", above ", big,
+           ", the largest speed this precision carries (rough collisions turn it into translation)");
     v2sum += sys.mass[i] * v2;
     m_sum += sys.mass[i];
   }
@@ -171,11 +199,12 @@ double wall_bounce_rate(const ParticleSystem& sys) {
 }
 
 template <class T>
-void check_engine_numbers(const ParticleSystem& sys, double dt, const std::string& what, double gravity) {
+void check_engine_numbers(const ParticleSystem& sys, double dt, const std::string& what, double gravity,
+                          bool rotation) {
   check_engine_numbers(sys, double(std::numeric_limits<T>::epsilon()), double(std::numeric_limits<T>::max()), dt, what,
-                       gravity);
+                       gravity, rotation);
 }
-template void check_engine_numbers<float>(const ParticleSystem&, double, const std::string&, double);
-template void check_engine_numbers<double>(const ParticleSystem&, double, const std::string&, double);
+template void check_engine_numbers<float>(const ParticleSystem&, double, const std::string&, double, bool);
+template void check_engine_numbers<double>(const ParticleSystem&, double, const std::string&, double, bool);
 
 }  // namespace hardsphere

@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "common/default_init_allocator.hpp"
+#include "common/jam_guard.hpp"
 #include "hardsphere/collision.hpp"
 #include "hardsphere/errors.hpp"
 #include "hardsphere/scene_limits.hpp"
@@ -26,6 +27,7 @@
 #include "stepper/grid_choice.hpp"
 #include "stepper/list_guard.hpp"
 #include "stepper/pair_list.hpp"
+#include "stepper/smooth_spins.hpp"
 
 namespace hardsphere {
 
@@ -72,6 +74,14 @@ class Stepper final : public StepperBase, public StateExchange {
   Stepper(const ParticleSystem& sys, const Physics& physics, const StepperConfig& cfg);
 
   void run(std::int64_t steps) override {
+    try {
+      run_steps(steps);
+    } catch (const JammedSpheres& e) {  // completed in the face's words
+      if (collapse_advice_.empty()) throw;
+      throw JammedSpheres(e.what() + collapse_advice_);
+    }
+  }
+  void run_steps(std::int64_t steps) {
     // Scene features select a specialised kernel for a stretch of steps, not per pair; Detect::Auto
     // may change the detection mode at a rebuild, which ends the stretch.
     while (steps > 0) {
@@ -207,6 +217,15 @@ class Stepper final : public StepperBase, public StateExchange {
     refresh_speed_bound();
   }
   void scatter_omega(const std::uint32_t* dest, double* omega) const override {
+    if (omega_.empty()) {  // smooth: the spins carried
+      for (std::size_t k = 0; k < slot_.size(); ++k)
+        if (dest[k] != kNoRow) {
+          const Vec3d w = spins_.at(slot_[k]);
+          double* o = omega + 3 * std::size_t(dest[k]);
+          o[0] = w.x, o[1] = w.y, o[2] = w.z;
+        }
+      return;
+    }
     for (std::size_t k = 0; k < omega_.size(); ++k) {
       if (dest[k] == kNoRow) continue;
       double* o = omega + 3 * std::size_t(dest[k]);
@@ -214,6 +233,13 @@ class Stepper final : public StepperBase, public StateExchange {
     }
   }
   void gather_omega(const std::uint32_t* src, const double* omega) override {
+    if (omega_.empty()) {
+      for (std::size_t k = 0; k < slot_.size(); ++k) {
+        const double* o = omega + 3 * std::size_t(src[k]);
+        spins_.set(slot_[k], {o[0], o[1], o[2]}, slot_.size());
+      }
+      return;
+    }
     for (std::size_t k = 0; k < omega_.size(); ++k) {
       const double* o = omega + 3 * std::size_t(src[k]);
       omega_[k] = {Real(o[0]), Real(o[1]), Real(o[2])};
@@ -222,7 +248,7 @@ class Stepper final : public StepperBase, public StateExchange {
   void copy_omega(const std::uint32_t* slots, std::size_t count, Vec3d* out) const override {
     for (std::size_t i = 0; i < count; ++i) {
       if (omega_.empty()) {
-        out[i] = {0, 0, 0};
+        out[i] = spins_.at(slot_[slots[i]]);
         continue;
       }
       const auto& w = omega_[slots[i]];
@@ -230,7 +256,10 @@ class Stepper final : public StepperBase, public StateExchange {
     }
   }
   void set_omega(const std::uint32_t* slots, std::size_t count, const Vec3d* w) override {
-    if (omega_.empty()) return;
+    if (omega_.empty()) {
+      for (std::size_t i = 0; i < count; ++i) spins_.set(slot_[slots[i]], w[i], slot_.size());
+      return;
+    }
     for (std::size_t i = 0; i < count; ++i) omega_[slots[i]] = {Real(w[i].x), Real(w[i].y), Real(w[i].z)};
   }
   double iw2_sum() const override {
@@ -243,8 +272,9 @@ class Stepper final : public StepperBase, public StateExchange {
   void set_rebuild_agreement(std::function<bool(bool)> agree) override { agree_ = std::move(agree); }
   bool sweep_detection() const override { return sweep_; }
   double step_speed_bound() const override { return double(std::max(step_speed_max_, resolver_.speed_bound())); }
-  double substeps_per_step() const override {
-    return std::max(1.0, std::ceil(double(resolver_.speed_bound()) * double(dt_) / double(half_skin_)));
+  double substeps_per_step() const override { return substeps_at(double(resolver_.speed_bound())); }
+  double substeps_at(double speed) const override {
+    return std::max(1.0, std::ceil(speed * double(dt_) / double(half_skin_)));
   }
   std::string scene_kernel() const override {
     return std::string(all_periodic_ ? "periodic" : "walls") + (Mono ? ",mono" : ",poly") +
@@ -314,9 +344,15 @@ class Stepper final : public StepperBase, public StateExchange {
   //! Refuses to go on if the sub-steps the current step needs would exceed the work limit.
   void check_work(double substeps) const {
     if ((substeps_total_ + substeps) * double(pos_.size()) > max_particle_steps_) {
+      std::size_t fastest = 0;
+      for (std::size_t k = 1; k < vel_.size(); ++k)
+        if (dot(vel_[k], vel_[k]) > dot(vel_[fastest], vel_[fastest])) fastest = k;
       std::ostringstream m;
       m << "the run needs more than " << max_particle_steps_ << " particle-steps: with dt = " << double(dt_)
-        << " the fastest sphere (speed " << double(resolver_.speed_bound()) << ") needs " << substeps
+        << " the fastest sphere";
+      if (!vel_.empty()) m << ", atom " << id_[slot_[fastest]];
+      m << " (speed " << double(resolver_.speed_bound())
+        << (omega_.empty() ? "" : ", which rough collisions take from rotation too") << "), needs " << substeps
         << " sub-steps per step to move less than half the pair-list skin (" << double(skin_)
         << ") in each; use a smaller dt";
       throw InputError(m.str());
@@ -465,6 +501,8 @@ class Stepper final : public StepperBase, public StateExchange {
   std::array<Real, 3> gravity_{0, 0, 0};  // uniform acceleration (wall axes only)
   bool has_gravity_ = false;
   std::vector<V3<Real>> omega_;  // angular velocities in cell order, rough scenes only (else empty)
+  detail::SmoothSpins spins_;    // smooth scenes: the spins given, unchanged, by id rank
+  std::string collapse_advice_;  // added to a jam refusal (inelastic collisions)
   double inertia_ = 0.4;         // q of I = q m r^2
 };
 
@@ -492,7 +530,7 @@ Stepper<Real, Mono>::Stepper(const ParticleSystem& sys, const Physics& physics, 
   const double g_norm = std::sqrt(physics.gravity[0] * physics.gravity[0] + physics.gravity[1] * physics.gravity[1] +
                                   physics.gravity[2] * physics.gravity[2]);
   check_engine_numbers<Real>(sys, cfg.dt, sizeof(Real) == sizeof(float) ? "stepper in single precision" : "stepper",
-                             g_norm);
+                             g_norm, physics.rough());
   const std::size_t n = sys.size();
   if (n > std::size_t(kMaxAdjIndex) + 1)
     throw InputError("too many particles for one stepper: " + std::to_string(n) + " (at most " +
@@ -578,6 +616,8 @@ Stepper<Real, Mono>::Stepper(const ParticleSystem& sys, const Physics& physics, 
     }
     inertia_ = physics.inertia;
     resolver_.set_roughness({Real(physics.tangential_restitution), Real(physics.friction), Real(physics.inertia)});
+  } else {
+    spins_.take(sys.omega, by_id);
   }
   if (n) sigma_ = Real(2) * r_[0];
   max_radius_ = Real(sys.max_radius());
@@ -592,6 +632,7 @@ Stepper<Real, Mono>::Stepper(const ParticleSystem& sys, const Physics& physics, 
   resolver_.reset(n, dt_);
   resolver_.set_uniform(sigma_, n ? m_[0] : Real(0));
   resolver_.set_event_limit(cfg.max_events_per_step);
+  collapse_advice_ = collapse_advice(physics, cfg.names);
   if (!physics.elastic()) {
     last_collision_.assign(n, -std::numeric_limits<double>::infinity());
     resolver_.set_restitution(Real(physics.restitution), physics.contact_time, last_collision_.data());
@@ -879,7 +920,8 @@ ParticleSystem Stepper<Real, Mono>::state() const {
     for (std::size_t d = 0; d < 3; ++d)
       image[d] = std::int32_t(
           std::clamp(std::int64_t(image0_[s][d]) + image_[s][d], std::int64_t(INT32_MIN), std::int64_t(INT32_MAX)));
-    const Vec3d w = omega_.empty() ? Vec3d{} : Vec3d{double(omega_[k].x), double(omega_[k].y), double(omega_[k].z)};
+    const Vec3d w =
+        omega_.empty() ? spins_.at(s) : Vec3d{double(omega_[k].x), double(omega_[k].y), double(omega_[k].z)};
     out.push_back(id_[s], type_[s], double(r_[k]), double(m_[k]), p,
                   {double(vel_[k].x), double(vel_[k].y), double(vel_[k].z)}, image, w);
   }
