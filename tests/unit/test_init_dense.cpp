@@ -187,11 +187,13 @@ TEST(DenseInit, AmorphousNotCrystalline) {
   const auto crystal = bond_order(fcc(5, 0.60));
   EXPECT_NEAR(crystal.q6_global, 0.5745, 1e-3);
   EXPECT_EQ(crystal.crystal_like, 1.0);
-  // Straight quench (0.60) and compression stages (0.635): no crystal nuclei to speak of.
+  // Straight quench (0.60) and compression stages (0.635): no crystal nuclei to speak of. Over
+  // seeds 11-18 Q6 had mean 0.034 and 0.046, sd 0.006 and 0.010, the crystal-like fraction mean
+  // 0.003 and 0.014, sd 0.003 and 0.009 (phi 0.60, 0.635): the bounds are |mean| + 4 sd or more.
   for (const double phi : {0.60, 0.635}) {
     const auto order = bond_order(dense(1000, phi, 2));
     EXPECT_LT(order.q6_global, 0.1) << "phi " << phi;
-    EXPECT_LT(order.crystal_like, 0.05) << "phi " << phi;
+    EXPECT_LT(order.crystal_like, 0.06) << "phi " << phi;
   }
 }
 
