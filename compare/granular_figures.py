@@ -19,7 +19,7 @@
 
   python3 -m compare.granular_figures --hardsphere build/standalone/hardsphere --out DIR [--quick]
 
---quick: shorter barometric runs (mean height within 5% instead of 3%), a smaller bed
+--quick: shorter barometric runs (mean height within 18% instead of 10%), a smaller bed
 (150 spheres in 6 x 6 x 20, to t = 16) with the same 2% floor tolerance, the same collapse runs.
 Writes DIR/granular.md, DIR/granular.json and DIR/granular_{barometric,bed,collapse}.png;
 exit status 1 if a check fails.
@@ -225,7 +225,11 @@ def main():
     a = ap.parse_args()
     out = Path(a.out)
     out.mkdir(parents=True, exist_ok=True)
-    baro_tol, floor_tol, drift_tol = (0.05 if a.quick else 0.03), 0.02, 1e-9
+    # The mean height of 300 spheres over 200 (quick: 100) time units is a slow, noisy average: over
+    # seeds 1-10 its ratio to the expected had mean +0.2% and +1.3% and sd 2.3% (stepper, event
+    # engine), quick mean +4.0% and +3.0% and sd 3.5% and 3.3%: |mean| + 4 sd <= 10% and 18%. The
+    # sharp barometric check is the unit test (1500 spheres, sd 0.7%).
+    baro_tol, floor_tol, drift_tol = (0.18 if a.quick else 0.10), 0.02, 1e-9
     t0 = time.time()
     with tempfile.TemporaryDirectory() as d:
         res = {"barometric": [barometric(a.hardsphere, e, a.quick, d) for e in ENGINES],

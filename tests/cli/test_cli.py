@@ -226,12 +226,13 @@ def test_truncated_and_structurally_broken_data_files(hs, tmp_path):
 def test_restitution_cools_the_gas_and_accounts_the_energy(hs, engine):
     # Dilute gas, e = 0.8: Haff's law with the Enskog rate (Carnahan-Starling contact value)
     # T(10) = 1 / (1 + (1 - e^2) G0 10 / 6)^2 = 0.506 at phi 0.05; the energy the collisions
-    # took is E0 - E1 and the total momentum stays zero.
+    # took is E0 - E1 and the total momentum stays zero. Over 10 seeds T / T_Haff - 1 had mean
+    # +0.71% and sd 0.65% (stepper), +0.60% and 0.74% (event): |mean| + 4 sd <= 3.6%.
     j = run_json(hs, "--n", 2000, "--phi", 0.05, "--restitution", 0.8, *engine)
     phi, e = 0.05, 0.8
     g = (1 - phi / 2) / (1 - phi) ** 3
     g0 = 4 * (6 * phi / math.pi) * g * math.sqrt(math.pi)
-    assert j["temperature"] == pytest.approx(1 / (1 + (1 - e * e) * g0 * 10 / 6) ** 2, rel=0.03)
+    assert j["temperature"] == pytest.approx(1 / (1 + (1 - e * e) * g0 * 10 / 6) ** 2, rel=0.04)
     assert j["restitution"] == 0.8 and j["contact_time"] == 1e-4
     assert j["dissipated_energy"] == pytest.approx(j["kinetic_energy_initial"] - j["kinetic_energy_final"])
     assert j["dissipated_energy"] > 0.4 * j["kinetic_energy_initial"]

@@ -76,6 +76,7 @@ def test_event_engine_refuses_a_sphere_too_fast_to_follow(hs, tmp_path):
 # --- far from the origin, long steps: simulated correctly ----------------------------------
 
 def test_float_run_far_from_the_origin_matches_the_run_at_the_origin(hs, tmp_path):
+    # Over 10 seeds far / near collisions - 1 had mean 0.08% and sd 0.80% (|mean| + 4 sd = 3.3%).
     base = gas_file(hs, tmp_path / "g.data", "--n", 200, "--box", 8.06)
     far = lammps_files.read_data(base)
     far.box += 1e6
@@ -89,6 +90,8 @@ def test_float_run_far_from_the_origin_matches_the_run_at_the_origin(hs, tmp_pat
 
 
 def test_long_steps_keep_the_event_engines_collision_rate(hs, tmp_path):
+    # Over 10 seeds the rate ratio - 1 had mean 0.03% and sd 0.60% (dt 2), -0.01% and 0.31% (dt 5):
+    # |mean| + 4 sd <= 2.4%.
     f = gas_file(hs, tmp_path / "g.data", "--n", 200, "--box", 8.06, "--seed", 2)
     ref = run_json(hs, "--read-data", f, "--engine", "event", "--time", 100)
     for dt in (2, 5):

@@ -61,7 +61,8 @@ def test_rough_json_keys_and_energy_bookkeeping(hs, engine):
     for key in ROUGH_KEYS:
         assert key in j, key
     assert j["tangential_restitution"] == 0.3 and j["friction"] == 0.4 and j["inertia"] == 0.5
-    # T_rot = sum I w^2 / 3N at the start: drawn at 2, within a few standard errors sqrt(2/(3N)) of it.
+    # T_rot = sum I w^2 / 3N at the start: drawn at 2, within 5 standard errors sqrt(2/(3N)) of it
+    # (over 10 seeds its departure had mean 0.37 and sd 0.87 of them: |mean| + 4 sd = 3.9).
     assert abs(j["temperature_rotational_initial"] / 2 - 1) < 5 * math.sqrt(2 / (3 * 300))
     assert j["kinetic_energy_rotational_initial"] == pytest.approx(1.5 * 300 * j["temperature_rotational_initial"])
     # The energy lost is the sum of the channels, and dissipated_energy counts rotation too.

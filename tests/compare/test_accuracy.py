@@ -21,7 +21,8 @@ def test_accuracy_quick(hs, tmp_path):
     assert ref and all(abs(r["energy_rel_drift"]) < 1e-12 and r["max_overlap"] < 1e-10 for r in ref)
     steppers = [r for r in rows if r["engine"] == "stepper"]
     assert {(r["precision"], r["detect"]) for r in steppers} >= {("double", "overlap"), ("double", "sweep"), ("float", "overlap")}
-    # At dt = 0.005 (~0.05 mean free times) the double stepper is within 2% of the exact Z.
+    # At dt = 0.005 (~0.05 mean free times) the double stepper is within 2% of the exact Z (over 10
+    # seeds of this quick run the two Z agreed to 2e-13: one time unit does not decorrelate them).
     small = [r for r in steppers if r["dt"] == 0.005 and r["precision"] == "double"]
     assert small and all(abs(r["z_rel_err"]) < 0.02 for r in small)
 

@@ -69,7 +69,9 @@ def test_speeds_ks_accepts_maxwell_boltzmann_and_rejects_one_speed():
     v = rng.normal(0, 1.3, (1, 5000, 3))
     f = _frames(np.zeros((1, 5000, 3)), [0], vel=v)[0]
     _, p, temperature = obs.speed_ks(f, np.ones(5000))
-    assert p > 1e-3 and temperature == pytest.approx(1.69, rel=0.05)
+    # Over 200 seeds p was 0.15 or more (T is fitted: the test is conservative) and T / 1.69 - 1
+    # had sd 1.23%: p above 6e-5 (the two-sided 4-sigma tail), T within 4 sd, rounded up.
+    assert p > 6e-5 and temperature == pytest.approx(1.69, rel=0.06)
     directions = v[0] / np.linalg.norm(v[0], axis=1)[:, None]
     f["vel"] = directions
     assert obs.speed_ks(f, np.ones(5000))[1] < 1e-10

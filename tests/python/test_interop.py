@@ -45,7 +45,9 @@ def test_g_of_r_from_arrays(sim):
     edges, g = g_of_r(sim.positions, sim.box.lengths, 4.0, 40)
     centres = (edges[1:] + edges[:-1]) / 2
     assert np.all(g[centres < 0.95] == 0)  # no pair closer than a diameter
-    assert g[(centres > 1.0) & (centres < 1.1)].max() > 1.2  # the contact peak of a gas at 0.2
+    # Over 20 seeds the contact bin had mean 1.605 and sd 0.107 (the peak of a gas at 0.2; its
+    # lower 4-sd edge 1.18), the mean beyond 3 diameters was 1 - 0.0024 with sd 0.0036.
+    assert g[(centres > 1.0) & (centres < 1.1)].max() > 1.17
     assert abs(g[centres > 3].mean() - 1) < 0.1
 
 

@@ -291,6 +291,8 @@ def fast_1e6(ctx):
 
 
 def fast_sphere(ctx, factor):
+    # At 1e3, over 10 seeds the collisions against the event engine's had mean +0.2% and sd 1.1%
+    # (auto, sweep), -3.0% and 1.5% (overlap, which misses grazes): |mean| + 4 sd <= 9.0%.
     base = gas(ctx, "gas.data", "--n", 300, "--phi", 0.2, "--seed", 3)
     data = with_fast_sphere(base, ctx.work / "fast.data", factor)
     t = 40 * 11.3 / (factor * math.sqrt(3))  # ~40 box crossings of the fast sphere
@@ -311,18 +313,24 @@ def fast_sphere(ctx, factor):
 @case("float against double", "same gas 1e8 particle-steps (quick: 1e6): Z and collision rate within 1%, "
       "float energy drift < 1e-4")
 def float_double(ctx):
+    # Quick, over 10 seeds: float / double - 1 had mean -0.14% and sd 0.22% for Z, 0.03% and 0.50%
+    # for the rate (|mean| + 4 sd: 1.0% and 2.0%), so quick allows 1.5% and 2.5%; the full run's 100x
+    # the particle-steps cut the sd ~10x. The float drift had sd 1e-8.
     n, steps = (10000, 10000) if ctx.full else (2000, 500)
     data = gas(ctx, "fd.data", "--n", n, "--phi", 0.3, "--seed", 8)
     runs = {p: ctx.json("--read-data", data, "--steps", steps, "--precision", p) for p in ("double", "float")}
     sound(runs["double"])
     sound(runs["float"], energy=1e-4, overlap=runs["float"]["overlap_tolerance"], momentum=1e-5)
-    agree(runs["float"]["compressibility_factor"], runs["double"]["compressibility_factor"], "Z", 0.01)
-    agree(runs["float"]["collision_rate_per_particle"], runs["double"]["collision_rate_per_particle"], "rate", 0.01)
+    agree(runs["float"]["compressibility_factor"], runs["double"]["compressibility_factor"], "Z",
+          0.01 if ctx.full else 0.015)
+    agree(runs["float"]["collision_rate_per_particle"], runs["double"]["collision_rate_per_particle"], "rate",
+          0.01 if ctx.full else 0.025)
 
 
 @case("clock far from zero", "1e8 steps (quick: 1e6) of 27 spheres, and the event engine over the same time: "
       "conserved, rates within 3%")
 def long_clock(ctx):
+    # Quick, over 10 seeds: the rate ratio - 1 had mean -0.10% and sd 0.28% (|mean| + 4 sd = 1.2%).
     steps = 100_000_000 if ctx.full else 1_000_000
     data = gas(ctx, "lc.data", "--n", 27, "--box", 6, "--seed", 4)
     j = ctx.json("--read-data", data, "--steps", steps, "--dt", 0.01)
@@ -334,8 +342,9 @@ def long_clock(ctx):
 
 
 @case("dense states", "phi 0.55-0.62 (N = 500) for 1e5 collisions per sphere (quick: 1e3): both engines conserve "
-      "energy (1e-10 after 2.5e7 collisions), no overlap; over the first 1e3 collisions per sphere their rates agree within 5% (single runs "
-      "from one state spread by ~1.5% there; later the metastable states age or crystallize at different times)")
+      "energy (1e-10 after 2.5e7 collisions), no overlap; over the first 1e3 collisions per sphere their rates agree within 6.5% (over 10 "
+      "seeds the stepper's rate against the event engine's spread by 1.4% at phi 0.55 and 1.5% at 0.60, means -0.1% and -0.2%; later the "
+      "metastable states age or crystallize at different times)")
 def dense(ctx):
     per_sphere = 1e5 if ctx.full else 1e3
     for phi in ((0.55, 0.58, 0.60, 0.62) if ctx.full else (0.55, 0.60)):
@@ -344,7 +353,7 @@ def dense(ctx):
         t_short = 1e3 / probe["collision_rate_per_particle"]
         ref = ctx.json("--read-data", data, "--engine", "event", "--time", t_short)
         j = ctx.json("--read-data", data, "--time", t_short, "--dt", 0.002)
-        agree(j["collision_rate_per_particle"], ref["collision_rate_per_particle"], f"rate at phi {phi}", 0.05)
+        agree(j["collision_rate_per_particle"], ref["collision_rate_per_particle"], f"rate at phi {phi}", 0.065)
         t = per_sphere / probe["collision_rate_per_particle"]
         for run in (ctx.json("--read-data", data, "--engine", "event", "--time", t),
                     ctx.json("--read-data", data, "--time", t, "--dt", 0.002)):
@@ -355,6 +364,8 @@ def dense(ctx):
 @case("size and mass disparity", "one sphere of diameter 10 or 20 and mass 1e4 among unit spheres between walls: "
       "conserved, no overlap, collisions within 5% of the event engine")
 def disparity(ctx):
+    # Quick (400 spheres, 4 time units), over 10 seeds: the stepper's collisions and wall bounces
+    # equalled the event engine's every time (the runs had not decorrelated).
     import random
     rng = random.Random(5)
     for big in (10, 20):
@@ -400,6 +411,7 @@ def overflow(ctx):
 
 @case("class 3: long steps", "200 spheres in a box of 8.06: dt 2 and 5 keep the event engine's collision rate (3%)")
 def long_steps(ctx):
+    # Over 10 seeds the rate ratio - 1 had mean 0.06% and sd 0.40% (dt 2), 0.02% and 0.36% (dt 5).
     data = gas(ctx, "ls.data", "--n", 200, "--box", 8.06, "--seed", 11)
     ref = ctx.json("--read-data", data, "--engine", "event", "--time", 200)
     for dt in (2, 5):
@@ -411,6 +423,7 @@ def long_steps(ctx):
 @case("class 4: float far from the origin", "the box moved to 1e6: float run within 5% of the run at the origin, "
       "no overlap")
 def far_float(ctx):
+    # Over 10 seeds far / near collisions - 1 had mean 0.08% and sd 0.80% (|mean| + 4 sd = 3.3%).
     base = gas(ctx, "base.data", "--n", 200, "--box", 8.06, "--seed", 12)
     moved = read_data(base)
     moved.pos += 1e6

@@ -175,7 +175,8 @@ TEST(StepperBigSpheres, EnergyAndMomentumConservedOverALongRun) {
 TEST(StepperBigSpheres, FloatRunsKeepEnergyWithUnitDiametersAndOneOddSphere) {
   // Unit diameters put a colliding pair's |dr|^2 a few ulps from 1, where a float square root in
   // the impulse leaned one way and gained energy at every collision (3e-6 over 10 time units
-  // with one big sphere); the impulse needs none. Bound: the float drift README states.
+  // with one big sphere); the impulse needs none. Over 12 seeds the drift had mean -8e-9 and
+  // sd 1.7e-8 (an unbiased random walk): 4e-7 is over 20 sd.
   const auto s = scene(cube(20, {true, true, true}), {{10, 1e3, {10, 10, 10}}}, 2500, unit, 11);
   StepperConfig cfg;
   auto st = make_stepper(s, {}, cfg, Precision::Float);
@@ -270,7 +271,8 @@ TEST(BigSphereOverlaps, FoundWithoutAGridAsWideAsTheBigSphere) {
 
 TEST(StepperBigSpheres, SinglePrecisionRunsThePassToo) {
   // The same pass in float: energy to float round-off, no overlap beyond it, and collision
-  // totals within their statistical spread of the double run's.
+  // totals within their statistical spread of the double run's: over 12 seeds the ratio had mean
+  // 1.0003 and sd 0.78% (5% is 6 sd), the float drift sd 1e-8.
   const auto s = scene(cube(22, {true, true, true}), {{10, 1e3, {11, 11, 11}}}, 2500, unit, 10);
   StepperConfig cfg;
   auto d = make_stepper(s, {}, cfg, Precision::Double), f = make_stepper(s, {}, cfg, Precision::Float);

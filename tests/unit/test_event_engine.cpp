@@ -350,7 +350,7 @@ TEST(EventPressure, CompressibilityFactorAndCollisionRateAtPhi030) {
 TEST(EventPressure, StepperAtSmallTimeStepAgreesWithTheEventEngine) {
   // Same initial state (N = 1000, phi = 0.30), 10 time units each; the stepper with dt = 0.002
   // (~0.02 mean free times, sweep detection). The two trajectories decorrelate, so they agree
-  // only statistically: tolerance 4 combined block errors (~0.4%) for Z and the collision rate.
+  // only statistically, within 4 measured standard deviations of such runs (below).
   const double phi = 0.30;
   const auto s = gas(1000, phi, 4);
   const double t = temperature(s);
@@ -367,10 +367,10 @@ TEST(EventPressure, StepperAtSmallTimeStepAgreesWithTheEventEngine) {
   const auto& cs = st->counters();
   const double z_st = compressibility_factor(cs.pair_virial, cs.sim_time, s.size(), t);
   const double rate_st = 2.0 * double(cs.collisions) / (1000.0 * cs.sim_time);
-  // Statistical error of one such run, measured with 20 blocks on the event engine: ~0.25% in Z.
-  const double tol = 4 * std::sqrt(2.0) * 0.0025;
-  EXPECT_NEAR(z_st / z_ev, 1.0, tol) << "stepper " << z_st << " event " << z_ev;
-  EXPECT_NEAR(rate_st / rate_ev, 1.0, tol) << "stepper " << rate_st << " event " << rate_ev;
+  // Spread of the ratios over 10 seeds (portable build): Z sd 0.30% (mean -0.02%), collision rate
+  // sd 0.47% (mean -0.06%); the tolerances are 4 sd of each, rounded up.
+  EXPECT_NEAR(z_st / z_ev, 1.0, 0.0141) << "stepper " << z_st << " event " << z_ev;
+  EXPECT_NEAR(rate_st / rate_ev, 1.0, 0.02) << "stepper " << rate_st << " event " << rate_ev;
 }
 
 TEST(EventInput, RejectsBoxesTooSmallForThreeCells) {

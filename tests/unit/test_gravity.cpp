@@ -83,7 +83,8 @@ TEST(Gravity, ElasticGasSettlesIntoTheBarometricProfileAndKeepsItsEnergy) {
 
 TEST(Gravity, InelasticSpheresSettleIntoABedThatTheFloorCarries) {
   // e = 0.5, g = 1: the gas collapses onto the floor into a packed bed (TC model keeps it
-  // running); no pair overlaps, and once settled the floor takes the bed's weight N m g.
+  // running); no pair overlaps, and once settled the floor takes the bed's weight N m g (over 10
+  // seeds force / weight had mean 1.0007 and sd 0.05%).
   ParticleSystem s = gas_between_floor_and_ceiling(300, 8.0, 30.0, 6);
   const StepperConfig cfg = steps_of(0.005);
   Physics cfg_physics = falling(1.0);
@@ -119,7 +120,8 @@ TEST(Gravity, EventEngineFliesTheSameParabolas) {
 
 TEST(Gravity, EventEngineGasKeepsItsEnergyAndItsBedLoadsTheFloor) {
   // Elastic: kinetic + potential energy kept to 1e-9 while the gas falls and mixes; inelastic
-  // (e = 0.5): a settled bed without overlap whose floor takes its weight.
+  // (e = 0.5): a settled bed without overlap whose floor takes its weight (over 10 seeds force /
+  // weight had mean 1.0025 and sd 0.19%: |mean| + 4 sd = 1.0%).
   {
     const ParticleSystem s = gas_between_floor_and_ceiling(300, 10.0, 30.0, 8);
     EventConfig cfg;

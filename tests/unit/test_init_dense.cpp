@@ -187,11 +187,13 @@ TEST(DenseInit, AmorphousNotCrystalline) {
   const auto crystal = bond_order(fcc(5, 0.60));
   EXPECT_NEAR(crystal.q6_global, 0.5745, 1e-3);
   EXPECT_EQ(crystal.crystal_like, 1.0);
-  // Straight quench (0.60) and compression stages (0.635): no crystal nuclei to speak of.
+  // Straight quench (0.60) and compression stages (0.635): no crystal nuclei to speak of. Over
+  // seeds 11-18 Q6 had mean 0.034 and 0.046, sd 0.006 and 0.010, the crystal-like fraction mean
+  // 0.003 and 0.014, sd 0.003 and 0.009 (phi 0.60, 0.635): the bounds are |mean| + 4 sd or more.
   for (const double phi : {0.60, 0.635}) {
     const auto order = bond_order(dense(1000, phi, 2));
     EXPECT_LT(order.q6_global, 0.1) << "phi " << phi;
-    EXPECT_LT(order.crystal_like, 0.05) << "phi " << phi;
+    EXPECT_LT(order.crystal_like, 0.06) << "phi " << phi;
   }
 }
 
@@ -242,7 +244,8 @@ TEST(DenseEngines, BothEnginesRunFromDenseStates) {
   // N = 800 at 0.60 (straight quench) and 0.62 (at the edge of the straight quench), t = 0.5:
   // ~50 collisions per sphere. The stepper (sweep detection, dt ~0.1 mean free times) and the
   // event engine start from the same state; their trajectories decorrelate, so collision rate
-  // and Z agree only statistically (4% covers the spread of such short runs).
+  // and Z agree only statistically (4% covers the spread of such short runs; over 10 seeds on the
+  // portable build both ratios were 1 to 1e-10: in 0.5 time units the runs had not decorrelated).
   for (const double phi : {0.60, 0.62}) {
     const auto s = dense(800, phi, 11);
     const double t = temperature(s), duration = 0.5;

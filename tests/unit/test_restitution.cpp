@@ -47,8 +47,10 @@ double haff(double phi, double e, double t) {
 }  // namespace
 
 TEST(Restitution, DiluteGasCoolsByHaffsLawInBothEngines) {
-  // phi 0.05, before clustering: within 3% (the tolerance; Enskog's rate is good to ~1%
-  // here and one run's cooling fluctuates by ~0.5%).
+  // phi 0.05, before clustering. Over 10 seeds the largest departure over the three times had
+  // mean +0.4% and +0.7% and sd 0.5% and 0.6% at e = 0.9 (stepper, event engine), +0.9% and +1.0%
+  // and sd 1.2% at e = 0.7 (Haff's law with Enskog's rate is itself good to ~1%): |mean| + 4 sd
+  // <= 5.8%.
   const double phi = 0.05;
   for (const double e : {0.9, 0.7}) {
     const ParticleSystem s = test::gas(4000, phi, 11);
@@ -69,8 +71,8 @@ TEST(Restitution, DiluteGasCoolsByHaffsLawInBothEngines) {
       st->run(std::llround(t / cfg.dt) - st->counters().steps);
       ev.advance(t - ev.time());
       const double expected = haff(phi, e, t);
-      EXPECT_NEAR(temperature(st->state()) / expected, 1.0, 0.03) << "stepper e " << e << " t " << t;
-      EXPECT_NEAR(temperature(ev.state()) / expected, 1.0, 0.03) << "event e " << e << " t " << t;
+      EXPECT_NEAR(temperature(st->state()) / expected, 1.0, 0.06) << "stepper e " << e << " t " << t;
+      EXPECT_NEAR(temperature(ev.state()) / expected, 1.0, 0.06) << "event e " << e << " t " << t;
     }
     // Momentum is still conserved (equal and opposite impulses).
     const Vec3d p = total_momentum(st->state());

@@ -453,14 +453,15 @@ TEST(StepperConservation, SweepDetectionAndFloatPrecision) {
   const auto out_f = run(s, 0.02, 1000, StepperConfig{}, Precision::Float, &cf);
   EXPECT_LT(std::abs(kinetic_energy(out_f) / kinetic_energy(s) - 1), 1e-4);  // float round-off
   EXPECT_LT(max_overlap(out_f), 1e-5);
-  // Same physics: collision totals agree within their statistical spread (~1%).
+  // Same physics: collision totals agree within their statistical spread. Over 12 seeds the ratio
+  // has mean 1.0015 and sd 0.47%; 3% is over 6 sd. The float drift spread by 3.5e-8.
   EXPECT_NEAR(double(cf.collisions) / double(cs.collisions), 1.0, 0.03);
 }
 
 TEST(StepperMaxwell, OneSpeedGasRelaxesToMaxwellBoltzmann) {
   // All 4000 spheres start at |v| = sqrt(3) (T = 1): the speed distribution is far from MB.
   // After ~25 collisions per sphere it must pass a Kolmogorov-Smirnov test against MB at
-  // T = <m v^2>/3 at the 1% significance level (fails if p < 0.01).
+  // T = <m v^2>/3: p above 6e-5, the two-sided 4-sigma tail (over 12 seeds p was 0.32 to 1.0).
   const auto s = gas(4000, 0.3, 5, std::sqrt(3.0));
   const double t0 = temperature(s);
   EXPECT_LT(kolmogorov_pvalue(maxwell_ks_distance(s, t0), s.size()), 1e-10);  // the test can fail
@@ -468,7 +469,7 @@ TEST(StepperMaxwell, OneSpeedGasRelaxesToMaxwellBoltzmann) {
   const double t = temperature(out);
   EXPECT_NEAR(t, t0, 1e-12);
   const double p = kolmogorov_pvalue(maxwell_ks_distance(out, t), out.size());
-  EXPECT_GT(p, 0.01) << "KS distance " << maxwell_ks_distance(out, t);
+  EXPECT_GT(p, 6e-5) << "KS distance " << maxwell_ks_distance(out, t);
 }
 
 TEST(StepperCells, OneBoxAndAutoCellsGiveTheSameCollisions) {
@@ -506,8 +507,9 @@ TEST(StepperDeterminism, SameSeedSameRunDifferentSeedDifferentRun) {
 }
 
 TEST(StepperPressure, CompressibilityFactorNearCarnahanStarling) {
-  // phi = 0.3, dt = 0.005 (~0.04 mean free times): Z within 1.5% of CS. The statistical error
-  // of this run is ~0.5%; the small-dt bias of the overlap detection is below that.
+  // phi = 0.3, dt = 0.005 (~0.04 mean free times): Z within 1.5% of CS. Over 12 seeds Z / Z_CS
+  // had mean 1.0024 (CS and the small-dt bias of overlap detection) and sd 0.19%: |mean| + 4 sd
+  // = 1.0%.
   const double phi = 0.3;
   auto s = gas(2000, phi, 21);
   StepperConfig cfg;

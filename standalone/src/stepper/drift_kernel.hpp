@@ -150,4 +150,19 @@ DriftMaxima<Real> drift_spheres(Real* __restrict p, const Real* __restrict v, co
   return {m, v2max};
 }
 
+//! Adds dv to component `axis` of n velocities (xyz triples), compensated: residual (laid out like
+//! v) keeps what rounding each sum lost, and the next sum adds it back (Knuth's TwoSum, exact for
+//! any magnitudes). A plain v += dv rounds the same way every time while v stays in one binade (dv
+//! is the same fraction of its ulp), which in float biased a gas's energy under gravity (+2.3e-5
+//! in 6000 steps of 1000 spheres, every seed alike). Only the axes with gravity need it.
+template <class Real>
+void kick_compensated(Real* __restrict v, Real* __restrict residual, std::size_t n, int axis, Real dv) {
+  for (std::size_t k = std::size_t(axis); k < 3 * n; k += 3) {
+    const Real x = v[k], y = dv + residual[k];
+    const Real s = x + y, y_in_s = s - x;
+    residual[k] = (x - (s - y_in_s)) + (y - y_in_s);
+    v[k] = s;
+  }
+}
+
 }  // namespace hardsphere::detail

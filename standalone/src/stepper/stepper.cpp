@@ -188,6 +188,7 @@ class Stepper final : public StepperBase, public StateExchange {
   }
   void set_velocities(const Vec3d* vel) override {
     for (std::size_t k = 0; k < vel_.size(); ++k) vel_[k] = {Real(vel[k].x), Real(vel[k].y), Real(vel[k].z)};
+    clear_kick_residual();
     refresh_speed_bound();
   }
   void copy_velocities(const std::uint32_t* slots, std::size_t count, Vec3d* out) const override {
@@ -205,6 +206,7 @@ class Stepper final : public StepperBase, public StateExchange {
       const std::uint32_t k = slots[i];
       pos_[k] = {Real(pos[i].x - origin_[0]), Real(pos[i].y - origin_[1]), Real(pos[i].z - origin_[2])};
       vel_[k] = {Real(vel[i].x), Real(vel[i].y), Real(vel[i].z)};
+      if (!kick_residual_.empty()) kick_residual_[k] = {};
       v2 = std::max(v2, dot(vel_[k], vel_[k]));
     }
     resolver_.set_speed_bound(std::max(resolver_.speed_bound(), std::sqrt(v2) + path_bend()));
@@ -214,6 +216,7 @@ class Stepper final : public StepperBase, public StateExchange {
       const double* vi = v + 3 * std::size_t(src[k]);
       vel_[k] = {Real(vi[0]), Real(vi[1]), Real(vi[2])};
     }
+    clear_kick_residual();
     refresh_speed_bound();
   }
   void scatter_omega(const std::uint32_t* dest, double* omega) const override {
@@ -371,8 +374,16 @@ class Stepper final : public StepperBase, public StateExchange {
   }
   void kick(Real t) {
     const V3<Real> dv{gravity_[0] * t, gravity_[1] * t, gravity_[2] * t};
+    if (!kick_residual_.empty()) {  // float: see kick_compensated()
+      for (int d = 0; d < 3; ++d)
+        if (dv[d] != Real(0))
+          detail::kick_compensated(&vel_.data()->x, &kick_residual_.data()->x, vel_.size(), d, dv[d]);
+      return;
+    }
     for (auto& v : vel_) v += dv;
   }
+  //! Velocities set from outside: what earlier kicks' rounding lost is not theirs.
+  void clear_kick_residual() { std::fill(kick_residual_.begin(), kick_residual_.end(), V3<Real>{}); }
   //! Whether every sphere's path over its window (back to its last velocity change in the
   //! step) stays within half the skin of where it is now.
   bool windows_fit_skin() const {
@@ -500,10 +511,11 @@ class Stepper final : public StepperBase, public StateExchange {
   double clock_ = 0;                      // time since construction, for the collision times
   std::array<Real, 3> gravity_{0, 0, 0};  // uniform acceleration (wall axes only)
   bool has_gravity_ = false;
-  std::vector<V3<Real>> omega_;  // angular velocities in cell order, rough scenes only (else empty)
-  detail::SmoothSpins spins_;    // smooth scenes: the spins given, unchanged, by id rank
-  std::string collapse_advice_;  // added to a jam refusal (inelastic collisions)
-  double inertia_ = 0.4;         // q of I = q m r^2
+  std::vector<V3<Real>> kick_residual_;  // cell order, float under gravity only: see kick_compensated()
+  std::vector<V3<Real>> omega_;          // angular velocities in cell order, rough scenes only (else empty)
+  detail::SmoothSpins spins_;            // smooth scenes: the spins given, unchanged, by id rank
+  std::string collapse_advice_;          // added to a jam refusal (inelastic collisions)
+  double inertia_ = 0.4;                 // q of I = q m r^2
 };
 
 template <class Real, bool Mono>
@@ -645,6 +657,7 @@ Stepper<Real, Mono>::Stepper(const ParticleSystem& sys, const Physics& physics, 
   resolver_.set_walls(no_tests, wall_lo, wall_hi);
   gravity_ = {Real(physics.gravity[0]), Real(physics.gravity[1]), Real(physics.gravity[2])};
   has_gravity_ = physics.has_gravity();
+  if (sizeof(Real) == sizeof(float) && has_gravity_) kick_residual_.assign(n, V3<Real>{});
   resolver_.set_gravity(gravity_);
   resolver_.set_resting_time(Real(physics.resting_time));
   pairs_.configure({&grid_, &box_, length_, image_shift_, skin_, sigma_, cell_radius_, max_radius_});
@@ -705,6 +718,7 @@ void Stepper<Real, Mono>::rebuild() {
   }
   pos_.swap(scratch_v3_);
   permute(vel_, scratch_v3_);
+  if (!kick_residual_.empty()) permute(kick_residual_, scratch_v3_);
   if (!omega_.empty()) permute(omega_, scratch_v3_);
   if constexpr (!Mono) {  // equal radii and masses need no reordering
     permute(r_, scratch_real_);
