@@ -1,21 +1,18 @@
 #!/usr/bin/env python3
 """How good is --cells auto? For each scene, the stepper's loop CPU time with the automatic grid
-against a sweep of manual grids (K cells per axis), medians of alternating rounds; prints a
-markdown table with auto / best. Speed is reported, never asserted.
+against a sweep of manual grids (K cells per axis), medians of alternating rounds; writes
+DIR/auto_cells.md and DIR/auto_cells.json with auto / best. Speed is reported, never asserted.
 
-  python3 -m bench.auto_cells --hs build/standalone/hardsphere [--rounds 3] [--quick]
+  python3 -m bench.auto_cells --out DIR [--build DIR] [--hardsphere PATH] [--rounds 3] [--quick]
 """
-import argparse
 import dataclasses
-import json
 import math
 import statistics
-import subprocess
-import tempfile
 from pathlib import Path
 
 import numpy as np
 
+from compare import harness
 from compare.big_sphere_scene import make_scene, write_scene
 from compare.lammps_files import read_data, write_data
 
@@ -50,42 +47,54 @@ def state(tmp, name, spec):
 
 
 def loop_cpu(hs, data, steps, dt, cells):
-    p = subprocess.run([hs, "run", "--quiet", "--read-data", str(data), "--steps", str(steps), "--dt", str(dt),
-                        "--cells", cells, "--json", "-"], capture_output=True, text=True)
-    if p.returncode:
+    try:
+        j = harness.hardsphere_json(hs, "--quiet", "--read-data", data, "--steps", steps, "--dt", dt, "--cells", cells)
+    except harness.ProgramError:
         return None, None  # a grid too fine for the largest sphere is refused
-    j = json.loads(p.stdout)
     return j["loop_cpu_seconds"], j["cells_per_dim"][0]
 
 
-def main():
-    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("--hs", required=True)
+def markdown(data, generated):
+    lines = ["# How good is `--cells auto`", "", generated, "",
+             f"The stepper's loop CPU time (s) with the automatic grid against manual grids of K cells per axis, "
+             f"medians of {data['rounds']} alternating rounds.", "",
+             "| scene | auto grid | auto (s) | best manual grid | best (s) | auto / best |", "|---|---|---|---|---|---|"]
+    lines += [f"| {r['scene']} | {r['auto_k']} | {r['auto']:.3f} | {r['best_k']} | {r['best']:.3f} | "
+              f"{r['auto'] / r['best']:.2f} |" for r in data["rows"]]
+    return "\n".join(lines)
+
+
+def main(argv=None):
+    ap = harness.parser(__doc__, programs=("hardsphere",))
     ap.add_argument("--rounds", type=int, default=3)
     ap.add_argument("--quick", action="store_true", help="one round, three scenes")
-    a = ap.parse_args()
+    a = ap.parse_args(argv)
+    session = harness.Session("bench.auto_cells", a, argv)
+    hs = harness.tools(a, need=("hardsphere",))["hardsphere"]
+    out = session.out()
     scenes = SCENES[:1] + SCENES[-2:] if a.quick else SCENES
     rounds = 1 if a.quick else a.rounds
-    print("| scene | auto grid | auto (s) | best manual grid | best (s) | auto / best |")
-    print("|---|---|---|---|---|---|")
-    with tempfile.TemporaryDirectory() as tmp:
+    rows = []
+    with session.workdir() as tmp:
         for name, spec, steps, dt in scenes:
             data = state(tmp, name, spec)
-            _, k_auto = loop_cpu(a.hs, data, 1, dt, "auto")
-            length = read_data(data).lengths[0]
+            _, k_auto = loop_cpu(hs, data, 1, dt, "auto")
             grids = sorted({k for k in [1, 2, 3, 4, 6, 8, 11, 16, 23, 32] + [k_auto - 2, k_auto + 2] if k >= 1})
             times = {"auto": [], **{str(k): [] for k in grids}}
             for _ in range(rounds):  # alternating, so the machine's drift hits every grid alike
                 for c in times:
-                    t, _ = loop_cpu(a.hs, data, steps, dt, c)
+                    t, _ = loop_cpu(hs, data, steps, dt, c)
                     if t is not None:
                         times[c].append(t)
             med = {c: statistics.median(v) for c, v in times.items() if v}
             best = min((c for c in med if c != "auto"), key=med.get)
-            print(f"| {name} | {k_auto} | {med['auto']:.3f} | {best} | {med[best]:.3f} | "
-                  f"{med['auto'] / med[best]:.2f} |", flush=True)
-            del length
+            rows.append(dict(scene=name, auto_k=k_auto, auto=med["auto"], best_k=int(best), best=med[best],
+                             medians=med))
+            session.log(f"{name}: auto / best {med['auto'] / med[best]:.2f}")
+    result = dict(command=session.command, rounds=rounds, rows=rows)
+    report = session.write_report(out, "auto_cells", markdown(result, session.generated()), result)
+    return session.finish([], report)
 
 
 if __name__ == "__main__":
-    main()
+    harness.main(main)

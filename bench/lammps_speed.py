@@ -1,16 +1,17 @@
 #!/usr/bin/env python3
 """Atom-steps per second of `lmp_hs` + `fix hardsphere` against the standalone stepper on the
-same state (a data file written by `hardsphere run`), serial and on 2 MPI ranks; prints a
-markdown table with the adapter overhead. Speed is reported, never asserted.
+same state (a data file written by `hardsphere run`): serial; serial with `newton off`; serial with
+a step-hooked second fix (`fix idle all setforce NULL NULL NULL`, which makes the fix write
+LAMMPS's state every step); serial with `path ghosts`; 2 MPI ranks. Best of --repeat runs each
+(standalone: CPU time of its step loop; LAMMPS: its loop time). Writes DIR/lammps_speed.md and
+DIR/lammps_speed.json with the adapter overhead. Speed is reported, never asserted.
 
-  python3 -m bench.lammps_speed --hs build/standalone/hardsphere --lmp build/plugin/lmp_hs [--n 8000 64000]
+  python3 -m bench.lammps_speed --out DIR [--build DIR] [--hardsphere PATH] [--lmp-hs PATH]
+      [--mpirun PATH] [--n 8000 64000] [--repeat 3]
 """
-import argparse
-import json
-import subprocess
-import tempfile
 from pathlib import Path
 
+from compare import harness
 from compare.lammps_files import loop_times, thermo_rows
 
 INPUT = """units lj
@@ -42,8 +43,7 @@ VARIANTS = (("lmp_hs serial", 1, "", "on"), ("serial, newton off", 1, "", "off")
 
 
 def standalone(hs, d, *opts):
-    p = subprocess.run([hs, "run", *opts, "--json", "-"], cwd=d, capture_output=True, text=True, check=True)
-    return json.loads(p.stdout)
+    return harness.hardsphere_json(hs, *opts, cwd=d)
 
 
 def lammps_output(lmp, d, script, np_, mpirun):
@@ -52,7 +52,7 @@ def lammps_output(lmp, d, script, np_, mpirun):
     cmd = [lmp, "-in", "in.speed", "-log", "none", "-echo", "none"]
     if np_ > 1:
         cmd = [mpirun, "--allow-run-as-root", "--oversubscribe", "-np", str(np_)] + cmd
-    return subprocess.run(cmd, cwd=d, capture_output=True, text=True, check=True).stdout
+    return harness.run_program(cmd, cwd=d).stdout
 
 
 def run_lammps(lmp, d, script, np_, mpirun):
@@ -67,50 +67,57 @@ def lammps(lmp, d, script, np_, mpirun):
     return loop, row[3]
 
 
-def main():
-    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("--hs", required=True)
-    ap.add_argument("--lmp", required=True)
-    ap.add_argument("--mpirun", default="mpirun")
+def markdown(data, generated):
+    lines = ["# lmp_hs against the standalone stepper", "", generated, "",
+             f"phi {data['phi']}, dt {data['dt']}, {data['steps']} steps, best of {data['repeat']} runs each; atom-steps "
+             "per second (standalone: CPU time of the step loop; LAMMPS: its loop time); overhead = standalone rate / "
+             "lmp_hs rate - 1.", "",
+             "| N | standalone | lmp_hs serial | overhead | serial, `newton off` | overhead | "
+             "serial, another fix (writes every step) | overhead | serial, `path ghosts` | 2 ranks | "
+             "collisions (standalone / serial) |", "|---|---|---|---|---|---|---|---|---|---|---|"]
+    for r in data["rows"]:
+        def rate_and_overhead(label):
+            return f"{r[label]:.3g} | {100 * (r['standalone'] / r[label] - 1):+.0f}%"
+        lines.append(f"| {r['n']} | {r['standalone']:.3g} | {rate_and_overhead('lmp_hs serial')} | "
+                     f"{rate_and_overhead('serial, newton off')} | {rate_and_overhead('lmp_hs serial, another fix')} | "
+                     f"{r['lmp_hs serial, path ghosts']:.3g} | {r['lmp_hs 2 ranks']:.3g} | "
+                     f"{r['collisions']} / {r['lmp_hs serial collisions']:.0f} |")
+    return "\n".join(lines)
+
+
+def main(argv=None):
+    ap = harness.parser(__doc__, programs=("hardsphere", "lmp_hs", "mpirun"))
     ap.add_argument("--n", type=int, nargs="+", default=[8000, 64000])
     ap.add_argument("--phi", type=float, default=0.3)
     ap.add_argument("--dt", type=float, default=0.01)
     ap.add_argument("--steps", type=int, default=500)
     ap.add_argument("--repeat", type=int, default=3, help="best of this many runs per engine")
-    a = ap.parse_args()
-    a.hs, a.lmp = str(Path(a.hs).resolve()), str(Path(a.lmp).resolve())
+    a = ap.parse_args(argv)
+    session = harness.Session("bench.lammps_speed", a, argv)
+    tools = harness.tools(a, need=("hardsphere", "lmp_hs", "mpirun"))
+    out = session.out()
+    hs, lmp, mpirun = tools["hardsphere"], tools["lmp_hs"], tools["mpirun"]
     rows = []
-    with tempfile.TemporaryDirectory() as d:
+    with session.workdir() as d:
         for n in a.n:
-            standalone(a.hs, d, "--n", str(n), "--phi", str(a.phi), "--steps", "200", "--dt", str(a.dt),
+            standalone(hs, d, "--n", str(n), "--phi", str(a.phi), "--steps", "200", "--dt", str(a.dt),
                        "--write-data", "state.data")
-            sa = [standalone(a.hs, d, "--read-data", "state.data", "--steps", str(a.steps), "--dt", str(a.dt))
+            sa = [standalone(hs, d, "--read-data", "state.data", "--steps", str(a.steps), "--dt", str(a.dt))
                   for _ in range(a.repeat)]
             t_sa = min(j["loop_cpu_seconds"] for j in sa)
-            rate_sa = n * a.steps / t_sa
-            row = {"n": n, "standalone": rate_sa, "collisions": sa[0]["collisions"]}
+            row = {"n": n, "standalone": n * a.steps / t_sa, "collisions": sa[0]["collisions"]}
             for label, np_, extra, newton in VARIANTS:
                 script = INPUT.format(data="state.data", newton=newton, skin=0.5, dt=a.dt, extra=extra, thermo=100,
                                       steps=a.steps)
-                runs = [lammps(a.lmp, d, script, np_, a.mpirun) for _ in range(a.repeat)]
-                t = min(r[0] for r in runs)
-                row[label] = n * a.steps / t
+                runs = [lammps(lmp, d, script, np_, mpirun) for _ in range(a.repeat)]
+                row[label] = n * a.steps / min(r[0] for r in runs)
                 row[label + " collisions"] = runs[0][1]
             rows.append(row)
-    print(f"phi {a.phi}, dt {a.dt}, {a.steps} steps, best of {a.repeat}; atom-steps/s "
-          "(standalone: CPU time of the step loop; LAMMPS: its loop time)\n")
-    print("| N | standalone | lmp_hs serial | overhead | serial, `newton off` | overhead | "
-          "serial, another fix (writes every step) | overhead | "
-          "serial, `path ghosts` | 2 ranks | collisions (standalone / serial) |")
-    print("|---|---|---|---|---|---|---|---|---|---|---|")
-    for r in rows:
-        def rate_and_overhead(label):
-            return f"{r[label]:.3g} | {100 * (r['standalone'] / r[label] - 1):+.0f}%"
-        print(f"| {r['n']} | {r['standalone']:.3g} | {rate_and_overhead('lmp_hs serial')} | "
-              f"{rate_and_overhead('serial, newton off')} | {rate_and_overhead('lmp_hs serial, another fix')} | "
-              f"{r['lmp_hs serial, path ghosts']:.3g} | {r['lmp_hs 2 ranks']:.3g} | "
-              f"{r['collisions']} / {r['lmp_hs serial collisions']:.0f} |")
+            session.log(f"N {n}: standalone {row['standalone']:.3g}, lmp_hs serial {row['lmp_hs serial']:.3g} atom-steps/s")
+    data = dict(command=session.command, phi=a.phi, dt=a.dt, steps=a.steps, repeat=a.repeat, rows=rows)
+    report = session.write_report(out, "lammps_speed", markdown(data, session.generated()), data)
+    return session.finish([], report)
 
 
 if __name__ == "__main__":
-    main()
+    harness.main(main)

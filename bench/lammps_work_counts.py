@@ -2,29 +2,34 @@
 """Work counts of `fix hardsphere` under MPI that do not depend on the machine: instructions per
 rank counted by callgrind, taken as the difference of two run lengths so that set-up cancels,
 beside each rank's MPI messages, bytes and collective calls per step (an MPI profiling
-interposer, bench/mpi_traffic/, built with mpicc). Prints a markdown table per engine: strong
-scaling (--n) relative to the 1-rank run's sum, or weak scaling (--weak N per rank) relative to
-its per-rank count; the busiest rank over the mean; LAMMPS `gran/hooke` on the same states is the
-peer's figure.
+interposer, bench/mpi_traffic/, built with mpicc). The report has a table per engine and scaling:
+strong scaling (--n) relative to the 1-rank run's sum, or weak scaling (--weak N per rank)
+relative to its per-rank count; the busiest rank over the mean; LAMMPS `gran/hooke` on the same
+states is the peer's figure.
 
 Counts, never timings, so oversubscribed ranks are fine: only each rank's main thread is counted
 and the MPI library's objects are left out (its progress threads and its polling while a rank
 waits depend on timing; with them a rank's count varies by 10% and more from run to run).
 
-  python3 -m bench.lammps_work_counts --hs build/standalone/hardsphere --lmp PORTABLE/plugin/lmp_hs \\
-      [--n 256000 | --weak 32000] [--phi 0.3] [--ranks 2 4 8] [--grid] [--steps 10 50] [--no-peer]
+  python3 -m bench.lammps_work_counts --build PORTABLE --out DIR [--n 256000 | --weak 32000] [--phi 0.3]
+      [--ranks 2 4 8] [--grid] [--steps 10 50] [--no-peer] [--mpirun PATH] [--cache FILE]
+  python3 -m bench.lammps_work_counts --out DIR --from-json
 
-valgrind 3.19 has no AVX-512: give an lmp_hs built with -DHS_NATIVE=OFF. --grid decomposes 8 ranks
-as 2 x 2 x 2 (else LAMMPS's default grid, slabs for 2 ranks).
+valgrind 3.19 has no AVX-512: give a build made with -DHS_NATIVE=OFF (--build, or --lmp-hs and
+--hardsphere). --grid decomposes 8 ranks as 2 x 2 x 2 (else LAMMPS's default grid, slabs for 2
+ranks). DIR/lammps_work_counts.json keeps the per-rank counts of every call (a row per engine,
+spheres, ranks, grid and run lengths; a call replaces the rows it measured), so strong and weak
+scaling from several calls make one report, DIR/lammps_work_counts.md; --from-json only renders
+the markdown again. --cache keeps each finished row in FILE while a long call runs.
 """
-import argparse
 import glob
 import json
 import os
 import re
-import subprocess
 import tempfile
 from pathlib import Path
+
+from compare import harness
 
 HARD = """units lj
 atom_style sphere
@@ -114,7 +119,7 @@ def run_lammps(lmp, work, template, data, ranks, steps, mpirun, grid, wrap, env)
         if name in env:
             cmd += ["-x", name]
     cmd += wrap + [str(Path(lmp).resolve()), "-in", "in.count", "-log", "none", "-echo", "none", "-screen", "none"]
-    subprocess.run(cmd, cwd=run_dir, env=env, check=True, capture_output=True)
+    harness.run_program(cmd, cwd=run_dir, env=env)
     return run_dir
 
 
@@ -145,39 +150,57 @@ def difference(f, steps, *args):
 def build_interposer(work, mpicc):
     out = Path(work) / "libmpi_traffic.so"
     src = Path(__file__).resolve().parent / "mpi_traffic" / "mpi_traffic.c"
-    subprocess.run([mpicc, "-O2", "-shared", "-fPIC", "-o", str(out), str(src)], check=True)
+    harness.run_program([mpicc, "-O2", "-shared", "-fPIC", "-o", out, src])
     return out
 
 
-def table(name, rows, steps, per_rank_baseline=False):
-    """rows: (ranks, per-rank instructions, per-rank traffic). Relative to the 1-rank row: the
-    sum over ranks (strong scaling) or the mean per rank (weak scaling)."""
-    head = "| ranks | instructions per step (sum) | " + ("per rank / 1 rank" if per_rank_baseline else "sum / serial")
-    lines = [f"\n{name}\n", head + " | busiest / mean | messages per rank per step | kB per rank per step | "
-             "collective calls per step |", "|---|---|---|---|---|---|---|"]
-    base = rows[0][1]
-    for ranks, per_rank, tr in rows:
+def table(rows):
+    """One group's rows (same engine, scaling, phi and run lengths), ranks ascending: relative to the
+    1-rank row the sum over ranks (strong scaling) or the mean per rank (weak scaling)."""
+    weak = bool(rows[0]["weak"])
+    lines = ["| spheres | ranks | instructions per step (sum) | " + ("per rank / 1 rank" if weak else "sum / serial")
+             + " | busiest / mean | messages per rank per step | kB per rank per step | collective calls per step |",
+             "|---|---|---|---|---|---|---|---|"]
+    base = next((r["instructions"] for r in rows if r["ranks"] == 1), None)
+    for r in rows:
+        steps, per_rank, tr = r["steps"][1] - r["steps"][0], r["instructions"], r["traffic"]
         total = sum(per_rank)
         mean = total / len(per_rank)
-        rel = mean / (sum(base) / len(base)) if per_rank_baseline else total / sum(base)
+        rel = "-" if base is None else f"{mean / (sum(base) / len(base)):.2f}" if weak else f"{total / sum(base):.2f}"
         msgs = sum(t[0] for t in tr) / len(tr) / steps
         kb = sum(t[1] for t in tr) / len(tr) / steps / 1e3
         coll = max(t[2] for t in tr) / steps
-        lines.append(f"| {ranks} | {total / steps / 1e6:.1f}e6 | {rel:.2f} | {max(per_rank) / mean:.2f} | "
+        grid = " (2 x 2 x 2)" if r["grid"] and r["ranks"] == 8 else ""
+        spheres = f"{r['weak']} per rank" if weak else str(r["n"])
+        lines.append(f"| {spheres} | {r['ranks']}{grid} | {total / steps / 1e6:.1f}e6 | {rel} | {max(per_rank) / mean:.2f} | "
                      f"{msgs:.1f} | {kb:.1f} | {coll:.1f} |")
     return "\n".join(lines)
 
 
+def markdown(store):
+    rows = store.rows("counts")
+    lines = ["# Work counts of fix hardsphere under MPI", "",
+             "Instructions per rank (callgrind on a portable build, each rank's main thread, the MPI library's objects "
+             "left out) per step, as the difference of two run lengths so that set-up cancels, and each rank's MPI "
+             "messages, bytes and collective calls per step (bench/mpi_traffic/). Counts, not timings: they do not "
+             "depend on the machine or its load.", "", "Measured by " + "; ".join(harness.measured_by(rows)) + ".", ""]
+    groups = {}
+    for r in rows:
+        groups.setdefault((r["engine"], r["weak"] or r["n"], bool(r["weak"]), r["phi"], tuple(r["steps"]), r["grid"]),
+                          []).append(r)
+    for (engine, size, weak, phi, steps, _), rs in groups.items():
+        what = f"weak scaling, {size} spheres per rank" if weak else f"{size} spheres"
+        lines += [f"## {engine}: {what}, phi {phi}, steps {steps[0]} to {steps[1]}", "",
+                  table(sorted(rs, key=lambda r: r["ranks"])), ""]
+    return "\n".join(lines)
+
+
 def write_state(hs, n, phi, path):
-    subprocess.run([hs, "run", "--n", str(n), "--phi", str(phi), "--steps", "100", "--quiet",
-                    "--write-data", str(path)], check=True, capture_output=True)
+    harness.run_program([hs, "run", "--n", n, "--phi", phi, "--steps", 100, "--quiet", "--write-data", path])
 
 
-def main():
-    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("--hs", required=True)
-    ap.add_argument("--lmp", required=True, help="lmp_hs of a portable build (-DHS_NATIVE=OFF)")
-    ap.add_argument("--mpirun", default="mpirun")
+def main(argv=None):
+    ap = harness.parser(__doc__, programs=("hardsphere", "lmp_hs", "mpirun"))
     ap.add_argument("--mpicc", default="mpicc")
     ap.add_argument("--n", type=int, default=256000)
     ap.add_argument("--phi", type=float, default=0.3)
@@ -188,35 +211,41 @@ def main():
     ap.add_argument("--no-peer", action="store_true", help="skip gran/hooke")
     ap.add_argument("--peer-only", action="store_true", help="only gran/hooke")
     ap.add_argument("--cache", help="JSON file keeping each finished row, reused by the next call")
-    a = ap.parse_args()
+    ap.add_argument("--from-json", action="store_true", help="render DIR/lammps_work_counts.md from its JSON only")
+    a = ap.parse_args(argv)
+    session = harness.Session("bench.lammps_work_counts", a, argv)
+    store = harness.RowStore(session.out(), "lammps_work_counts")
+    if a.from_json:
+        return session.finish([], store.render(markdown(store)))
+    tools = harness.tools(a, need=("hardsphere", "lmp_hs", "mpirun", "valgrind"))
     cache = json.loads(Path(a.cache).read_text()) if a.cache and Path(a.cache).exists() else {}
     ranks = sorted(set([1] + a.ranks))
-    steps = a.steps[1] - a.steps[0]
-    with tempfile.TemporaryDirectory() as work:
-        work = Path(work)
+    with session.workdir() as work:
         interposer = build_interposer(work, a.mpicc)
         states = {}
         for r in ranks:
             n = a.weak * r if a.weak else a.n
             if n not in states:
                 states[n] = work / f"state{n}.data"
-                write_state(a.hs, n, a.phi, states[n])
+                write_state(tools["hardsphere"], n, a.phi, states[n])
         engines = ([] if a.peer_only else [("fix hardsphere", HARD)]) + ([] if a.no_peer else [("gran/hooke", SOFT)])
-        what = f"{a.weak} spheres per rank" if a.weak else f"{a.n} spheres"
-        print(f"# Per step ({steps} steps: {a.steps[1]} less {a.steps[0]}), {what} at phi {a.phi}")
         for name, template in engines:
-            rows = []
             for r in ranks:
                 key = f"{name}|{a.weak * r if a.weak else a.n}|{a.phi}|{r}|{a.grid}|{a.steps}"
                 if key not in cache:
                     data = states[a.weak * r if a.weak else a.n]
-                    args = (a.lmp, work, template, data, r, a.mpirun, a.grid)
+                    args = (tools["lmp_hs"], work, template, data, r, tools["mpirun"], a.grid)
                     cache[key] = [difference(count, a.steps, *args), difference(traffic, a.steps, *args, interposer)]
                     if a.cache:
                         Path(a.cache).write_text(json.dumps(cache))
-                rows.append((r, *cache[key]))
-            print(table(name, rows, steps, per_rank_baseline=bool(a.weak)))
+                instructions_, traffic_ = cache[key]
+                store.put("counts", key, dict(engine=name, n=a.weak * r if a.weak else a.n, weak=a.weak, phi=a.phi,
+                                              ranks=r, grid=a.grid, steps=a.steps, instructions=instructions_,
+                                              traffic=traffic_), session)
+                session.log(f"{name}, {r} ranks: {sum(instructions_) / (a.steps[1] - a.steps[0]) / 1e6:.1f}e6 "
+                            "instructions per step")
+    return session.finish([], store.render(markdown(store)))
 
 
 if __name__ == "__main__":
-    main()
+    harness.main(main)

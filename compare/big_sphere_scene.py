@@ -10,12 +10,11 @@ total momentum removed. The box is cubic and periodic; phi counts every sphere.
   python3 -m compare.big_sphere_scene --n 20000 --phi 0.2 --sizes uniform:0.5,1.5 --out poly.data
   python3 -m compare.big_sphere_scene --n 20000 --phi 0.2 --sizes lognormal:0.25 --out lognormal.data
 """
-import argparse
 import math
-import sys
 
 import numpy as np
 
+from compare import harness
 from compare.lammps_files import spheres, write_data
 
 
@@ -123,7 +122,7 @@ def write_scene(path, scene, title="hardsphere gas with big spheres"):
 
 
 def main(argv=None):
-    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap = harness.parser(__doc__, out=False)
     ap.add_argument("--n", type=int, required=True, help="number of small spheres")
     ap.add_argument("--phi", type=float, required=True, help="packing fraction of all spheres")
     ap.add_argument("--big", type=int, default=0, help="number of big spheres (0)")
@@ -132,15 +131,16 @@ def main(argv=None):
     ap.add_argument("--sizes", default="mono", help="small diameters: mono, uniform:a,b or lognormal:s (mono)")
     ap.add_argument("--temperature", type=float, default=1.0)
     ap.add_argument("--seed", type=int, default=1)
-    ap.add_argument("--out", required=True)
+    ap.add_argument("--out", required=True, help="the data file to write")
     a = ap.parse_args(argv)
     try:
         scene = make_scene(a.n, a.phi, a.big, a.big_diameter, a.big_mass, a.sizes, a.temperature, a.seed)
     except ValueError as e:
-        sys.exit(f"big_sphere_scene: error: {e}")
+        raise harness.InputError(str(e)) from None
     write_scene(a.out, scene)
     print(f"{a.out}: {a.big} big + {a.n} small spheres, box {scene['box']:.6g}")
+    return 0
 
 
 if __name__ == "__main__":
-    main()
+    harness.main(main)

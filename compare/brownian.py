@@ -1,7 +1,8 @@
 #!/usr/bin/python3
 """Brownian motion of one big, heavy sphere in a hard-sphere gas against kinetic theory.
 
-  python3 -m compare.brownian [--quick] --out DIR [--exe PATH] [--event-time T] [--stepper-time T] [--jobs J]
+  python3 -m compare.brownian [--quick] --out DIR [--build DIR] [--hardsphere PATH] [--work DIR]
+      [--event-time T] [--stepper-time T] [--jobs J]
 
 One big sphere (id 1, diameter D_big, mass M) among small unit spheres (diameter 1, mass 1) at packing
 fraction phi in a periodic cube (compare.big_sphere_scene), kT from the state's energy. Both engines
@@ -36,56 +37,23 @@ collisions and the gas's backflow come in once the big sphere is not small again
 Full (docs/reports/validation/brownian.md): 2000 small spheres, 144 event runs and 24 stepper runs of 7000,
 and the sweep.
 """
-import argparse
 import json
 import math
-import subprocess
-import sys
-import tempfile
-import time
 from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
 
 import numpy as np
 
-import matplotlib  # noqa: E402
+from compare import big_sphere_scene, harness
+from compare import hard_sphere_theory as hs_theory
+from compare.brownian_figures import plot_msd_vacf, plot_path, plot_sweep
 
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
-
-from compare import big_sphere_scene  # noqa: E402
-from compare import hard_sphere_theory as hs_theory  # noqa: E402
-
-ROOT = Path(__file__).resolve().parents[1]
-XI_CUBIC = 2.837297  # Hasimoto's constant of a periodic cube
 SAMPLE_EVERY = 0.5  # tracker interval (a whole number of stepper steps)
 STEPPER_DT = 0.05
 EQUILIBRATE = 20.0
 BLOCK_TAUS = 30.0  # block length in Enskog relaxation times
 LAG_TAUS = (3.0, 8.0)  # MSD slope between these lags
 TOLERANCE = 0.10  # allowed relative departure of D from D_exp beyond the statistical error
-
-
-def theory(phi, n_small, d_big, m_big, length, kT):
-    """Enskog's heavy-tracer values and Stokes-Einstein's for one big sphere among n_small unit spheres."""
-    n_tot = n_small + 1
-    species = [(n_small / n_tot, 1.0, 1.0), (1 / n_tot, d_big, m_big)]
-    g12 = hs_theory.contact_value(phi, species, 0, 1)
-    density = n_small / length**3
-    sigma12 = (d_big + 1) / 2
-    mu = m_big / (m_big + 1)
-    d_enskog = 3 * kT / (8 * density * sigma12**2 * g12 * math.sqrt(2 * math.pi * mu * kT))
-    gamma_enskog = density * sigma12**2 * g12 * math.sqrt(8 * math.pi * kT / mu)
-    # Enskog's shear viscosity of the small-sphere fluid (density n, its own contact value).
-    phi_s = math.pi / 6 * density
-    g11 = (1 - phi_s / 2) / (1 - phi_s) ** 3
-    eta0 = 1.016 * 5 / 16 * math.sqrt(kT / math.pi)
-    b = 4 * phi_s
-    eta = eta0 * (1 / g11 + 0.8 * b + 0.7614 * b * b * g11)
-    d_se = kT / (4 * math.pi * eta * sigma12) - kT * XI_CUBIC / (6 * math.pi * eta * length)
-    return dict(g12=g12, n=density, sigma12=sigma12, mu=mu, D_enskog=d_enskog, Gamma12_enskog=gamma_enskog,
-                eta=eta, D_stokes_einstein=d_se, tau=m_big * d_enskog / kT,
-                momentum_factor=(1 - m_big / (m_big + n_small)) ** 2)
 
 
 def make_state(path, n_small, phi, d_big, m_big, seed):
@@ -107,9 +75,7 @@ def run_track(exe, data, engine, duration, workdir, tag):
     else:
         # Sweep detection: overlap detection (auto's choice at this dt) misses grazes, ~0.4% of the collisions.
         cmd += ["--dt", repr(STEPPER_DT), "--detect", "sweep"]
-    p = subprocess.run(cmd, capture_output=True, text=True)
-    if p.returncode != 0:
-        raise RuntimeError(f"{' '.join(cmd)} failed ({p.returncode}): {p.stderr.strip()}")
+    harness.run_program(cmd)
     shown = ["hardsphere" if c == exe else Path(c).name if c.startswith(str(workdir)) else c for c in cmd]
     return dict(rows=np.loadtxt(track, comments="#", ndmin=2), summary=json.loads(summary.read_text()),
                 command=" ".join(shown))
@@ -185,82 +151,6 @@ def curves(runs, tau):
     return lags * SAMPLE_EVERY, msd, np.arange(kmax) * SAMPLE_EVERY, acf / acf[0], acf
 
 
-def plot_path(rows, path, title):
-    fig = plt.figure(figsize=(14, 4.8), constrained_layout=True)
-    t = rows[:, 0]
-    ax3 = fig.add_subplot(1, 3, 1, projection="3d")
-    ax3.scatter(rows[:, 1], rows[:, 2], rows[:, 3], c=t, s=0.8, cmap="viridis")
-    ax3.set_xlabel("x")
-    ax3.set_ylabel("y")
-    ax3.set_zlabel("z")
-    axes = [fig.add_subplot(1, 3, 2), fig.add_subplot(1, 3, 3)]
-    for ax, (a, b) in zip(axes, [(1, 2), (1, 3)]):
-        sc = ax.scatter(rows[:, a], rows[:, b], c=t, s=1.5, cmap="viridis")
-        ax.set_xlabel("x (unwrapped)")
-        ax.set_ylabel("yz"[b - 2] + " (unwrapped)")
-        ax.set_aspect("equal", adjustable="datalim")
-    fig.colorbar(sc, ax=axes, label="time")
-    fig.suptitle(title, fontsize=10)
-    fig.savefig(path, dpi=120)
-    plt.close(fig)
-
-
-def plot_msd_vacf(results, path, m_big):
-    fig, (a1, a2) = plt.subplots(1, 2, figsize=(11, 4.4))
-    colors = {"event": "tab:red", "stepper": "tab:blue"}
-    for eng, res in results.items():
-        t, msd, tv, acf, _ = res["curves"]
-        a1.loglog(t, msd, "o", ms=3, color=colors[eng], label=f"{eng}")
-        a2.plot(tv, acf, "-", color=colors[eng], label=f"{eng}")
-    res = next(iter(results.values()))["result"]
-    t = np.asarray(next(iter(results.values()))["curves"][0])
-    a1.loglog(t, 3 * res["T_big_expected"] / m_big * t**2, "k--", lw=1,
-              label="ballistic 3 kT (1 - M/M_tot) t^2 / M")
-    a1.loglog(t, 6 * res["D"] * t, "k:", lw=1, label="diffusive 6 D t (measured D)")
-    a1.loglog(t, 6 * res["D_expected"] * t, color="0.6", lw=1, label="6 D_exp t (Enskog, closure-free)")
-    a1.axvline(res["tau"], color="0.8", lw=0.8)
-    a1.set_xlabel("time")
-    a1.set_ylabel("mean-squared displacement of the big sphere")
-    a1.legend(fontsize=7)
-    tv = np.linspace(0, 6 * res["tau"], 200)
-    a2.plot(tv, np.exp(-tv * res["kT"] / (m_big * res["D"])), "k--", lw=1, label="exp(-t/tau), tau = M D / kT")
-    a2.axhline(0, color="0.8", lw=0.8)
-    a2.set_xlabel("time")
-    a2.set_ylabel("<V(0).V(t)> / <V^2>")
-    a2.legend(fontsize=7)
-    fig.tight_layout()
-    fig.savefig(path, dpi=120)
-    plt.close(fig)
-
-
-def plot_sweep(points, path):
-    fig, (a1, a2) = plt.subplots(1, 2, figsize=(11, 4.4))
-    sizes = sorted({p["D_big"] for p in points})
-    for k, d in enumerate(sizes):
-        ps = sorted((p for p in points if p["D_big"] == d), key=lambda p: p["phi"])
-        phi = [p["phi"] for p in ps]
-        col = f"C{k}"
-        a1.errorbar(phi, [p["D"] for p in ps], yerr=[p["D_err"] for p in ps], fmt="o", color=col,
-                    label=f"measured, D_big {d:g}, M {ps[0]['M']:g}")
-        a1.plot(phi, [p["D_expected"] for p in ps], "--", color=col, label="Enskog (closure-free, x momentum factor)")
-        a1.plot(phi, [p["D_stokes_einstein"] for p in ps], ":", color=col, label="slip Stokes-Einstein, finite box")
-        a2.errorbar(phi, [p["D"] / p["D_expected"] for p in ps], yerr=[p["D_err"] / p["D_expected"] for p in ps],
-                    fmt="o-", color=col, label=f"D / D_exp, D_big {d:g}")
-        a2.plot(phi, [p["D_stokes_einstein"] / p["D_expected"] for p in ps], ":", color=col,
-                label=f"D_SE / D_exp, D_big {d:g}")
-    a1.set_yscale("log")
-    a1.set_xlabel("packing fraction")
-    a1.set_ylabel("diffusion coefficient of the big sphere")
-    a1.legend(fontsize=6)
-    a2.axhline(1, color="0.7", lw=0.8)
-    a2.set_xlabel("packing fraction")
-    a2.set_ylabel("D / Enskog (closure-free)")
-    a2.legend(fontsize=6)
-    fig.tight_layout()
-    fig.savefig(path, dpi=120)
-    plt.close(fig)
-
-
 def measure(exe, engines, n_small, phi, d_big, m_big, seeds, workdir, jobs, whole_runs=False):
     """engines: {name: run time per seed}. Returns per engine the analysis, curves and runs."""
     states = {}
@@ -279,7 +169,7 @@ def measure(exe, engines, n_small, phi, d_big, m_big, seeds, workdir, jobs, whol
         for t, r in zip((t for t in tasks if t[0] == eng), runs):
             r["kT"] = states[t[1]][2]
         kT = float(np.mean([r["kT"] for r in runs]))
-        th = theory(phi, n_small, d_big, m_big, length, kT)
+        th = hs_theory.heavy_tracer(phi, n_small, d_big, m_big, length, kT)
         th["n_small"] = n_small
         res = analyse(runs, m_big, kT, th, whole_runs)
         res.update(phi=phi, D_big=d_big, M=m_big, n_small=n_small, box=length,
@@ -306,24 +196,18 @@ def fmt(x, e=None, digits=4):
     return f"{x:.{digits}g} ± {e:.2g}"
 
 
-def free_path(n):
-    """Mean free path of a dilute gas of unit spheres at number density n."""
-    return 1 / (math.sqrt(2) * math.pi * n)
-
-
-def report(out, a, val, sweep, params, elapsed, sigmas, failures):
+def report(session, out, val, sweep, params, sigmas, failures):
+    """Writes DIR/brownian.md and DIR/brownian.json; returns the markdown's path."""
     head = val["event"]["result"]
     keys = ("D", "D_err", "D_enskog", "D_enskog_closure_free", "D_expected", "T_big_ratio", "T_big_ratio_err")
     js = {"headline_engine": "event", **{k: head[k] for k in keys}, "parameters": params,
-          "engines": {e: v["result"] for e, v in val.items()}, "sweep": sweep, "seconds": round(elapsed),
-          "tolerance": TOLERANCE, "sigmas": sigmas, "pass": not failures}
-    (out / "brownian.json").write_text(json.dumps(js, indent=1))
+          "engines": {e: v["result"] for e, v in val.items()}, "sweep": sweep, "seconds": round(session.seconds),
+          "tolerance": TOLERANCE, "sigmas": sigmas, "pass": not failures, "command": session.command}
     p = params
-    lines = ["# Brownian motion of a heavy sphere against kinetic theory", "",
+    lines = ["# Brownian motion of a heavy sphere against kinetic theory", "", session.generated(), "",
              f"One big sphere (diameter {p['D_big']:g}, mass {p['M']:g}, M/m = {p['M']:g}) among {p['n_small']} unit "
              f"spheres at packing fraction {p['phi']:g} in a periodic box of {head['box']:.4g}; kT = {head['kT']:.4f} "
-             "from the states' energies. Reproduce: `/usr/bin/python3 -m compare.brownian --out DIR` "
-             f"({elapsed:.0f} s wall on 2 shared cores); `--quick` is the ctest `brownian_quick`.", "",
+             "from the states' energies. `--quick` is the ctest `brownian_quick`.", "",
              "Each run: `" + head["command"] + "` (stepper: `--dt 0.05 --detect sweep` instead of the event options). "
              f"D from the MSD slope between lags {head['lags'][0]:g} and {head['lags'][1]:g} (3 and 8 Enskog "
              f"relaxation times tau = {head['tau']:.3g}; divided by the ~1% an exponential memory still takes off "
@@ -358,7 +242,7 @@ def report(out, a, val, sweep, params, elapsed, sigmas, failures):
                   "| D / D_exp |",
                   "|---|---|---|---|---|---|---|---|"]
         for s in sweep:
-            knudsen = free_path(s["n_small"] / s["box"] ** 3) / (0.5 * (s["D_big"] + 1))
+            knudsen = hs_theory.free_path(s["n_small"] / s["box"] ** 3) / (0.5 * (s["D_big"] + 1))
             lines.append(f"| {s['phi']:g} | {s['D_big']:g} | {s['M']:g} | {knudsen:.2g} | {fmt(s['D'], s['D_err'])} | "
                          f"{fmt(s['D_expected'])} | {fmt(s['D_stokes_einstein'])} | "
                          f"{fmt(s['D'] / s['D_expected'], s['D_err'] / s['D_expected'], 3)} |")
@@ -372,15 +256,12 @@ def report(out, a, val, sweep, params, elapsed, sigmas, failures):
                   "![D against density and size](brownian_sweep.png)", ""]
     if failures:
         lines += ["**Failed:** " + "; ".join(failures), ""]
-    (out / "brownian.md").write_text("\n".join(lines))
+    return session.write_report(out, "brownian", "\n".join(lines), js)
 
 
 def main(argv=None):
-    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap = harness.parser(__doc__, programs=("hardsphere",), work=True)
     ap.add_argument("--quick", action="store_true")
-    ap.add_argument("--out", required=True)
-    ap.add_argument("--exe", default=str(ROOT / "build" / "standalone" / "hardsphere"),
-                    help="the hardsphere program (default build/standalone/hardsphere)")
     ap.add_argument("--event-time", type=float, help="event-engine time per run (full 7000, quick 4000)")
     ap.add_argument("--event-runs", type=int, help="independent event-engine runs (full 144, quick 4)")
     ap.add_argument("--stepper-time", type=float, help="stepper time per run (full 7000, quick 3000)")
@@ -388,11 +269,9 @@ def main(argv=None):
     ap.add_argument("--no-sweep", action="store_true", help="skip the density and size sweep")
     ap.add_argument("--jobs", type=int, default=2, help="runs at once (2)")
     a = ap.parse_args(argv)
-    exe = str(Path(a.exe).resolve())
-    if not Path(exe).is_file():
-        sys.exit(f"brownian: error: no hardsphere program at {exe} (build it or pass --exe)")
-    out = Path(a.out)
-    out.mkdir(parents=True, exist_ok=True)
+    session = harness.Session("compare.brownian", a, argv)
+    exe = harness.tools(a, need=("hardsphere",))["hardsphere"]
+    out = session.out()
     if a.quick:
         params = dict(n_small=1000, phi=0.01, D_big=5.0, M=125.0)
         ev, er, st, sr, sigmas = 4000.0, 4, 3000.0, 4, 4.0
@@ -403,10 +282,9 @@ def main(argv=None):
     st, sr = a.stepper_time or st, a.stepper_runs or sr
     params.update(event_time=ev, event_runs=er, stepper_time=st, stepper_runs=sr, sample_every=SAMPLE_EVERY,
                   stepper_dt=STEPPER_DT, equilibrate_time=EQUILIBRATE)
-    start = time.time()
     seeds = list(range(1, max(er, sr) + 1))
     sweep = []
-    with tempfile.TemporaryDirectory() as work:
+    with session.workdir() as work:
         val = measure(exe, {"event": (ev, er), "stepper": (st, sr)}, params["n_small"], params["phi"],
                       params["D_big"], params["M"], seeds, work, a.jobs, whole_runs=a.quick)
         if not a.quick and not a.no_sweep:
@@ -416,12 +294,12 @@ def main(argv=None):
                     if (d_big, m_big, phi) == (params["D_big"], params["M"], params["phi"]):
                         sweep.append(val["event"]["result"])
                         continue
-                    tau = theory(phi, 2000, d_big, m_big, (2000 * math.pi / 6 / phi) ** (1 / 3), 1.0)["tau"]
+                    length = (2000 * math.pi / 6 / phi) ** (1 / 3)
+                    tau = hs_theory.heavy_tracer(phi, 2000, d_big, m_big, length, 1.0)["tau"]
                     n_small = 2000
                     r = measure(exe, {"event": (max(200.0, 160 * tau), 4)}, n_small, phi, d_big, m_big, [1, 2, 3, 4],
                                 work, a.jobs)
                     sweep.append(r["event"]["result"])
-    elapsed = time.time() - start
     failures = []
     for eng, v in val.items():
         d_ok, t_ok, g_ok = verdict(v["result"], sigmas)
@@ -440,17 +318,14 @@ def main(argv=None):
     plot_msd_vacf(val, out / "brownian_msd_vacf.png", params["M"])
     if sweep:
         plot_sweep(sweep, out / "brownian_sweep.png")
-    report(out, a, val, sweep, params, elapsed, sigmas, failures)
+    path = report(session, out, val, sweep, params, sigmas, failures)
     for eng, v in val.items():
         r = v["result"]
-        print(f"{eng}: D {r['D']:.4g} +- {r['D_err']:.2g} (D_exp {r['D_expected']:.4g}, D_E {r['D_enskog']:.4g}, "
+        session.log(f"{eng}: D {r['D']:.4g} +- {r['D_err']:.2g} (D_exp {r['D_expected']:.4g}, D_E {r['D_enskog']:.4g}, "
               f"closure-free {r['D_enskog_closure_free']:.4g}), T_big ratio {r['T_big_ratio']:.4f} +- "
               f"{r['T_big_ratio_err']:.2g}, {r['blocks']} blocks")
-    if failures:
-        print("brownian: " + "; ".join(failures), file=sys.stderr)
-        return 1
-    return 0
+    return session.finish(failures, path)
 
 
 if __name__ == "__main__":
-    sys.exit(main())
+    harness.main(main)

@@ -23,9 +23,8 @@
                              counts each collision for both spheres: compare.accuracy's eos run length
                              t = collisions / (N rate / 2)).
 
-Usage: /usr/bin/python3 -m compare.docs_figures [--out docs/reports/figures]
+Usage: /usr/bin/python3 -m compare.docs_figures [--out DIR]   (default: docs/reports/figures)
 """
-import argparse
 import json
 import math
 from pathlib import Path
@@ -37,7 +36,8 @@ import matplotlib.lines  # noqa: E402
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
-from compare.accuracy import z_cs, z_kolafa  # noqa: E402
+from compare.hard_sphere_theory import z_carnahan_starling as z_cs, z_kolafa  # noqa: E402
+from compare import harness  # noqa: E402
 from compare.crossval.report import ENGINE_NAMES, timing_rows  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -275,15 +275,15 @@ def fig_collisions(out):
 
 
 def main(argv=None):
-    p = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    p.add_argument("--out", default=str(ROOT / "docs" / "reports" / "figures"), help="output directory")
-    out = Path(p.parse_args(argv).out)
-    out.mkdir(parents=True, exist_ok=True)
-    lines, fronts = fig_pareto(out)
-    lines += fig_eos(out) + fig_collisions(out)
-    print("\n".join(lines))
-    return fronts
+    p = harness.parser(__doc__, out_default=str(ROOT / "docs" / "reports" / "figures"))
+    a = p.parse_args(argv)
+    session = harness.Session("compare.docs_figures", a, argv)
+    out = session.out()
+    lines, _ = fig_pareto(out)
+    for line in lines + fig_eos(out) + fig_collisions(out):
+        session.log(line)
+    return session.finish([])
 
 
 if __name__ == "__main__":
-    main()
+    harness.main(main)

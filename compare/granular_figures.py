@@ -17,24 +17,20 @@
    model (--contact-time 1e-4) keeps the runs going. Checks: max_overlap < 1e-9; every run
    finishes (exit 0, unresolved_steps == 0 for the stepper).
 
-  python3 -m compare.granular_figures --hardsphere build/standalone/hardsphere --out DIR [--quick]
+  python3 -m compare.granular_figures --out DIR [--quick] [--build DIR] [--hardsphere PATH] [--work DIR]
 
 --quick: shorter barometric runs (mean height within 18% instead of 10%), a smaller bed
 (150 spheres in 6 x 6 x 20, to t = 16) with the same 2% floor tolerance, the same collapse runs.
 Writes DIR/granular.md, DIR/granular.json and DIR/granular_{barometric,bed,collapse}.png;
 exit status 1 if a check fails.
 """
-import argparse
-import json
 import math
-import subprocess
-import sys
-import tempfile
-import time
 from pathlib import Path
 
 import numpy as np
 
+from compare import hard_sphere_theory as hs_theory
+from compare import harness
 from compare.lammps_files import read_dump
 
 ENGINES = ("stepper", "event")
@@ -43,10 +39,7 @@ OVERLAP_MAX = 1e-9
 
 
 def run(hs, args):
-    p = subprocess.run([hs, "run", "--quiet", "--json", "-"] + [str(a) for a in args], capture_output=True, text=True)
-    if p.returncode != 0:
-        raise RuntimeError(f"hardsphere {' '.join(map(str, args))} exited {p.returncode}: {p.stderr.strip()}")
-    return json.loads(p.stdout)
+    return harness.hardsphere_json(hs, "--quiet", *args)
 
 
 def temperature(frame):
@@ -71,7 +64,7 @@ def barometric(hs, engine, quick, d):
     z = np.concatenate([f["z"] - f["radius"] for f in fr])
     temp = float(np.mean([temperature(f) for f in fr]))
     h, hp = temp / g, box[2] - 2 * r
-    expected = h - hp / math.expm1(hp / h)
+    expected = hs_theory.barometric_mean_height(h, hp)
     measured = float(np.mean(z))
     counts, edges = np.histogram(z, bins=25, range=(0, hp))
     dens = counts / (len(fr) * box[0] * box[1] * np.diff(edges))
@@ -123,9 +116,9 @@ def bed(hs, engine, quick, d):
 
 # ---------------------------------------------------------------- 3. strong dissipation
 def haff(t, e, phi, t0):
-    g = (1 - phi / 2) / (1 - phi) ** 3  # Carnahan-Starling contact value
-    w0 = 4 * math.sqrt(math.pi) * (6 * phi / math.pi) * g  # Enskog collision rate at T = 1, d = m = 1
-    return t0 / (1 + (1 - e * e) * w0 * math.sqrt(t0) * np.asarray(t) / 6) ** 2
+    """Haff's law from T0 with the Enskog collision rate (Carnahan-Starling g, d = m = 1)."""
+    w0 = 4 * math.sqrt(math.pi) * (6 * phi / math.pi) * hs_theory.contact_value_cs(phi)  # at T = 1
+    return hs_theory.haff_temperature(t, t0, e, w0 * math.sqrt(t0))
 
 
 def collapse(hs, engine, quick, d):
@@ -217,24 +210,22 @@ def figures(res, out):
 
 
 # ---------------------------------------------------------------- main
-def main():
-    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    ap.add_argument("--hardsphere", required=True)
-    ap.add_argument("--out", required=True)
+def main(argv=None):
+    ap = harness.parser(__doc__.split("\n")[0], programs=("hardsphere",), work=True)
     ap.add_argument("--quick", action="store_true")
-    a = ap.parse_args()
-    out = Path(a.out)
-    out.mkdir(parents=True, exist_ok=True)
+    a = ap.parse_args(argv)
+    session = harness.Session("compare.granular_figures", a, argv)
+    hs = harness.tools(a, need=("hardsphere",))["hardsphere"]
+    out = session.out()
     # The mean height of 300 spheres over 200 (quick: 100) time units is a slow, noisy average: over
     # seeds 1-10 its ratio to the expected had mean +0.2% and +1.3% and sd 2.3% (stepper, event
     # engine), quick mean +4.0% and +3.0% and sd 3.5% and 3.3%: |mean| + 4 sd <= 10% and 18%. The
     # sharp barometric check is the unit test (1500 spheres, sd 0.7%).
     baro_tol, floor_tol, drift_tol = (0.18 if a.quick else 0.10), 0.02, 1e-9
-    t0 = time.time()
-    with tempfile.TemporaryDirectory() as d:
-        res = {"barometric": [barometric(a.hardsphere, e, a.quick, d) for e in ENGINES],
-               "bed": [bed(a.hardsphere, e, a.quick, d) for e in ENGINES],
-               "collapse": [collapse(a.hardsphere, e, a.quick, d) for e in ENGINES]}
+    with session.workdir() as d:
+        res = {"barometric": [barometric(hs, e, a.quick, d) for e in ENGINES],
+               "bed": [bed(hs, e, a.quick, d) for e in ENGINES],
+               "collapse": [collapse(hs, e, a.quick, d) for e in ENGINES]}
     checks = []
     for b in res["barometric"]:
         checks.append((f"barometric {b['engine']}: mean height / expected = {b['ratio']:.4f} (within {baro_tol:.0%})",
@@ -252,20 +243,16 @@ def main():
                        f"unresolved_steps = {c['unresolved_steps']}",
                        c["max_overlap"] < OVERLAP_MAX and c["unresolved_steps"] == 0 and abs(c["sim_time"] - 5) < 1e-6))
     figures(res, out)
-    elapsed = time.time() - t0
     ok = all(p for _, p in checks)
-    cmd = "/usr/bin/python3 -m compare.granular_figures --hardsphere build/standalone/hardsphere --out DIR" + \
-        (" --quick" if a.quick else "")
-    res.update({"quick": a.quick, "command": cmd, "seconds": round(elapsed, 1), "machine": "2-core AMD EPYC VM",
+    res.update({"quick": a.quick, "command": session.command, "seconds": round(session.seconds, 1),
                 "tolerances": {"barometric_ratio": baro_tol, "energy_rel_drift": drift_tol, "floor_over_weight": floor_tol,
                                "max_overlap": OVERLAP_MAX},
                 "checks": [{"check": s, "pass": bool(p)} for s, p in checks], "pass": ok})
-    (out / "granular.json").write_text(json.dumps(res, indent=1) + "\n")
 
     bo, be, co = res["barometric"], res["bed"], res["collapse"]
     L = ["# Granular validation: barometric gas, resting bed, strong dissipation", "",
-         f"Both engines (stepper and event engine) in each figure. Reproduce: `{cmd}` ({elapsed:.0f} s on a "
-         f"2-core AMD EPYC VM){' (quick mode)' if a.quick else ''}. Exit status 1 if a check fails.", "",
+         session.generated(extra=" (quick mode)" if a.quick else ""), "",
+         "Both engines (stepper and event engine) in each figure. Exit status 1 if a check fails.", "",
          "## 1. Barometric profile", "",
          "300 elastic unit spheres, box 30 x 30 x 100, walls on z, gravity 0,0,-0.05; "
          f"equilibrated {'200' if a.quick else '400'} time units (stepper dt 0.05, `--detect sweep`), then "
@@ -298,12 +285,11 @@ def main():
           f"{c['max_overlap']:.2e} | {c['unresolved_steps'] if c['engine'] == 'stepper' else 'n/a'} |" for c in co]
     L += ["", "![strong dissipation](granular_collapse.png)", "", "## Checks", ""]
     L += [f"- {'PASS' if p else 'FAIL'}: {s}" for s, p in checks]
-    (out / "granular.md").write_text("\n".join(L) + "\n")
+    report = session.write_report(out, "granular", "\n".join(L), res)
     for s, p in checks:
-        print(("PASS " if p else "FAIL ") + s)
-    print(f"{elapsed:.1f} s; {'all checks pass' if ok else 'CHECK FAILED'}")
-    return 0 if ok else 1
+        session.log(("PASS " if p else "FAIL ") + s)
+    return session.finish([s for s, p in checks if not p], report)
 
 
 if __name__ == "__main__":
-    sys.exit(main())
+    harness.main(main)

@@ -12,12 +12,12 @@ neighbours). Usage, from the repository root:
     python3 -m compare.packing_structure --fcc    (an FCC reference)
 """
 import math
-import sys
 
 import numpy as np
 from scipy.spatial import cKDTree
 from scipy.special import lpmv
 
+from compare import harness
 from compare.lammps_files import read_data
 
 L_ORDER = 6
@@ -101,14 +101,19 @@ def parse_boundary(text):
     return tuple(c == "p" for c in (letters * 3 if len(letters) == 1 else letters))
 
 
-def main():
-    periodic = (True, True, True)
-    if "--boundary" in sys.argv:
-        periodic = parse_boundary(sys.argv[sys.argv.index("--boundary") + 1])
-    diam, x, box = fcc(10, 0.62) if "--fcc" in sys.argv else read_packing(sys.argv[1])
-    for k, v in analyse(diam, x, box, periodic).items():
+def main(argv=None):
+    ap = harness.parser(__doc__, out=False)
+    ap.add_argument("file", nargs="?", help="a LAMMPS data file of the packing")
+    ap.add_argument("--boundary", default="p", help="p or w per axis, e.g. p,p,w (default: periodic)")
+    ap.add_argument("--fcc", action="store_true", help="analyse an FCC reference instead of a file")
+    a = ap.parse_args(argv)
+    if not a.fcc and not a.file:
+        raise harness.InputError("give a data file or --fcc")
+    diam, x, box = fcc(10, 0.62) if a.fcc else read_packing(a.file)
+    for k, v in analyse(diam, x, box, parse_boundary(a.boundary)).items():
         print(f"{k:>15} {v:.4g}" if isinstance(v, float) else f"{k:>15} {v}")
+    return 0
 
 
 if __name__ == "__main__":
-    main()
+    harness.main(main)

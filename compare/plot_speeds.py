@@ -1,12 +1,10 @@
 #!/usr/bin/env python3
 """Speed distribution of a hardsphere/LAMMPS data file against Maxwell-Boltzmann.
 
-usage: python3 -m compare.plot_speeds STATE.data OUT.png
+  python3 -m compare.plot_speeds STATE.data OUT.png
 Speeds are scaled by sqrt(m/T) (T = <m v^2>/3), so mixed masses share one curve.
 Prints the Kolmogorov-Smirnov distance and p-value (scipy) against the Maxwell distribution.
 """
-import sys
-
 import matplotlib
 
 matplotlib.use("Agg")
@@ -14,10 +12,12 @@ import matplotlib.pyplot as plt
 import numpy as np
 from scipy import stats
 
+from compare import harness
 from compare.lammps_files import read_data
 
 
-def main(data_path, png_path):
+def plot(data_path, png_path):
+    """Draws the figure; returns the KS test."""
     d = read_data(data_path)
     m, v = d.mass, d.vel
     temperature = np.mean(m * np.sum(v * v, axis=1)) / 3.0
@@ -34,9 +34,17 @@ def main(data_path, png_path):
     fig.tight_layout()
     fig.savefig(png_path, dpi=120)
     print(f"plot_speeds: T = {temperature:.6f}, KS distance {ks.statistic:.5f}, p = {ks.pvalue:.4f} -> {png_path}")
+    return ks
+
+
+def main(argv=None):
+    ap = harness.parser(__doc__, out=False)
+    ap.add_argument("data", help="a LAMMPS data file")
+    ap.add_argument("png", help="the figure to write")
+    a = ap.parse_args(argv)
+    plot(a.data, a.png)
+    return 0
 
 
 if __name__ == "__main__":
-    if len(sys.argv) != 3:
-        sys.exit(__doc__)
-    main(sys.argv[1], sys.argv[2])
+    harness.main(main)

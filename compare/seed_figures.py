@@ -1,7 +1,9 @@
 #!/usr/bin/env python3
 """The seed paper's figures 1-3 (space partitioning) from the standalone stepper.
 
-  python3 -m compare.seed_figures --hardsphere build/standalone/hardsphere --out DIR [--quick]
+  python3 -m compare.seed_figures --out DIR [--quick] [--build DIR] [--hardsphere PATH]
+  python3 -m compare.seed_figures --out DIR --from-json   (the figures and seed_figures.md again from
+                                                           DIR/seed_figures.json, no runs)
 
 Fig. 1: the ideal number of boxes (the cubic cell grid K^3 with the least time per step, from a
 scan of K per axis) against N; fig. 2: time per step against N with that grid (linear); fig. 3:
@@ -16,12 +18,10 @@ packing fraction is fixed instead (default 0.1; the 50^3 world holds ~24000 sphe
 that N can span 1000 to 256000 spheres at one density. Speed is reported, never asserted.
 `run(hardsphere, out_dir, quick, progress=print)` is the importable entry point.
 """
-import argparse
 import json
 import math
 import os
 import statistics
-import subprocess
 import time
 from pathlib import Path
 
@@ -31,6 +31,7 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
+from compare import harness  # noqa: E402
 from compare.machine_info import cpu_model  # noqa: E402
 
 # Spheres per cell the K scan aims at: 8 down to ~0.35 in steps of sqrt(2) (~12% in K).
@@ -48,11 +49,11 @@ class Refused(Exception):
 def hs_run(hardsphere, n, phi, dt, steps, cells):
     cmd = [hardsphere, "run", "--n", str(n), "--phi", repr(phi), "--dt", repr(dt), "--steps", str(steps),
            "--cells", str(cells), "--json", "-"]
-    p = subprocess.run(cmd, capture_output=True, text=True)
+    p = harness.run_program(cmd, expect=None)
     if p.returncode == 2:
         raise Refused(p.stderr.strip().splitlines()[-1] if p.stderr.strip() else "exit status 2")
     if p.returncode != 0:
-        raise RuntimeError(f"{' '.join(cmd)} failed ({p.returncode}): {p.stderr.strip()}")
+        raise harness.ProgramError(f"{' '.join(cmd)} failed ({p.returncode}): {p.stderr.strip()}")
     j = json.loads(p.stdout)
     assert j["n"] == n and j["steps"] == steps, (j["n"], j["steps"])
     return j
@@ -109,7 +110,7 @@ def scan_ideal(hardsphere, n, phi, dt, cfg, progress, box_len):
              "seconds_per_step": times[k], "seconds_per_step_median": statistics.median(times[k])}
             for k in ks if times[k]]
     if not scan:
-        raise RuntimeError(f"every cell grid refused at N={n}: {refused}")
+        raise harness.ProgramError(f"every cell grid refused at N={n}: {refused}")
     best = min(scan, key=lambda s: s["seconds_per_step_median"])
     near = [s["k"] for s in scan if s["seconds_per_step_median"] <= NEAR * best["seconds_per_step_median"]]
     return {"n": n, "box_length": box_len, "k": best["k"], "cells": best["cells"],
@@ -300,17 +301,24 @@ def run(hardsphere, out_dir, quick, progress=print, phi=0.1, dt=0.01):
     return res
 
 
-def main():
-    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("--hardsphere", required=True, help="path of the built hardsphere program")
-    ap.add_argument("--out", required=True, help="output directory")
+def main(argv=None):
+    ap = harness.parser(__doc__, programs=("hardsphere",))
     ap.add_argument("--quick", action="store_true", help="3 N values, short runs (~20 s)")
     ap.add_argument("--phi", type=float, default=0.1, help="packing fraction (default 0.1)")
     ap.add_argument("--dt", type=float, default=0.01, help="time step (default 0.01)")
-    a = ap.parse_args()
-    run(a.hardsphere, a.out, a.quick, phi=a.phi, dt=a.dt)
-    print((Path(a.out) / "seed_figures.md").read_text())
+    ap.add_argument("--from-json", action="store_true", help="no runs: figures and markdown from DIR/seed_figures.json")
+    a = ap.parse_args(argv)
+    session = harness.Session("compare.seed_figures", a, argv)
+    out = session.out()
+    if a.from_json:
+        res = json.loads((out / "seed_figures.json").read_text())
+        plot(out, res["ideal"], res["one_box"], res["fits"], res["phi"], res["dt"])
+        (out / "seed_figures.md").write_text(markdown(res))
+        return session.finish([], out / "seed_figures.md")
+    hs = harness.tools(a, need=("hardsphere",))["hardsphere"]
+    run(hs, out, a.quick, progress=session.log, phi=a.phi, dt=a.dt)
+    return session.finish([], out / "seed_figures.md")
 
 
 if __name__ == "__main__":
-    main()
+    harness.main(main)

@@ -190,6 +190,34 @@ def contact_time_hertz(stiffness, meff, v):
     return 2.0 * _HERTZ_HALF_TIME * max_overlap_hertz(stiffness, meff, v) / v
 
 
+def gamman_for_restitution(e, kn, meff):
+    """LAMMPS gran/hooke gamman (1/time) that gives restitution e: the head-on contact is
+    delta'' + gamman delta' + (kn/meff) delta = 0, e = exp(-gamman t_c / 2) with
+    t_c = pi / sqrt(kn/meff - gamman^2/4), so gamman = 2 |ln e| sqrt(kn/meff) / sqrt(pi^2 + ln^2 e)."""
+    if not 0 < e <= 1:
+        raise ValueError(f"restitution must be in (0, 1], not {e}")
+    le = math.log(e)
+    return -2.0 * le * math.sqrt(kn / meff) / math.sqrt(math.pi**2 + le * le)
+
+
+def hooke_contact_time(gamman, kn, meff):
+    """Duration of a damped linear contact, delta = 0 to delta = 0: pi / sqrt(kn/meff - gamman^2/4)."""
+    return math.pi / math.sqrt(kn / meff - gamman * gamman / 4.0)
+
+
+def hooke_restitution(gamman, kn, meff):
+    """Restitution of the linear spring-dashpot: exp(-gamman t_c / 2)."""
+    return math.exp(-gamman * hooke_contact_time(gamman, kn, meff) / 2.0)
+
+
+def sticking_beta0(kt, contact_time, meff, q=0.4):
+    """Walton's sticking limit beta0 of a linear tangential spring kt: a sticking contact's
+    tangential contact velocity oscillates with omega_t = sqrt(kt (1 + q) / (q meff)) (the mass
+    meff q / (1 + q)), so after a contact of duration t_c it is cos(omega_t t_c) times what it was:
+    beta0 = -cos(omega_t t_c)."""
+    return -math.cos(math.sqrt(kt * (1 + q) / (q * meff)) * contact_time)
+
+
 def hertz_stiffness(model, k, reff, poisson=None):
     """K of F = K delta^(3/2) for a pair: kn sqrt(Reff) or 4/3 Y* sqrt(Reff)."""
     a, p = power_law(model, k, reff, poisson)

@@ -5,5 +5,5 @@
   engines      one state through one engine: runs and what they measured
   observables  observables of trajectory frames, the same code for every engine
   analysis     from one run to one result row; the agreement checks
-  report       report.md and its figures
+  report       cross_validation.md and its figures
 """

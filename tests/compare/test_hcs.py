@@ -1,18 +1,19 @@
 """compare.hcs: the Sonine coefficient of the homogeneous cooling state (quick mode, e = 0.5),
-and its theory function."""
+and its theory function (compare.hard_sphere_theory.a2_van_noije_ernst)."""
 import json
 import subprocess
 import sys
 
 import pytest
 
+from compare import hard_sphere_theory as hs_theory
 from compare import hcs
 
 
 def test_van_noije_ernst_limits():
-    assert hcs.a2_van_noije_ernst(1.0) == 0.0  # elastic: Maxwell-Boltzmann
-    assert hcs.a2_van_noije_ernst(1 / 2 ** 0.5) == pytest.approx(0.0, abs=1e-15)  # sign change at e^2 = 1/2
-    assert hcs.a2_van_noije_ernst(0.5) == pytest.approx(16 * 0.5 * 0.5 / (81 - 8.5 + 3.75))
+    assert hs_theory.a2_van_noije_ernst(1.0) == 0.0  # elastic: Maxwell-Boltzmann
+    assert hs_theory.a2_van_noije_ernst(1 / 2 ** 0.5) == pytest.approx(0.0, abs=1e-15)  # sign change at e^2 = 1/2
+    assert hs_theory.a2_van_noije_ernst(0.5) == pytest.approx(16 * 0.5 * 0.5 / (81 - 8.5 + 3.75))
 
 
 def test_a2_is_zero_for_maxwell_boltzmann_and_not_for_one_speed():

@@ -8,6 +8,7 @@ import pytest
 from scipy import integrate
 
 from compare import rough_cooling_soft as rcs
+from compare import soft_spheres as soft
 
 
 def _sticking_contact(kn, gamman, kt, meff, q, v=1.0):
@@ -31,8 +32,8 @@ def _sticking_contact(kn, gamman, kt, meff, q, v=1.0):
 @pytest.mark.parametrize("e", [0.9, 0.7])
 def test_linear_beta0_rule(ratio, e):
     kn, meff = 1.0e4, 0.5
-    gamman = rcs.cooling.gamman_for_restitution(e, kn, meff)
-    s = dict(kn=kn, gamman=gamman, kt=ratio * kn, contact_time=rcs.cooling.hooke_contact_time(gamman, kn, meff))
+    gamman = soft.gamman_for_restitution(e, kn, meff)
+    s = dict(kn=kn, gamman=gamman, kt=ratio * kn, contact_time=soft.hooke_contact_time(gamman, kn, meff))
     assert rcs.beta0_linear(s) == pytest.approx(-_sticking_contact(kn, gamman, ratio * kn, meff, 0.4), abs=1e-7)
 
 
