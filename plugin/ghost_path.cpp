@@ -57,7 +57,7 @@ void GhostPath::check_owned_atoms() {
   // the largest radius; the box is the same).
   const double eps = hardsphere::rounding_epsilon(hardsphere::Precision::Double);
   try {
-    hardsphere::validate_and_wrap(sys, "fix hardsphere", nullptr, std::numeric_limits<double>::infinity());
+    hardsphere::validate_and_wrap(sys, "fix hardsphere", nullptr, eps, false);
   } catch (const std::exception &e) {
     error->one(FLERR, std::string(e.what()) + "; " + kStartHint);
   }

@@ -133,3 +133,29 @@ def test_overlap_within_float_rounding_is_read_by_float_runs_only(hs, tmp_path):
     assert p.returncode == 2 and "pair.data:12: atom 1 overlaps atom 2" in p.stderr
     far = run(hs, "--read-data", two_spheres(tmp_path, 1 - 1e-3), "--precision", "float", "--steps", 1)
     assert far.returncode == 2 and "overlaps" in far.stderr
+
+
+
+def bed_file(path, spheres):
+    """Spheres of diameter 0.7 on the floor at z = 0.1 of a 5 x 5 x 10 box, walls along z."""
+    rows = "".join(f"{i + 1} 1 0.7 1.9098593171027443 {x!r} {y!r} {z!r}\n" for i, (x, y, z) in enumerate(spheres))
+    path.write_text(f"bed\n\n{len(spheres)} atoms\n1 atom types\n\n0 5 xlo xhi\n0 5 ylo yhi\n0.1 10.1 zlo zhi\n\n"
+                    f"Atoms # sphere\n\n{rows}")
+    return path
+
+
+@pytest.mark.parametrize("engine", ["stepper", "event"])
+def test_a_settled_bed_is_read_back_with_spheres_past_the_floor_by_rounding(hs, tmp_path, engine):
+    # Positions near 0.45 are not exact in binary: the stepper ended this bed with spheres 5.6e-17
+    # below the floor at 0.1, and --read-data refused its own state. Walls take the overlaps' tolerance.
+    lattice = [(0.5 + 1.0 * i, 0.5 + 1.0 * j, 0.6 + 1.5 * k) for i in range(5) for j in range(5) for k in range(3)]
+    args = ("--boundary", "p,p,w", "--gravity", "0,0,-1", "--restitution", "0.3")
+    out = tmp_path / "settled.data"
+    p = run(hs, "--read-data", bed_file(tmp_path / "bed.data", lattice), *args, "--time", 40, "--write-data", out)
+    assert p.returncode == 0, p.stderr
+    again = run_json(hs, "--read-data", out, *args, "--time", 5, "--engine", engine)
+    assert again["max_overlap"] <= again["overlap_tolerance"] and again["warnings"] == []
+    past = bed_file(tmp_path / "past.data", [(2.0, 2.0, 0.45 - 5.6e-17)])
+    assert run(hs, "--read-data", past, *args, "--time", 1, "--engine", engine).returncode == 0
+    far = run(hs, "--read-data", bed_file(tmp_path / "far.data", [(2.0, 2.0, 0.45 - 1e-9)]), *args, "--steps", 1)
+    assert far.returncode == 2 and "far.data:12: atom 1: z = " in far.stderr and "outside the wall" in far.stderr

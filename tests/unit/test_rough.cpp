@@ -186,7 +186,9 @@ TEST(RoughKernel, GrazingCollisionSticksOrSlidesByWaltonsRule) {
       const Vec3d w1 = swapped ? p.w2 : p.w1, w2 = swapped ? p.w1 : p.w2;
       const Vec3d v2 = swapped ? p.v1 : p.v2;
       const Vec3d g = v1 - v2 - cross(0.5 * w1 + 0.5 * w2, Vec3d{1, 0, 0});
-      if (!slides) EXPECT_NEAR(g.y, -beta, 1e-14);
+      if (!slides) {
+        EXPECT_NEAR(g.y, -beta, 1e-14);
+      }
     }
   }
 }

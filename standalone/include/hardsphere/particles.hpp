@@ -69,10 +69,11 @@ struct SphereSample {
 //! a wall axis, duplicate ids, periodic box too short for the largest pair, overlapping pairs.
 //! Periodic coordinates are wrapped into the box first (as LAMMPS read_data does).
 //! `atom_lines` (optional): the line each atom came from, so messages name "source:line".
-//! `rounding_eps` > 0 accepts overlaps up to overlap_tolerance(sys, rounding_eps): a state an
-//! engine of that precision wrote may hold them, and the engines collide such pairs at once.
+//! `rounding_eps` > 0 accepts overlaps, and spheres past a wall, up to overlap_tolerance(sys,
+//! rounding_eps): a state an engine of that precision wrote may hold them, and the engines collide
+//! such pairs at once. `check_pairs` false leaves pairs to a caller that sees all of them (MPI ranks).
 void validate_and_wrap(ParticleSystem& sys, const std::string& source, const std::vector<long>* atom_lines = nullptr,
-                       double rounding_eps = 0);
+                       double rounding_eps = 0, bool check_pairs = true);
 
 //! The overlap a few roundings of an engine with machine epsilon `eps` can leave in this scene
 //! (coordinates in the engine's type, distances from absolute double coordinates).

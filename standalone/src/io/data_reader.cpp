@@ -250,12 +250,6 @@ class DataFile {
     if (!(radius > 0 && std::isfinite(mass) && mass > 0))
       r_.fail("atom " + id_s + " with diameter " + w[2] + " and density " + w[3] + " has mass " +
               format_number(mass, 17) + ", not a positive finite number");
-    static const char* axis = "xyz";
-    for (int d = 0; d < 3; ++d)
-      if (!sys_.box.periodic[d] && (p[d] - radius < sys_.box.lo[d] || p[d] + radius > sys_.box.hi[d]))
-        r_.fail(std::string(1, axis[d]) + " = " + w[4 + d] + " of atom " + id_s + " with radius " +
-                format_number(radius, 17) + " is outside the wall-bounded box [" + format_number(sys_.box.lo[d], 17) +
-                ", " + format_number(sys_.box.hi[d], 17) + "]");
     if (radius > max_radius_) {
       max_radius_ = radius;
       widest_ = sys_.size();

@@ -191,7 +191,7 @@ double overlap_tolerance(const ParticleSystem& sys, double eps) {
 }
 
 void validate_and_wrap(ParticleSystem& sys, const std::string& source, const std::vector<long>* atom_lines,
-                       double rounding_eps) {
+                       double rounding_eps, bool check_pairs) {
   validate_box(sys.box, source);
   if (sys.omega.size() < sys.size()) sys.omega.resize(sys.size());
   static const char* axis = "xyz";
@@ -215,19 +215,22 @@ void validate_and_wrap(ParticleSystem& sys, const std::string& source, const std
     if (!finite(sys.pos[i])) fail("position is not finite (NaN or inf)");
     if (!finite(sys.vel[i])) fail("velocity is not finite (NaN or inf)");
     if (!finite(sys.omega[i])) fail("angular velocity is not finite (NaN or inf)");
+  }
+  check_scene_numbers(sys, source, atom_lines);
+  // A sphere resting on a wall may end a run a rounding error past it, as a pair may overlap.
+  const double slack = rounding_eps > 0 ? overlap_tolerance(sys, rounding_eps) : 0.0;
+  for (std::size_t i = 0; i < sys.size(); ++i)
     for (int d = 0; d < 3; ++d) {
       if (sys.box.periodic[d]) continue;
       const double p = sys.pos[i][d], r = sys.radius[i];
-      if (p - r < sys.box.lo[d] || p + r > sys.box.hi[d]) {
+      if (p - r < sys.box.lo[d] - slack || p + r > sys.box.hi[d] + slack) {
         std::ostringstream m;
         m.precision(17);
-        m << axis[d] << " = " << p << " with radius " << r << " is outside the wall-bounded box [" << sys.box.lo[d]
-          << ", " << sys.box.hi[d] << "]";
-        fail(m.str());
+        m << atom_origin(sys, i, source, atom_lines) << ": " << axis[d] << " = " << p << " with radius " << r
+          << " is outside the wall-bounded box [" << sys.box.lo[d] << ", " << sys.box.hi[d] << "]";
+        throw InputError(m.str());
       }
     }
-  }
-  check_scene_numbers(sys, source, atom_lines);
   const double diameter = 2 * sys.max_radius();
   for (int d = 0; d < 3; ++d)
     if (!sys.box.periodic[d] && sys.size() && !(sys.box.length(d) > diameter)) {
@@ -246,7 +249,7 @@ void validate_and_wrap(ParticleSystem& sys, const std::string& source, const std
       throw InputError(m.str());
     }
   wrap_periodic(sys);
-  const double slack = rounding_eps > 0 ? overlap_tolerance(sys, rounding_eps) : 0.0;
+  if (!check_pairs) return;
   if (const auto o = find_overlap(sys, slack)) {
     std::ostringstream m;
     m.precision(17);
