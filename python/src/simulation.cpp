@@ -150,10 +150,7 @@ void StepperSim::run(std::int64_t steps) {
 
 RunTotals StepperSim::totals() const { return run_totals(engine_->counters(), 0, {}); }
 
-double StepperSim::rounding_epsilon() const {
-  return precision_ == Precision::Float ? double(std::numeric_limits<float>::epsilon())
-                                        : std::numeric_limits<double>::epsilon();
-}
+double StepperSim::rounding_epsilon() const { return hardsphere::rounding_epsilon(precision_); }
 
 std::string StepperSim::title() const { return "hardsphere state after " + std::to_string(steps()) + " steps"; }
 
