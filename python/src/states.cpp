@@ -128,8 +128,7 @@ std::shared_ptr<SystemData> generate(InitMethod method, std::int64_t n, std::opt
 
 std::shared_ptr<SystemData> from_data(const std::string& path, const std::string& boundary,
                                       const std::string& precision) {
-  const double eps = parse_precision(precision) == Precision::Float ? double(std::numeric_limits<float>::epsilon())
-                                                                    : std::numeric_limits<double>::epsilon();
+  const double eps = rounding_epsilon(parse_precision(precision));
   const auto periodic = parse_boundary(boundary);
   auto data = std::make_shared<SystemData>();
   data->rounding_eps = eps;

@@ -29,9 +29,7 @@ double process_cpu_seconds() {
 
 ParticleSystem initial_state(const RunSpec& spec, std::vector<std::string>* notes) {
   // A state this program wrote may overlap by the rounding of the engine that made it.
-  const double eps = spec.precision == Precision::Float ? double(std::numeric_limits<float>::epsilon())
-                                                        : std::numeric_limits<double>::epsilon();
-  if (spec.read_data) return read_data(*spec.read_data, spec.periodic, eps, notes);
+  if (spec.read_data) return read_data(*spec.read_data, spec.periodic, rounding_epsilon(spec.precision), notes);
   InitSpec init = spec.init;
   if (spec.physics.rough()) {  // rotation at the translational temperature unless given
     init.inertia = spec.physics.inertia;

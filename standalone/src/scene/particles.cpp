@@ -257,6 +257,10 @@ void validate_and_wrap(ParticleSystem& sys, const std::string& source, const std
     m << atom_origin(sys, o->i, source, atom_lines) << " overlaps atom " << sys.id[o->j];
     if (atom_lines && o->j < atom_lines->size()) m << " (line " << (*atom_lines)[o->j] << ")";
     m << ": distance " << o->distance << " < contact distance " << o->contact;
+    const double float_eps = std::numeric_limits<float>::epsilon();
+    if (rounding_eps < float_eps && o->contact - o->distance <= overlap_tolerance(sys, float_eps))
+      m << " (within a float run's rounding, " << overlap_tolerance(sys, float_eps)
+        << ": a state written by --precision float is read by float runs only)";
     throw InputError(m.str());
   }
 }
