@@ -211,8 +211,8 @@ TEST(ReadData, SectionsAppearOnce) {
 TEST(ReadData, GeometryIsCheckedWithTheLine) {
   refused(join(with(base_lines(), 5, "-1e308 1e308 xlo xhi")), 5, {"overflows"});
   refused(join(with(base_lines(), 5, "10 0 xlo xhi")), 5, {"is empty"});
-  refused(join(with(base_lines(), 19, "4 2 1 1 1 1 9.75 0 0 0")), 19, {"z = 9.75 of atom 4", "outside the wall"},
-          {true, true, false});
+  refused(join(with(base_lines(), 19, "4 2 1 1 1 1 9.75 0 0 0")), 19,
+          {"atom 4: z = 9.75 with radius", "outside the wall"}, {true, true, false});
   refused(join(with(base_lines(), 19, "4 2 5e-324 1 1 1 3")), 19, {"atom 4", "mass 0"});
   refused(join(with(base_lines(), 19, "4 2 4 1e308 1 1 3")), 19, {"mass inf"});
   refused(join(with(base_lines(), 19, "4 2 -1 1 1 1 3")), 19, {"diameter -1 of atom 4"});
