@@ -129,7 +129,9 @@ std::string text_arg(const py::handle& text, const std::string& what, bool one_l
   return s;
 }
 
-std::int64_t whole_arg(const py::handle& v, const std::string& what, std::int64_t lo, std::int64_t hi) {
+namespace {
+// The Python int a whole-number argument holds, or the refusal naming it as given.
+py::object python_int(const py::handle& v, const std::string& what) {
   py::object i;
   switch (as_python_int(v, i)) {
     case Whole::NotNumber:
@@ -139,21 +141,19 @@ std::int64_t whole_arg(const py::handle& v, const std::string& what, std::int64_
     case Whole::Yes:
       break;
   }
+  return i;
+}
+}  // namespace
+
+std::int64_t whole_arg(const py::handle& v, const std::string& what, std::int64_t lo, std::int64_t hi) {
+  const py::object i = python_int(v, what);
   const auto x = in_range(i, lo, hi);
   if (!x) throw InputError(what + " = " + shown(v) + " is out of range (" + range_text(lo, hi) + ")");
   return *x;
 }
 
 std::uint64_t unsigned_arg(const py::handle& v, const std::string& what) {
-  py::object i;
-  switch (as_python_int(v, i)) {
-    case Whole::NotNumber:
-      throw py::type_error(what + " must be a whole number, not " + type_name(v));
-    case Whole::NotWhole:
-      throw InputError(what + " = " + shown(v) + " is not a whole number");
-    case Whole::Yes:
-      break;
-  }
+  const py::object i = python_int(v, what);
   const unsigned long long x = PyLong_AsUnsignedLongLong(i.ptr());
   if (PyErr_Occurred()) {
     PyErr_Clear();
