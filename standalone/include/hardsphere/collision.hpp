@@ -1,6 +1,6 @@
 #pragma once
 //! The physics kernel: contact times, elastic impulses and wall reflection as pure functions.
-//! Shared by the time stepper, the event engine and the LAMMPS fix. "No contact" is +inf,
+//! Used by the time stepper and the event engine (the LAMMPS fix runs the stepper). "No contact" is +inf,
 //! so this must never be compiled with -ffast-math.
 #include <algorithm>
 #include <cmath>

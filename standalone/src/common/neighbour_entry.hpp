@@ -1,7 +1,7 @@
 #pragma once
 //! One neighbour-list entry packs a partner's index and a periodic image code (0..26, the
 //! partner seen from the list's owner) into one word, so reading a list row misses the cache
-//! once, not once per array. Shared by the stepper's and the LAMMPS fix's lists (through the
+//! once, not once per array. Used by the stepper's lists (through the
 //! contact resolver) and by the event engine's lists; each engine keeps its own image numbering.
 #include <cstdint>
 

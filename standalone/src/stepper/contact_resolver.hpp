@@ -1,5 +1,5 @@
 #pragma once
-//! In-step contact resolution, shared by the standalone stepper and the LAMMPS fix.
+//! In-step contact resolution of the stepper (which the CLI, Python and the LAMMPS fix run).
 //!
 //! After every sphere has drifted by dt, an engine hands the resolver the pairs that touched
 //! within the step (`consider`). The resolver rewinds each to its exact contact time, applies
