@@ -92,8 +92,9 @@ CHILD = textwrap.dedent("""
 @pytest.mark.parametrize("engine", ["stepper", "event"])
 def test_sigint_stops_between_chunks(engine):
     env = dict(os.environ)
+    # As from a terminal: a shell's background job starts with SIGINT ignored, which Python keeps.
     p = subprocess.Popen([sys.executable, "-c", CHILD, engine], stdout=subprocess.PIPE, stderr=subprocess.PIPE,
-                         text=True, env=env)
+                         text=True, env=env, preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))
     assert p.stdout.readline().strip() == "running"
     p.send_signal(signal.SIGINT)
     out, err = p.communicate(timeout=60)

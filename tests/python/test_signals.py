@@ -53,8 +53,10 @@ CHILD = textwrap.dedent("""
 
 
 def run_child(tmp_path, sig, where, handler="none"):
+    # As from a terminal: a shell's background job starts with SIGINT ignored, which is kept.
     p = subprocess.Popen([sys.executable, "-c", CHILD, where, handler], cwd=tmp_path, env=ENV,
-                         stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+                         stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+                         preexec_fn=lambda: signal.signal(sig, signal.SIG_DFL))
     assert p.stdout.readline().strip() == "ready"
     p.send_signal(sig)
     out, err = p.communicate(timeout=60)

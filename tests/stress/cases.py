@@ -381,8 +381,10 @@ def files_left(ctx):
         out.mkdir()
         args = ["--n", 20000, "--phi", 0.3, "--steps", 100000, "--dump", "t.dump", "--dump-every", 10, "--json", "s.json",
                 "--write-data", "f.data"]
-        p = subprocess.Popen([ctx.hs, "run", *map(str, args)], cwd=out,
-                             stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+        # As from a terminal: a shell's background job (this suite under `cmd &`) starts with SIGINT
+        # ignored, and the program rightly keeps an ignored signal ignored.
+        p = subprocess.Popen([ctx.hs, "run", *map(str, args)], cwd=out, stdout=subprocess.DEVNULL,
+                             stderr=subprocess.DEVNULL, preexec_fn=lambda s=sig: signal.signal(s, signal.SIG_DFL))
         deadline = time.time() + 60
         while time.time() < deadline and not any(".tmp." in f.name for f in out.iterdir()):
             time.sleep(0.05)
