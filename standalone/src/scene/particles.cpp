@@ -258,7 +258,9 @@ void validate_and_wrap(ParticleSystem& sys, const std::string& source, const std
     if (atom_lines && o->j < atom_lines->size()) m << " (line " << (*atom_lines)[o->j] << ")";
     m << ": distance " << o->distance << " < contact distance " << o->contact;
     const double float_eps = std::numeric_limits<float>::epsilon();
-    if (rounding_eps < float_eps && o->contact - o->distance <= overlap_tolerance(sys, float_eps))
+    // Only a data file read by a double run can hold a float run's state.
+    if (atom_lines && rounding_eps > 0 && rounding_eps < float_eps &&
+        o->contact - o->distance <= overlap_tolerance(sys, float_eps))
       m << " (within a float run's rounding, " << overlap_tolerance(sys, float_eps)
         << ": a state written by --precision float is read by float runs only)";
     throw InputError(m.str());
