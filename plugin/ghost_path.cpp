@@ -373,10 +373,7 @@ StepTotals GhostPath::step(double *virial_rows, double scale) {
     }
     timer_.charge(PartTimer::Write);
     const OwnershipTally::Totals &c = tally_.totals();
-    t.collisions = c.collisions - last_.collisions;
-    t.wall_collisions = c.wall_collisions - last_.wall_collisions;
-    t.pair_virial = c.pair_virial - last_.pair_virial;
-    for (std::size_t k = 0; k < 6; k++) t.virial[k] = c.pair_virial_tensor[k] - last_.pair_virial_tensor[k];
+    static_cast<hardsphere::WeightedCollisionTotals &>(t) = c - last_;
     last_ = c;
     const std::int64_t unresolved = stepper_->counters().unresolved_steps;
     t.unresolved = double(unresolved - last_unresolved_);
@@ -487,11 +484,8 @@ StepTotals GhostPath::step_globally(bool check, const std::string &source, const
   StepTotals t;
   t.rerun = true;
   if (comm->me == 0) {  // the stepper counted every atom: rank 0 reports the totals
-    t.collisions = double(c.collisions);
-    t.wall_collisions = double(c.wall_collisions);
-    t.pair_virial = c.pair_virial;
+    static_cast<hardsphere::WeightedCollisionTotals &>(t) = hardsphere::collision_totals<double>(c);
     t.unresolved = double(c.unresolved_steps);
-    for (std::size_t k = 0; k < 6; k++) t.virial[k] = c.pair_virial_tensor[k];
   }
   return t;
 }

@@ -237,10 +237,8 @@ StepTotals SerialPath::step(double *virial_rows, double scale) {
   timer_.charge(PartTimer::Write);
 
   StepTotals t;
-  t.collisions = double(after.collisions - before.collisions);
-  t.wall_collisions = double(after.wall_collisions - before.wall_collisions);
+  static_cast<hardsphere::WeightedCollisionTotals &>(t) =
+      hardsphere::collision_totals<double>(after) - hardsphere::collision_totals<double>(before);
   t.unresolved = double(after.unresolved_steps - before.unresolved_steps);
-  t.pair_virial = after.pair_virial - before.pair_virial;
-  for (std::size_t k = 0; k < 6; k++) t.virial[k] = after.pair_virial_tensor[k] - before.pair_virial_tensor[k];
   return t;
 }

@@ -49,13 +49,7 @@ RunTotals totals_of(const Counters& c, double kinetic0, const Vec3d& momentum0) 
   t.kinetic_energy_initial = kinetic0;
   t.momentum_initial = momentum0;
   t.sim_time = c.sim_time;
-  t.collisions = c.collisions;
-  t.wall_collisions = c.wall_collisions;
-  t.pair_virial = c.pair_virial;
-  t.wall_impulse = c.wall_impulse;
-  t.resting_contacts = c.resting_contacts;
-  t.dissipated_normal = c.dissipated_normal;
-  t.dissipated_tangential = c.dissipated_tangential;
+  static_cast<CollisionTotals&>(t) = collision_totals(c);
   return t;
 }
 }  // namespace
