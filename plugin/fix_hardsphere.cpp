@@ -274,7 +274,7 @@ void FixHardSphere::initial_integrate(int vflag) {
 
 void FixHardSphere::add_step(const StepTotals &t) {
   n_coll_step = t.collisions;
-  for (int k = 0; k < 6; k++) step_virial[k] = t.virial[std::size_t(k)];
+  for (int k = 0; k < 6; k++) step_virial[k] = t.pair_virial_tensor[std::size_t(k)];
   n_coll += n_coll_step;
   virial_sum += t.pair_virial;
   n_wall += t.wall_collisions;

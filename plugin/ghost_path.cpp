@@ -15,6 +15,7 @@
 #include "fix.h"
 #include "hardsphere/errors.hpp"
 #include "hardsphere/particles.hpp"
+#include "lammps_atoms.h"
 #include "lammps_compat.h"
 #include "neigh_list.h"
 #include "neighbor.h"
@@ -41,17 +42,9 @@ double distance_outside(const double *p, const double *lo, const double *hi) {
 void GhostPath::check_owned_atoms() {
   // The serial path's checks in LAMMPS's box (walls, finite and resolvable numbers, overlaps
   // among owned atoms), before any of them is wrapped into this rank's box.
-  hardsphere::ParticleSystem sys;
-  for (int d = 0; d < 3; d++) {
-    sys.box.lo[std::size_t(d)] = domain->boxlo[d], sys.box.hi[std::size_t(d)] = domain->boxhi[d];
-    sys.box.periodic[std::size_t(d)] = domain->periodicity[d] != 0;
-  }
-  const int nlocal = atom->nlocal;
-  sys.reserve(std::size_t(nlocal));
-  double **x = atom->x, **v = atom->v;
-  for (int i = 0; i < nlocal; i++)
-    sys.push_back(std::int64_t(atom->tag[i]), atom->type[i], atom->radius[i], atom->rmass[i],
-                  {x[i][0], x[i][1], x[i][2]}, {v[i][0], v[i][1], v[i][2]}, {0, 0, 0}, omega_of(i));
+  AtomRows rows;
+  rows.rough = physics_.rough();
+  hardsphere::ParticleSystem sys = atoms_to_system(atom, lammps_box(domain), rows);
   // Overlaps are checked in build(), over owned and ghost atoms, with the tolerance the serial
   // path uses: overlap_tolerance() of the whole state, the largest of the ranks' (it grows with
   // the largest radius; the box is the same).
@@ -71,7 +64,7 @@ void GhostPath::build() {
   forward_comm_learning_swaps();
 
   const int nlocal = atom->nlocal, nall = nlocal + atom->nghost;
-  double **x = atom->x, **v = atom->v;
+  double **x = atom->x;
   double rmax = 0, volume = 0;
   for (int i = 0; i < nlocal; i++) {
     const double r = atom->radius[i];
@@ -89,8 +82,7 @@ void GhostPath::build() {
   // of it are left out); any other axis ends at the real walls of the box or, inside it, at
   // walls no ghost reaches before LAMMPS re-neighbours (it starts within the shell and moves
   // less than half the shell's slack).
-  hardsphere::ParticleSystem sys;
-  sys.reserve(std::size_t(nall));
+  hardsphere::Box box;
   std::array<bool, 3> whole{};
   double lo[3], hi[3];
   for (int d = 0; d < 3; d++) {
@@ -100,17 +92,17 @@ void GhostPath::build() {
     whole[std::size_t(d)] = periodic && domain->sublo[d] == domain->boxlo[d] && domain->subhi[d] == domain->boxhi[d];
     lo[d] = domain->sublo[d] - shell, hi[d] = domain->subhi[d] + shell;
     if (whole[std::size_t(d)]) {
-      sys.box.lo[d] = domain->boxlo[d], sys.box.hi[d] = domain->boxhi[d];
+      box.lo[d] = domain->boxlo[d], box.hi[d] = domain->boxhi[d];
     } else {
       const double margin = 1.5 * shell + 2 * dmax;
       const bool wall_lo = !periodic && domain->sublo[d] == domain->boxlo[d];
       const bool wall_hi = !periodic && domain->subhi[d] == domain->boxhi[d];
-      sys.box.lo[d] = wall_lo ? domain->boxlo[d] : domain->sublo[d] - margin;
-      sys.box.hi[d] = wall_hi ? domain->boxhi[d] : domain->subhi[d] + margin;
+      box.lo[d] = wall_lo ? domain->boxlo[d] : domain->sublo[d] - margin;
+      box.hi[d] = wall_hi ? domain->boxhi[d] : domain->subhi[d] + margin;
       // Walls in the margin are never reached before the next re-neighbouring: no wall tests.
       config.unreached_walls[std::size_t(d)] = !wall_lo && !wall_hi;
     }
-    sys.box.periodic[d] = whole[std::size_t(d)];
+    box.periodic[d] = whole[std::size_t(d)];
   }
 
   // Owned atoms, then the ghosts within the shell that are not periodic images along a whole
@@ -124,16 +116,18 @@ void GhostPath::build() {
   input_local_.clear();
   input_shift_.clear();
   std::int64_t extra_id = std::int64_t(max_tag) + 1;
-  for (int i = 0; i < nall; i++) {
+  AtomRows rows;
+  rows.ghosts = true;
+  rows.rough = physics_.rough();
+  rows.place = [&](int i, const hardsphere::ParticleSystem &held, Vec3d &p, std::int64_t &id) {
     if (i >= nlocal) {
       // This rank's own periodic images miss the owner check's velocities (it skips those
       // swaps): the copy they repeat is held anyway.
       bool keep = !(swaps_known_ && self_row_[std::size_t(i)]);
       for (int d = 0; d < 3 && keep; d++)
         if (!whole[std::size_t(d)]) keep = x[i][d] >= lo[d] && x[i][d] <= hi[d];
-      if (!keep) continue;
+      if (!keep) return false;
     }
-    Vec3d p{x[i][0], x[i][1], x[i][2]};
     for (int d = 0; d < 3; d++)
       if (whole[std::size_t(d)]) {
         const double len = domain->prd[d];
@@ -145,18 +139,18 @@ void GhostPath::build() {
     const tagint tag = atom->tag[i];
     bool same = false;
     for (int k = first_copy[std::size_t(tag)]; k >= 0 && !same; k = next_copy[std::size_t(k)])
-      same = norm2(sys.pos[std::size_t(k)] - p) < 0.25 * dmax * dmax;
-    if (same) continue;
+      same = norm2(held.pos[std::size_t(k)] - p) < 0.25 * dmax * dmax;
+    if (same) return false;
     const int copies = first_copy[std::size_t(tag)];
-    const std::int64_t id = copies >= 0 ? extra_id++ : std::int64_t(tag);
+    id = copies >= 0 ? extra_id++ : std::int64_t(tag);
     next_copy.push_back(copies);
-    first_copy[std::size_t(tag)] = int(sys.size());
-    sys.push_back(id, atom->type[i], atom->radius[i], atom->rmass[i], p, {v[i][0], v[i][1], v[i][2]}, {0, 0, 0},
-                  omega_of(i));
+    first_copy[std::size_t(tag)] = int(held.size());
     owned.push_back(i < nlocal ? 1 : 0);
     input_local_.push_back(i);
     input_shift_.push_back(Vec3d{x[i][0], x[i][1], x[i][2]} - p);
-  }
+    return true;
+  };
+  const hardsphere::ParticleSystem sys = atoms_to_system(atom, box, rows);
 
   if (check_start_) {
     // A run's start, as the serial path checks it: each rank checks the atoms it holds (every
@@ -379,10 +373,7 @@ StepTotals GhostPath::step(double *virial_rows, double scale) {
     }
     timer_.charge(PartTimer::Write);
     const OwnershipTally::Totals &c = tally_.totals();
-    t.collisions = c.collisions - last_.collisions;
-    t.wall_collisions = c.wall_collisions - last_.wall_collisions;
-    t.pair_virial = c.pair_virial - last_.pair_virial;
-    for (std::size_t k = 0; k < 6; k++) t.virial[k] = c.pair_virial_tensor[k] - last_.pair_virial_tensor[k];
+    static_cast<hardsphere::WeightedCollisionTotals &>(t) = c - last_;
     last_ = c;
     const std::int64_t unresolved = stepper_->counters().unresolved_steps;
     t.unresolved = double(unresolved - last_unresolved_);
@@ -441,33 +432,16 @@ StepTotals GhostPath::step_globally(bool check, const std::string &source, const
   // each rank keeps its own atoms. Rare.
   const int nlocal = atom->nlocal;
   const bool rough = physics_.rough();
-  const int kFields = rough ? 13 : 10;  // tag, type, radius, mass, x[3], v[3], rough spheres' omega[3]
-  std::vector<double> mine(std::size_t(nlocal) * kFields);
-  for (int i = 0; i < nlocal; i++) {
-    double *o = &mine[std::size_t(i) * kFields];
-    const double *p = atom->x[i], *u = atom->v[i];  // still the step's start
-    o[0] = double(atom->tag[i]), o[1] = atom->type[i], o[2] = atom->radius[i], o[3] = atom->rmass[i];
-    o[4] = p[0], o[5] = p[1], o[6] = p[2], o[7] = u[0], o[8] = u[1], o[9] = u[2];
-    if (rough) o[10] = atom->omega[i][0], o[11] = atom->omega[i][1], o[12] = atom->omega[i][2];
-  }
+  const std::vector<double> mine = owned_atom_records(atom, rough);  // x and v still the step's start
   const int nprocs = comm->nprocs;
-  int count = nlocal * kFields;
+  int count = int(mine.size());
   std::vector<int> counts(static_cast<std::size_t>(nprocs)), displs(static_cast<std::size_t>(nprocs), 0);
   MPI_Allgather(&count, 1, MPI_INT, counts.data(), 1, MPI_INT, world);
   for (int r = 1; r < nprocs; r++) displs[std::size_t(r)] = displs[std::size_t(r - 1)] + counts[std::size_t(r - 1)];
   std::vector<double> all(std::size_t(displs.back() + counts.back()));
   MPI_Allgatherv(mine.data(), count, MPI_DOUBLE, all.data(), counts.data(), displs.data(), MPI_DOUBLE, world);
 
-  hardsphere::ParticleSystem sys;
-  for (int d = 0; d < 3; d++) {
-    sys.box.lo[d] = domain->boxlo[d], sys.box.hi[d] = domain->boxhi[d];
-    sys.box.periodic[d] = domain->periodicity[d] != 0;
-  }
-  for (std::size_t k = 0; k < all.size(); k += kFields) {
-    const double *o = &all[k];
-    sys.push_back(std::int64_t(o[0]), int(o[1]), o[2], o[3], {o[4], o[5], o[6]}, {o[7], o[8], o[9]}, {0, 0, 0},
-                  rough ? Vec3d{o[10], o[11], o[12]} : Vec3d{0, 0, 0});
-  }
+  hardsphere::ParticleSystem sys = records_to_system(all, lammps_box(domain), rough);
   if (check) {  // validates and wraps, with the serial path's overlap tolerance
     try {
       hardsphere::validate_and_wrap(sys, source, nullptr, hardsphere::rounding_epsilon(hardsphere::Precision::Double));
@@ -510,11 +484,8 @@ StepTotals GhostPath::step_globally(bool check, const std::string &source, const
   StepTotals t;
   t.rerun = true;
   if (comm->me == 0) {  // the stepper counted every atom: rank 0 reports the totals
-    t.collisions = double(c.collisions);
-    t.wall_collisions = double(c.wall_collisions);
-    t.pair_virial = c.pair_virial;
+    static_cast<hardsphere::WeightedCollisionTotals &>(t) = hardsphere::collision_totals<double>(c);
     t.unresolved = double(c.unresolved_steps);
-    for (std::size_t k = 0; k < 6; k++) t.virial[k] = c.pair_virial_tensor[k];
   }
   return t;
 }

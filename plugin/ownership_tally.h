@@ -7,17 +7,14 @@
 #include <cstdint>
 #include <vector>
 
+#include "hardsphere/collision_totals.hpp"
 #include "hardsphere/state_exchange.hpp"
 
 namespace LAMMPS_NS {
 
 class OwnershipTally : public hardsphere::CollisionObserver {
  public:
-  struct Totals {
-    double collisions = 0, wall_collisions = 0;
-    double pair_virial = 0;                                      //!< weighted r_ij . dp_i
-    std::array<double, 6> pair_virial_tensor{0, 0, 0, 0, 0, 0};  //!< weighted r_ij (x) dp_i
-  };
+  using Totals = hardsphere::WeightedCollisionTotals;  //!< weighted collisions, walls and virial
   //! A new engine: owned[k] (1 = owned) for its slot k; the totals start from zero.
   void reset(std::vector<std::uint8_t> owned) {
     owned_ = std::move(owned);

@@ -9,6 +9,7 @@
 #include "error.h"
 #include "hardsphere/errors.hpp"
 #include "hardsphere/state_exchange.hpp"
+#include "lammps_atoms.h"
 #include "output.h"
 #include "update.h"
 
@@ -31,20 +32,9 @@ imageint pack_image(const std::array<int, 3> &f) {
 void SerialPath::make(const std::string &source, const std::string &hint) {
   // A fresh stepper at every run: velocity, displace_atoms, set or read_restart may have
   // changed anything between runs.
-  const int nlocal = atom->nlocal;
-  hardsphere::ParticleSystem sys;
-  for (int d = 0; d < 3; d++) {
-    sys.box.lo[d] = domain->boxlo[d], sys.box.hi[d] = domain->boxhi[d];
-    sys.box.periodic[d] = domain->periodicity[d] != 0;
-  }
-  sys.reserve(std::size_t(nlocal));
-  const bool rough = physics_.rough();  // the fix checked that the atom style has omega
-  for (int i = 0; i < nlocal; i++)
-    sys.push_back(std::int64_t(atom->tag[i]), atom->type[i], atom->radius[i], atom->rmass[i],
-                  {atom->x[i][0], atom->x[i][1], atom->x[i][2]}, {atom->v[i][0], atom->v[i][1], atom->v[i][2]},
-                  {0, 0, 0},
-                  rough ? hardsphere::Vec3d{atom->omega[i][0], atom->omega[i][1], atom->omega[i][2]}
-                        : hardsphere::Vec3d{0, 0, 0});
+  AtomRows rows;
+  rows.rough = physics_.rough();  // the fix checked that the atom style has omega
+  hardsphere::ParticleSystem sys = atoms_to_system(atom, lammps_box(domain), rows);
   try {
     // Overlaps, out-of-box atoms; overlaps the stepper's own rounding leaves (a state it
     // ended a run with) are accepted, as the standalone's --read-data accepts them.
@@ -247,10 +237,8 @@ StepTotals SerialPath::step(double *virial_rows, double scale) {
   timer_.charge(PartTimer::Write);
 
   StepTotals t;
-  t.collisions = double(after.collisions - before.collisions);
-  t.wall_collisions = double(after.wall_collisions - before.wall_collisions);
+  static_cast<hardsphere::WeightedCollisionTotals &>(t) =
+      hardsphere::collision_totals<double>(after) - hardsphere::collision_totals<double>(before);
   t.unresolved = double(after.unresolved_steps - before.unresolved_steps);
-  t.pair_virial = after.pair_virial - before.pair_virial;
-  for (std::size_t k = 0; k < 6; k++) t.virial[k] = after.pair_virial_tensor[k] - before.pair_virial_tensor[k];
   return t;
 }

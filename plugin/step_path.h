@@ -6,6 +6,7 @@
 #include <array>
 #include <string>
 
+#include "hardsphere/collision_totals.hpp"
 #include "hardsphere/physics.hpp"
 #include "hardsphere/stepper.hpp"
 
@@ -18,11 +19,9 @@ inline constexpr char kMovedAtomsHint[] = "a fix that moves atoms must leave the
 
 //! What one step did on this rank (weighted by ownership on the owned + ghost path, so the sums
 //! over ranks are the totals).
-struct StepTotals {
-  double collisions = 0, wall_collisions = 0, unresolved = 0;
-  double pair_virial = 0;                          //!< r_ij . dp_i summed over the collisions
-  std::array<double, 6> virial{0, 0, 0, 0, 0, 0};  //!< r_ij (x) dp_i, xx yy zz xy xz yz
-  bool rerun = false;                              //!< re-run for all atoms at once (a ghost disagreed)
+struct StepTotals : hardsphere::WeightedCollisionTotals {
+  double unresolved = 0;  //!< steps that hit max_events with contacts left
+  bool rerun = false;     //!< re-run for all atoms at once (a ghost disagreed)
 };
 
 //! What changed since the last step, as the fix knows it.

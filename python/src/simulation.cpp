@@ -45,7 +45,6 @@ std::shared_ptr<const ParticleSystem> Simulation::state() const {
 void Simulation::start_measurement() {
   const auto s = state();
   kinetic0_ = kinetic_energy(*s);
-  potential0_ = potential_energy(*s, physics_.gravity);
   momentum0_ = total_momentum(*s);
   start_ = s;
   cpu_ = 0;
@@ -65,12 +64,8 @@ nlohmann::json Simulation::observables(std::int64_t histogram_bins) const {
   RunTotals t = totals();
   t.kinetic_energy_initial = kinetic0_;
   t.momentum_initial = momentum0_;
-  nlohmann::json j = physics_summary(fin, t, origin_.com_removed, origin_.seed, int(histogram_bins),
-                                     overlap_tolerance(fin, rounding_epsilon()));
-  j["engine"] = name();
-  add_energy_summary(j, kinetic0_, potential0_, potential_energy(fin, physics_.gravity), physics_);
-  add_rough_summary(j, *start_, fin, t, physics_);
-  j["loop_cpu_seconds"] = cpu_;
+  nlohmann::json j = run_summary(*start_, fin, t, physics_, {origin_.com_removed, origin_.seed, int(histogram_bins)},
+                                 name(), rounding_epsilon(), cpu_);
   add_summary(j);
   return j;
 }

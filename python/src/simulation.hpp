@@ -107,7 +107,7 @@ class Simulation {
   mutable std::shared_ptr<const ParticleSystem> snapshot_;
   std::atomic<bool> running_{false};
   std::optional<std::thread::id> run_thread_;  // the thread in run(), set and read with the GIL held
-  double kinetic0_ = 0, potential0_ = 0;
+  double kinetic0_ = 0;
   std::shared_ptr<const ParticleSystem> start_;  // the state at the start of the measurement
   Vec3d momentum0_;
   double cpu_ = 0;

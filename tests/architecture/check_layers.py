@@ -24,7 +24,7 @@ BELOW = {
 }
 PUBLIC = {
     "vec3.hpp": "common", "errors.hpp": "common", "limits.hpp": "common", "rng.hpp": "common",
-    "format.hpp": "common",
+    "format.hpp": "common", "collision_totals.hpp": "common",
     "box.hpp": "scene", "particles.hpp": "scene", "scene_limits.hpp": "scene", "observables.hpp": "scene",
     "physics.hpp": "scene",
     "collision.hpp": "kernel",

@@ -7,6 +7,7 @@
 #include <optional>
 #include <string>
 
+#include "hardsphere/collision_totals.hpp"
 #include "hardsphere/lammps_io.hpp"
 #include "hardsphere/particles.hpp"
 #include "hardsphere/physics.hpp"
@@ -14,15 +15,10 @@
 namespace hardsphere {
 
 //! What an engine measured over the timed part of a run.
-struct RunTotals {
+struct RunTotals : CollisionTotals {
   double kinetic_energy_initial = 0;
   Vec3d momentum_initial;
   double sim_time = 0;
-  std::int64_t collisions = 0, wall_collisions = 0;
-  double pair_virial = 0;
-  std::array<double, 3> wall_impulse{0, 0, 0};
-  std::int64_t resting_contacts = 0;  //!< wall contacts too slow to bounce (Physics::resting_time)
-  double dissipated_normal = 0, dissipated_tangential = 0;  //!< rough spheres: energy taken by channel
 };
 
 //! Keys n, packing_fraction, box, collisions, wall_collisions, resting_contacts, collision_rate_per_particle,

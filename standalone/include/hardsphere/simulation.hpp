@@ -111,6 +111,22 @@ void add_stepper_summary(nlohmann::json& j, const StepperBase& engine, const Ste
 //! (BlockAverages::add_summary): time, grid, shell, event counts and rates per `loop_cpu` second.
 void add_event_summary(nlohmann::json& j, const EventEngine& engine, double equilibrate_time, double loop_cpu);
 
+//! Where a measured state came from, as the run summary reports it.
+struct SummaryOrigin {
+  bool com_removed = false;  //!< the generator removed the centre-of-mass velocity
+  std::uint64_t seed = 0;
+  int histogram_bins = 40;
+};
+
+//! The run summary's keys every engine reports, assembled once for the CLI's run driver and
+//! Python's observables(): physics_summary (its overlap tolerance from `rounding_eps`), engine,
+//! add_energy_summary and add_rough_summary of the measurement from `initial` to `final_state`
+//! (totals.kinetic_energy_initial is that of `initial`), and loop_cpu_seconds. The engine's own
+//! keys are added by the caller.
+nlohmann::json run_summary(const ParticleSystem& initial, const ParticleSystem& final_state, const RunTotals& totals,
+                           const Physics& physics, const SummaryOrigin& origin, const std::string& engine,
+                           double rounding_eps, double loop_cpu);
+
 //! The totals of the timed part from an engine's counters, with the initial kinetic energy and
 //! momentum of that part.
 RunTotals run_totals(const StepCounters& c, double kinetic0, const Vec3d& momentum0);

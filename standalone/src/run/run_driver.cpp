@@ -78,7 +78,6 @@ nlohmann::json run_simulation(const RunSpec& spec) {
   if (engine->equilibrate()) sys = engine->state();
   engine->reset_counters();
   const double e0 = kinetic_energy(sys);
-  const double u0 = potential_energy(sys, spec.physics.gravity);
   const Vec3d p0 = total_momentum(sys);
   if (dump) dump->write_frame(0, sys);
   const double cpu = engine->measure(
@@ -86,13 +85,10 @@ nlohmann::json run_simulation(const RunSpec& spec) {
 
   const ParticleSystem fin = engine->state();
   const RunTotals totals = engine->totals(e0, p0);
-  nlohmann::json j = physics_summary(fin, totals, !spec.read_data.has_value(), spec.init.seed, spec.histogram_bins,
-                                     overlap_tolerance(fin, engine->rounding_epsilon()));
-  j["engine"] = engine->name();
+  nlohmann::json j =
+      run_summary(sys, fin, totals, spec.physics, {!spec.read_data.has_value(), spec.init.seed, spec.histogram_bins},
+                  engine->name(), engine->rounding_epsilon(), cpu);
   for (auto n = notes.rbegin(); n != notes.rend(); ++n) j["warnings"].insert(j["warnings"].begin(), *n);
-  add_energy_summary(j, e0, u0, potential_energy(fin, spec.physics.gravity), spec.physics);
-  add_rough_summary(j, sys, fin, totals, spec.physics);
-  j["loop_cpu_seconds"] = cpu;
   engine->add_summary(j, fin, cpu);
   if (tracker) j["track"] = tracker->summary();
   if (spec.report) spec.report(j);

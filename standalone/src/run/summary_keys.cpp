@@ -1,5 +1,6 @@
 // The engines' own keys of the run summary and their totals, shared by the CLI's run driver and
 // the Python module so that both report the same numbers under the same names.
+#include "hardsphere/observables.hpp"
 #include "hardsphere/simulation.hpp"
 
 namespace hardsphere {
@@ -42,6 +43,19 @@ void add_event_summary(nlohmann::json& j, const EventEngine& engine, double equi
   j["cpu_seconds_per_unit_time"] = c.sim_time > 0 ? cpu / c.sim_time : 0.0;
 }
 
+nlohmann::json run_summary(const ParticleSystem& initial, const ParticleSystem& fin, const RunTotals& totals,
+                           const Physics& physics, const SummaryOrigin& origin, const std::string& engine,
+                           double rounding_eps, double loop_cpu) {
+  nlohmann::json j = physics_summary(fin, totals, origin.com_removed, origin.seed, origin.histogram_bins,
+                                     overlap_tolerance(fin, rounding_eps));
+  j["engine"] = engine;
+  add_energy_summary(j, totals.kinetic_energy_initial, potential_energy(initial, physics.gravity),
+                     potential_energy(fin, physics.gravity), physics);
+  add_rough_summary(j, initial, fin, totals, physics);
+  j["loop_cpu_seconds"] = loop_cpu;
+  return j;
+}
+
 namespace {
 template <class Counters>
 RunTotals totals_of(const Counters& c, double kinetic0, const Vec3d& momentum0) {
@@ -49,13 +63,7 @@ RunTotals totals_of(const Counters& c, double kinetic0, const Vec3d& momentum0) 
   t.kinetic_energy_initial = kinetic0;
   t.momentum_initial = momentum0;
   t.sim_time = c.sim_time;
-  t.collisions = c.collisions;
-  t.wall_collisions = c.wall_collisions;
-  t.pair_virial = c.pair_virial;
-  t.wall_impulse = c.wall_impulse;
-  t.resting_contacts = c.resting_contacts;
-  t.dissipated_normal = c.dissipated_normal;
-  t.dissipated_tangential = c.dissipated_tangential;
+  static_cast<CollisionTotals&>(t) = collision_totals(c);
   return t;
 }
 }  // namespace
