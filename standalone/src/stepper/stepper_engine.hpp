@@ -108,17 +108,12 @@ class Stepper final : public StepperBase, public StateExchange {
     for (std::size_t k = 0; k < slot_.size(); ++k)
       for (std::size_t d = 0; d < 3; ++d) out[3 * k + d] = image_[slot_[k]][d];
   }
-  void copy_state(Vec3d* pos, Vec3d* vel) const override;
+  void copy(SphereField field, const std::uint32_t* slots, std::size_t count, Vec3d* out) const override;
+  void set(SphereField field, const std::uint32_t* slots, std::size_t count, const Vec3d* in) override;
+  void scatter(SphereField field, const std::uint32_t* dest, double* out) const override;
+  void gather(SphereField field, const std::uint32_t* src, const double* in) override;
   void scatter_state(const std::uint32_t* dest, const Vec3d* shift, double* x, double* v) const override;
   double mv2_sum() const override;
-  void set_velocities(const Vec3d* vel) override;
-  void copy_velocities(const std::uint32_t* slots, std::size_t count, Vec3d* out) const override;
-  void set_spheres(const std::uint32_t* slots, std::size_t count, const Vec3d* pos, const Vec3d* vel) override;
-  void gather_velocities(const std::uint32_t* src, const double* v) override;
-  void scatter_omega(const std::uint32_t* dest, double* omega) const override;
-  void gather_omega(const std::uint32_t* src, const double* omega) override;
-  void copy_omega(const std::uint32_t* slots, std::size_t count, Vec3d* out) const override;
-  void set_omega(const std::uint32_t* slots, std::size_t count, const Vec3d* w) override;
   double iw2_sum() const override;
   void set_rebuild_agreement(std::function<bool(bool)> agree) override { agree_ = std::move(agree); }
   bool sweep_detection() const override { return sweep_; }
@@ -133,6 +128,18 @@ class Stepper final : public StepperBase, public StateExchange {
   }
 
  private:
+  // The engine's SphereField list (stepper_exchange.cpp): each field's value in slot k, as
+  // StateExchange reads and writes it. A new per-sphere quantity is one more accessor and one
+  // more case in with_field().
+  struct PositionField;
+  struct VelocityField;
+  struct OmegaField;
+  template <class Fn>
+  static void with_field(SphereField field, Fn&& fn);
+  //! After set() or gather() wrote a field: velocities set from outside clear the kick residual
+  //! and bound the speeds (recomputed when all were written, raised by the given ones otherwise).
+  void field_written(SphereField field, const std::uint32_t* slots, std::size_t count);
+
   //! Sphere k's position (internal order) in the caller's coordinates.
   Vec3d user_position(std::size_t k) const {
     return {double(pos_[k].x) + origin_[0], double(pos_[k].y) + origin_[1], double(pos_[k].z) + origin_[2]};

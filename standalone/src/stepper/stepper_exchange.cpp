@@ -5,6 +5,7 @@
 #include <climits>
 #include <cmath>
 #include <cstddef>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -12,12 +13,107 @@
 
 namespace hardsphere::detail {
 
+// The field list: one accessor per SphereField, each field's value in slot k as doubles.
 template <class Real, bool Mono>
-void Stepper<Real, Mono>::copy_state(Vec3d* pos, Vec3d* vel) const {
-  for (std::size_t k = 0; k < pos_.size(); ++k) {
-    pos[k] = user_position(k);
-    vel[k] = {double(vel_[k].x), double(vel_[k].y), double(vel_[k].z)};
+struct Stepper<Real, Mono>::PositionField {
+  static Vec3d get(const Stepper& s, std::size_t k) { return s.user_position(k); }
+  static void put(Stepper& s, std::size_t k, const Vec3d& p) {
+    s.pos_[k] = {Real(p.x - s.origin_[0]), Real(p.y - s.origin_[1]), Real(p.z - s.origin_[2])};
   }
+};
+
+template <class Real, bool Mono>
+struct Stepper<Real, Mono>::VelocityField {
+  static Vec3d get(const Stepper& s, std::size_t k) {
+    return {double(s.vel_[k].x), double(s.vel_[k].y), double(s.vel_[k].z)};
+  }
+  static void put(Stepper& s, std::size_t k, const Vec3d& v) {
+    s.vel_[k] = {Real(v.x), Real(v.y), Real(v.z)};
+    if (!s.kick_residual_.empty()) s.kick_residual_[k] = {};  // earlier kicks' rounding is not theirs
+  }
+};
+
+template <class Real, bool Mono>
+struct Stepper<Real, Mono>::OmegaField {  // smooth scenes: the spins carried, by id rank
+  static Vec3d get(const Stepper& s, std::size_t k) {
+    if (s.omega_.empty()) return s.spins_.at(s.slot_[k]);
+    return {double(s.omega_[k].x), double(s.omega_[k].y), double(s.omega_[k].z)};
+  }
+  static void put(Stepper& s, std::size_t k, const Vec3d& w) {
+    if (s.omega_.empty())
+      s.spins_.set(s.slot_[k], w, s.slot_.size());
+    else
+      s.omega_[k] = {Real(w.x), Real(w.y), Real(w.z)};
+  }
+};
+
+template <class Real, bool Mono>
+template <class Fn>
+void Stepper<Real, Mono>::with_field(SphereField field, Fn&& fn) {
+  switch (field) {
+    case SphereField::Position:
+      return fn(PositionField{});
+    case SphereField::Velocity:
+      return fn(VelocityField{});
+    case SphereField::Omega:
+      return fn(OmegaField{});
+  }
+  throw std::invalid_argument("StateExchange: unknown SphereField " + std::to_string(int(field)));
+}
+
+template <class Real, bool Mono>
+void Stepper<Real, Mono>::copy(SphereField field, const std::uint32_t* slots, std::size_t count, Vec3d* out) const {
+  with_field(field, [&](auto f) {
+    for (std::size_t i = 0; i < count; ++i) out[i] = f.get(*this, slots ? slots[i] : i);
+  });
+}
+
+template <class Real, bool Mono>
+void Stepper<Real, Mono>::set(SphereField field, const std::uint32_t* slots, std::size_t count, const Vec3d* in) {
+  with_field(field, [&](auto f) {
+    for (std::size_t i = 0; i < count; ++i) f.put(*this, slots ? slots[i] : i, in[i]);
+  });
+  field_written(field, slots, count);
+}
+
+template <class Real, bool Mono>
+void Stepper<Real, Mono>::scatter(SphereField field, const std::uint32_t* dest, double* out) const {
+  with_field(field, [&](auto f) {
+    for (std::size_t k = 0; k < slot_.size(); ++k) {
+      if (dest[k] == kNoRow) continue;
+      const Vec3d w = f.get(*this, k);
+      double* o = out + 3 * std::size_t(dest[k]);
+      o[0] = w.x, o[1] = w.y, o[2] = w.z;
+    }
+  });
+}
+
+template <class Real, bool Mono>
+void Stepper<Real, Mono>::gather(SphereField field, const std::uint32_t* src, const double* in) {
+  with_field(field, [&](auto f) {
+    for (std::size_t k = 0; k < slot_.size(); ++k) {
+      const double* r = in + 3 * std::size_t(src[k]);
+      f.put(*this, k, {r[0], r[1], r[2]});
+    }
+  });
+  field_written(field, nullptr, slot_.size());
+}
+
+template <class Real, bool Mono>
+void Stepper<Real, Mono>::field_written(SphereField field, const std::uint32_t* slots, std::size_t count) {
+  if (field != SphereField::Velocity) return;
+  if (!slots && count == vel_.size()) {
+    refresh_speed_bound();
+    return;
+  }
+  // The other spheres' speeds are below the bound, so raising it by the new ones keeps it an
+  // upper bound without a pass over every sphere.
+  Real v2 = 0;
+  for (std::size_t i = 0; i < count; ++i) {
+    const std::size_t k = slots ? slots[i] : i;
+    v2 = std::max(v2, dot(vel_[k], vel_[k]));
+  }
+  resolver_.set_speed_bound(std::max(resolver_.speed_bound(), std::sqrt(v2) + path_bend()));
 }
 
 template <class Real, bool Mono>
@@ -42,102 +138,6 @@ double Stepper<Real, Mono>::mv2_sum() const {
   double sum = 0;
   for (std::size_t k = 0; k < vel_.size(); ++k) sum += double(m_[k]) * double(dot(vel_[k], vel_[k]));
   return sum;
-}
-
-template <class Real, bool Mono>
-void Stepper<Real, Mono>::set_velocities(const Vec3d* vel) {
-  for (std::size_t k = 0; k < vel_.size(); ++k) vel_[k] = {Real(vel[k].x), Real(vel[k].y), Real(vel[k].z)};
-  clear_kick_residual();
-  refresh_speed_bound();
-}
-
-template <class Real, bool Mono>
-void Stepper<Real, Mono>::copy_velocities(const std::uint32_t* slots, std::size_t count, Vec3d* out) const {
-  for (std::size_t i = 0; i < count; ++i) {
-    const auto& u = vel_[slots[i]];
-    out[i] = {double(u.x), double(u.y), double(u.z)};
-  }
-}
-
-template <class Real, bool Mono>
-void Stepper<Real, Mono>::set_spheres(const std::uint32_t* slots, std::size_t count, const Vec3d* pos,
-                                      const Vec3d* vel) {
-  // A changed position is a displacement like any other: the next drift measures it from the
-  // rebuild position, so the list guard sees it. The speed bound stays an upper bound if
-  // raised by the new speeds (the other spheres' are below it): no pass over every sphere.
-  Real v2 = 0;
-  for (std::size_t i = 0; i < count; ++i) {
-    const std::uint32_t k = slots[i];
-    pos_[k] = {Real(pos[i].x - origin_[0]), Real(pos[i].y - origin_[1]), Real(pos[i].z - origin_[2])};
-    vel_[k] = {Real(vel[i].x), Real(vel[i].y), Real(vel[i].z)};
-    if (!kick_residual_.empty()) kick_residual_[k] = {};
-    v2 = std::max(v2, dot(vel_[k], vel_[k]));
-  }
-  resolver_.set_speed_bound(std::max(resolver_.speed_bound(), std::sqrt(v2) + path_bend()));
-}
-
-template <class Real, bool Mono>
-void Stepper<Real, Mono>::gather_velocities(const std::uint32_t* src, const double* v) {
-  for (std::size_t k = 0; k < vel_.size(); ++k) {
-    const double* vi = v + 3 * std::size_t(src[k]);
-    vel_[k] = {Real(vi[0]), Real(vi[1]), Real(vi[2])};
-  }
-  clear_kick_residual();
-  refresh_speed_bound();
-}
-
-template <class Real, bool Mono>
-void Stepper<Real, Mono>::scatter_omega(const std::uint32_t* dest, double* omega) const {
-  if (omega_.empty()) {  // smooth: the spins carried
-    for (std::size_t k = 0; k < slot_.size(); ++k)
-      if (dest[k] != kNoRow) {
-        const Vec3d w = spins_.at(slot_[k]);
-        double* o = omega + 3 * std::size_t(dest[k]);
-        o[0] = w.x, o[1] = w.y, o[2] = w.z;
-      }
-    return;
-  }
-  for (std::size_t k = 0; k < omega_.size(); ++k) {
-    if (dest[k] == kNoRow) continue;
-    double* o = omega + 3 * std::size_t(dest[k]);
-    o[0] = double(omega_[k].x), o[1] = double(omega_[k].y), o[2] = double(omega_[k].z);
-  }
-}
-
-template <class Real, bool Mono>
-void Stepper<Real, Mono>::gather_omega(const std::uint32_t* src, const double* omega) {
-  if (omega_.empty()) {
-    for (std::size_t k = 0; k < slot_.size(); ++k) {
-      const double* o = omega + 3 * std::size_t(src[k]);
-      spins_.set(slot_[k], {o[0], o[1], o[2]}, slot_.size());
-    }
-    return;
-  }
-  for (std::size_t k = 0; k < omega_.size(); ++k) {
-    const double* o = omega + 3 * std::size_t(src[k]);
-    omega_[k] = {Real(o[0]), Real(o[1]), Real(o[2])};
-  }
-}
-
-template <class Real, bool Mono>
-void Stepper<Real, Mono>::copy_omega(const std::uint32_t* slots, std::size_t count, Vec3d* out) const {
-  for (std::size_t i = 0; i < count; ++i) {
-    if (omega_.empty()) {
-      out[i] = spins_.at(slot_[slots[i]]);
-      continue;
-    }
-    const auto& w = omega_[slots[i]];
-    out[i] = {double(w.x), double(w.y), double(w.z)};
-  }
-}
-
-template <class Real, bool Mono>
-void Stepper<Real, Mono>::set_omega(const std::uint32_t* slots, std::size_t count, const Vec3d* w) {
-  if (omega_.empty()) {
-    for (std::size_t i = 0; i < count; ++i) spins_.set(slot_[slots[i]], w[i], slot_.size());
-    return;
-  }
-  for (std::size_t i = 0; i < count; ++i) omega_[slots[i]] = {Real(w[i].x), Real(w[i].y), Real(w[i].z)};
 }
 
 template <class Real, bool Mono>
