@@ -237,7 +237,9 @@ void GhostPath::sync_ghosts() {
     ghost_pos_[i] = Vec3d{x[g][0], x[g][1], x[g][2]} - slots_.shifts()[k];
     ghost_vel_[i] = v_owner_[std::size_t(g)];
   }
-  hardsphere::state_exchange(*stepper_).set_spheres(ghosts.data(), n, ghost_pos_.data(), ghost_vel_.data());
+  auto &exch = hardsphere::state_exchange(*stepper_);
+  exch.set(hardsphere::SphereField::Position, ghosts.data(), n, ghost_pos_.data());
+  exch.set(hardsphere::SphereField::Velocity, ghosts.data(), n, ghost_vel_.data());
   if (physics_.rough()) sync_ghost_omegas();
 }
 
@@ -321,7 +323,7 @@ StepTotals GhostPath::step(double *virial_rows, double scale) {
     if (refresh_v_) {  // every atom's velocity from LAMMPS, the ghosts' from their owners
       forward_comm(0);
       if (slots_.stale(*stepper_)) map_slots();
-      hardsphere::state_exchange(*stepper_).gather_velocities(slots_.rows(), atom->v[0]);
+      hardsphere::state_exchange(*stepper_).gather(hardsphere::SphereField::Velocity, slots_.rows(), atom->v[0]);
       double **v = atom->v;
       v_owner_.resize(std::size_t(atom->nlocal + atom->nghost));
       for (const std::uint32_t k : slots_.ghost_slots()) {
@@ -350,7 +352,8 @@ StepTotals GhostPath::step(double *virial_rows, double scale) {
     moved_bound_ += stepper_->step_speed_bound() * config_.dt;
     if (slots_.stale(*stepper_)) map_slots();
     sent_vel_.resize(sent_slots_.size());
-    hardsphere::state_exchange(*stepper_).copy_velocities(sent_slots_.data(), sent_slots_.size(), sent_vel_.data());
+    hardsphere::state_exchange(*stepper_).copy(hardsphere::SphereField::Velocity, sent_slots_.data(),
+                                               sent_slots_.size(), sent_vel_.data());
     if (physics_.rough()) copy_sent_omegas();
   } else {
     agree_rebuild(false);  // the other ranks' steppers ask once per step
@@ -366,7 +369,9 @@ StepTotals GhostPath::step(double *virial_rows, double scale) {
     timer_.charge(PartTimer::Rerun);
   } else if (stepper_) {
     hardsphere::state_exchange(*stepper_).scatter_state(slots_.owned_rows(), slots_.shifts(), x[0], v[0]);
-    if (physics_.rough()) hardsphere::state_exchange(*stepper_).scatter_omega(slots_.owned_rows(), atom->omega[0]);
+    if (physics_.rough())
+      hardsphere::state_exchange(*stepper_).scatter(hardsphere::SphereField::Omega, slots_.owned_rows(),
+                                                    atom->omega[0]);
     if (virial_rows_) {  // only owned rows: a ghost's share is its owner's
       std::fill(virial_rows_, virial_rows_ + 6 * atom->nlocal, 0.0);
       hardsphere::state_exchange(*stepper_).take_sphere_virial(slots_.owned_rows(), virial_scale_, virial_rows_);
@@ -418,7 +423,7 @@ bool GhostPath::ghosts_agree() {
   for (const std::uint32_t k : slots_.ghost_slots())
     if (tally_.met_owned(k)) met_slots_.push_back(k);
   met_vel_.resize(met_slots_.size());
-  exch.copy_velocities(met_slots_.data(), met_slots_.size(), met_vel_.data());
+  exch.copy(hardsphere::SphereField::Velocity, met_slots_.data(), met_slots_.size(), met_vel_.data());
   for (std::size_t i = 0; i < met_slots_.size(); i++) {
     const Vec3d &owner = v_owner_[slots_.rows()[met_slots_[i]]];
     if (!(std::sqrt(norm2(met_vel_[i] - owner)) <= 1e-9 * (1.0 + std::sqrt(norm2(owner))))) return false;
@@ -656,24 +661,27 @@ void GhostPath::sync_ghost_omegas() {
   const std::vector<std::uint32_t> &ghosts = slots_.ghost_slots();
   ghost_w_.resize(ghosts.size());
   for (std::size_t i = 0; i < ghosts.size(); i++) ghost_w_[i] = w_owner_[slots_.rows()[ghosts[i]]];
-  hardsphere::state_exchange(*stepper_).set_omega(ghosts.data(), ghosts.size(), ghost_w_.data());
+  hardsphere::state_exchange(*stepper_).set(hardsphere::SphereField::Omega, ghosts.data(), ghosts.size(),
+                                            ghost_w_.data());
 }
 
 void GhostPath::refresh_omegas() {
-  hardsphere::state_exchange(*stepper_).gather_omega(slots_.rows(), atom->omega[0]);
+  hardsphere::state_exchange(*stepper_).gather(hardsphere::SphereField::Omega, slots_.rows(), atom->omega[0]);
   w_owner_.resize(std::size_t(atom->nlocal + atom->nghost));
   for (const std::uint32_t k : slots_.ghost_slots()) w_owner_[slots_.rows()[k]] = omega_of(int(slots_.rows()[k]));
 }
 
 void GhostPath::copy_sent_omegas() {
   sent_w_.resize(sent_slots_.size());
-  hardsphere::state_exchange(*stepper_).copy_omega(sent_slots_.data(), sent_slots_.size(), sent_w_.data());
+  hardsphere::state_exchange(*stepper_).copy(hardsphere::SphereField::Omega, sent_slots_.data(), sent_slots_.size(),
+                                             sent_w_.data());
 }
 
 bool GhostPath::omegas_agree() {
   // As the velocities: the contact points' speeds a w, against the owner's to 1e-9.
   met_w_.resize(met_slots_.size());
-  hardsphere::state_exchange(*stepper_).copy_omega(met_slots_.data(), met_slots_.size(), met_w_.data());
+  hardsphere::state_exchange(*stepper_).copy(hardsphere::SphereField::Omega, met_slots_.data(), met_slots_.size(),
+                                             met_w_.data());
   for (std::size_t i = 0; i < met_slots_.size(); i++) {
     const std::uint32_t row = slots_.rows()[met_slots_[i]];
     const Vec3d &owner = w_owner_[row];

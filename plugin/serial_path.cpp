@@ -98,7 +98,8 @@ void SerialPath::map() {
   }
   slots_.make(*stepper_, input_row_, {}, input_offset_, domain->prd, atom->nlocal);
   slot_pos_.resize(n), slot_vel_.resize(n);
-  exch.copy_state(slot_pos_.data(), slot_vel_.data());
+  exch.copy(hardsphere::SphereField::Position, nullptr, slot_pos_.size(), slot_pos_.data());
+  exch.copy(hardsphere::SphereField::Velocity, nullptr, slot_vel_.size(), slot_vel_.data());
   for (std::size_t k = 0; k < n; k++) {
     const int i = int(slots_.rows()[k]);
     std::array<int, 3> flags = unpack_image(image[i]);
@@ -149,7 +150,7 @@ void SerialPath::write() {
   auto &exch = hardsphere::state_exchange(*stepper_);
   if (slots_.size()) exch.scatter_state(slots_.rows(), slots_.shifts(), atom->x[0], atom->v[0]);
   // Rough spheres: compute erotate/sphere, temp/sphere and dumps read LAMMPS's omega.
-  if (slots_.size() && physics_.rough()) exch.scatter_omega(slots_.rows(), atom->omega[0]);
+  if (slots_.size() && physics_.rough()) exch.scatter(hardsphere::SphereField::Omega, slots_.rows(), atom->omega[0]);
   state_written_ = true;
 }
 
@@ -195,7 +196,7 @@ bool SerialPath::before_step(const StepStart &start) {
     const double *v = atom->v[0];
     if (v_written_.size() != std::size_t(3 * nlocal) || !std::equal(v, v + 3 * nlocal, v_written_.begin())) {
       map_if_stale();
-      hardsphere::state_exchange(*stepper_).gather_velocities(slots_.rows(), v);
+      hardsphere::state_exchange(*stepper_).gather(hardsphere::SphereField::Velocity, slots_.rows(), v);
       fresh = true;
     }
     v_written_.clear();
@@ -204,7 +205,7 @@ bool SerialPath::before_step(const StepStart &start) {
     const double *w = atom->omega[0];
     if (w_written_.size() != std::size_t(3 * nlocal) || !std::equal(w, w + 3 * nlocal, w_written_.begin())) {
       map_if_stale();
-      hardsphere::state_exchange(*stepper_).gather_omega(slots_.rows(), w);
+      hardsphere::state_exchange(*stepper_).gather(hardsphere::SphereField::Omega, slots_.rows(), w);
     }
     w_written_.clear();
   }

@@ -414,24 +414,24 @@ TEST(RoughEngines, StateExchangeCarriesTheAngularVelocities) {
   for (std::uint32_t k = 0; k < slots.size(); ++k) slots[k] = k;
   x.copy_input_index(input.data());
   std::vector<Vec3d> w(x.size());
-  x.copy_omega(slots.data(), slots.size(), w.data());
+  x.copy(SphereField::Omega, slots.data(), slots.size(), w.data());
   for (std::size_t k = 0; k < w.size(); ++k) EXPECT_EQ(w[k].x, s.omega[input[k]].x);
   // Set one slot, read it back through the flat-array scatter and the state.
   const Vec3d spin{1, 2, 3};
-  x.set_omega(slots.data() + 5, 1, &spin);
+  x.set(SphereField::Omega, slots.data() + 5, 1, &spin);
   std::vector<double> flat(3 * x.size(), -1);
-  x.scatter_omega(slots.data(), flat.data());
+  x.scatter(SphereField::Omega, slots.data(), flat.data());
   EXPECT_EQ(flat[15], 1.0);
   EXPECT_EQ(flat[17], 3.0);
   EXPECT_EQ(st->state().omega[input[5]].y, 2.0);
   flat[16] = 7;
-  x.gather_omega(slots.data(), flat.data());
+  x.gather(SphereField::Omega, slots.data(), flat.data());
   EXPECT_EQ(st->state().omega[input[5]].y, 7.0);
   // A smooth stepper carries the spins unchanged and counts no rotational energy.
   auto smooth = make_stepper(s, Physics{}, StepperConfig{});
   StateExchange& y = state_exchange(*smooth);
   EXPECT_EQ(y.iw2_sum(), 0.0);
-  y.set_omega(slots.data() + 5, 1, &spin);
-  y.copy_omega(slots.data(), slots.size(), w.data());
+  y.set(SphereField::Omega, slots.data() + 5, 1, &spin);
+  y.copy(SphereField::Omega, slots.data(), slots.size(), w.data());
   EXPECT_EQ(w[5].z, 3.0);
 }

@@ -93,12 +93,12 @@ TEST(SmoothSpins, StateExchangeGivesAndTakesThem) {
   for (std::uint32_t k = 0; k < slots.size(); ++k) slots[k] = k;
   x.copy_input_index(input.data());
   std::vector<Vec3d> w(x.size());
-  x.copy_omega(slots.data(), slots.size(), w.data());
+  x.copy(SphereField::Omega, slots.data(), slots.size(), w.data());
   for (std::size_t k = 0; k < w.size(); ++k) EXPECT_TRUE(same_bits(w[k], s.omega[input[k]])) << k;
   const Vec3d spin{1, 2, 3};
-  x.set_omega(slots.data() + 5, 1, &spin);
+  x.set(SphereField::Omega, slots.data() + 5, 1, &spin);
   std::vector<double> flat(3 * x.size(), -1);
-  x.scatter_omega(slots.data(), flat.data());
+  x.scatter(SphereField::Omega, slots.data(), flat.data());
   EXPECT_EQ(flat[16], 2.0);
   std::vector<std::int64_t> ids(x.size());
   x.copy_ids(ids.data());
@@ -108,7 +108,7 @@ TEST(SmoothSpins, StateExchangeGivesAndTakesThem) {
   // A smooth scene without spins allocates none and gives zeros.
   auto plain = make_stepper(test::gas(100, 0.2, 1), {}, StepperConfig{});
   std::vector<Vec3d> zero(1, Vec3d{7, 7, 7});
-  state_exchange(*plain).copy_omega(slots.data(), 1, zero.data());
+  state_exchange(*plain).copy(SphereField::Omega, slots.data(), 1, zero.data());
   EXPECT_TRUE(same_bits(zero[0], Vec3d{}));
 }
 

@@ -26,6 +26,17 @@ class CollisionObserver {
   virtual void reordered(const std::uint32_t* old, std::size_t n) = 0;
 };
 
+//! The per-sphere fields that cross the engine/adapter boundary through StateExchange's copy,
+//! set, scatter and gather, as LAMMPS's AtomVecSphere lists its communicated fields: a new
+//! per-sphere quantity is one more line here and in the engine's field list.
+enum class SphereField {
+  Position,  //!< the caller's coordinates; periodic axes are wrapped at the engine's rebuilds
+  Velocity,
+  //! Angular velocity (rough spheres, Physics::rough()); a smooth engine carries the spins it
+  //! was given unchanged (no smooth collision changes them) and counts no rotational energy.
+  Omega,
+};
+
 class StateExchange {
  public:
   virtual ~StateExchange() = default;
@@ -38,34 +49,27 @@ class StateExchange {
   //! Per slot and axis (3 per slot), how many box lengths the engine has taken off the
   //! position by wrapping since construction: position + image * L is continuous in time.
   virtual void copy_images(std::int32_t* out) const = 0;
-  virtual void copy_state(Vec3d* pos, Vec3d* vel) const = 0;
-  //! A row index that scatter_state skips.
+  //! A row index that scatter and scatter_state skip.
   static constexpr std::uint32_t kNoRow = 0xffffffffu;
-  //! Writes the state straight into an adapter's flat arrays (3 doubles per sphere): slot k
-  //! goes to row dest[k] (none if kNoRow), its position shifted by shift[k]. One pass, no
-  //! intermediate copy.
+  //! One per-sphere field in and out by slot, 3 doubles per sphere (see SphereField). `slots`
+  //! nullptr: slots 0 to count - 1.
+  virtual void copy(SphereField field, const std::uint32_t* slots, std::size_t count, Vec3d* out) const = 0;
+  //! Overwrites the given slots' values, e.g. copies of spheres another engine owns; the next
+  //! step treats a moved position like any displacement (positions must not overlap other
+  //! spheres), and new velocities raise the engine's speed bound.
+  virtual void set(SphereField field, const std::uint32_t* slots, std::size_t count, const Vec3d* in) = 0;
+  //! Straight into an adapter's flat array (3 doubles per row): slot k to row dest[k] (kNoRow:
+  //! none).
+  virtual void scatter(SphereField field, const std::uint32_t* dest, double* out) const = 0;
+  //! Every slot from an adapter's flat array: slot k takes row src[k], e.g. velocities after a
+  //! thermostat changed them.
+  virtual void gather(SphereField field, const std::uint32_t* src, const double* in) = 0;
+  //! Positions and velocities into an adapter's flat arrays in one pass, no intermediate copy:
+  //! slot k to row dest[k] (none if kNoRow), its position shifted by shift[k].
   virtual void scatter_state(const std::uint32_t* dest, const Vec3d* shift, double* x, double* v) const = 0;
   //! Sum over all spheres of m v^2 (twice the kinetic energy), e.g. for a temperature that
   //! gravity or inelastic collisions change inside the steps.
   virtual double mv2_sum() const = 0;
-  //! The velocities of the given slots.
-  virtual void copy_velocities(const std::uint32_t* slots, std::size_t count, Vec3d* out) const = 0;
-  //! Replaces every velocity (slot order), e.g. after a thermostat changed them.
-  virtual void set_velocities(const Vec3d* vel) = 0;
-  //! The same from an adapter's flat array: slot k takes row src[k] of v.
-  virtual void gather_velocities(const std::uint32_t* src, const double* v) = 0;
-  //! Overwrites the position (the engine's frame, as copy_state gives it) and velocity of the
-  //! given slots, e.g. copies of spheres another engine owns; the next step treats a moved
-  //! position like any displacement. Positions must not overlap other spheres.
-  virtual void set_spheres(const std::uint32_t* slots, std::size_t count, const Vec3d* pos, const Vec3d* vel) = 0;
-  //! Angular velocities (rough spheres, Physics::rough()), as the velocities above: slot k to row
-  //! dest[k] of a flat array (3 doubles per row; kNoRow skipped), slot k from row src[k], the
-  //! given slots out and in. A smooth engine carries the spins it was given unchanged (no smooth
-  //! collision changes them) and counts no rotational energy.
-  virtual void scatter_omega(const std::uint32_t* dest, double* omega) const = 0;
-  virtual void gather_omega(const std::uint32_t* src, const double* omega) = 0;
-  virtual void copy_omega(const std::uint32_t* slots, std::size_t count, Vec3d* out) const = 0;
-  virtual void set_omega(const std::uint32_t* slots, std::size_t count, const Vec3d* w) = 0;
   //! Sum over all spheres of I w^2 (twice the rotational kinetic energy; 0 when smooth).
   virtual double iw2_sum() const = 0;
   //! Per-sphere collision virial (for a per-atom stress): while on, every collision adds half

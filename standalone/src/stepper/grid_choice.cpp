@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <sstream>
 #include <vector>
 
 namespace hardsphere::detail {
@@ -132,6 +133,34 @@ GridChoice choose_grid(const ParticleSystem& sys, const Box& box, const std::arr
     if (work < best_work) best = c, best_work = work;
   }
   return best_work < 0.5 * tuned_work ? best : grid_for_skin(sys, box, cells, true, tuned, split);
+}
+
+std::string grid_refusal(const ParticleSystem& sys, const GridChoice& choice, bool auto_cells, const SizeSplit& split) {
+  const CellGrid& grid = choice.grid;
+  const double diameter = choice.diameter;
+  // The box is the cause when no grid could do: the grid is automatic, or the axis that limits
+  // the reach is a periodic one covered by one or two cells (half its length is all they reach).
+  bool box_too_short = auto_cells;
+  for (int d = 0; d < 3; ++d)
+    if (sys.box.periodic[d] && grid.counts()[d] < 3 && !(0.5 * sys.box.length(d) > diameter)) box_too_short = true;
+  std::ostringstream m;
+  if (box_too_short) {
+    int axis = -1;  // the shortest periodic axis
+    for (int d = 0; d < 3; ++d)
+      if (sys.box.periodic[d] && (axis < 0 || sys.box.length(d) < sys.box.length(axis))) axis = d;
+    axis = std::max(axis, 0);
+    m << "periodic box length " << sys.box.length(axis) << " (axis "
+      << "xyz"[axis] << ") is too short for a sphere of diameter " << 2 * sys.max_radius()
+      << ": a periodic axis must be longer than twice the largest diameter";
+    if (!split.big.empty())
+      m << ", or than twice the reach of a big sphere's pairs (its diameter plus its largest partner's and two list"
+        << " skins)";
+    m << "; lengthen that axis";
+  } else {
+    m << "cells " << grid.counts()[0] << "," << grid.counts()[1] << "," << grid.counts()[2] << " give a cell width of "
+      << grid.reach() << ", not more than the largest diameter " << diameter << "; use fewer cells or --cells auto";
+  }
+  return m.str();
 }
 
 }  // namespace hardsphere::detail

@@ -5,6 +5,7 @@
 //! own) that skin can be so thick that the grid collapses to a few cells, and a model of the
 //! step's work picks a thinner one instead.
 #include <array>
+#include <string>
 
 #include "hardsphere/particles.hpp"
 #include "scene/cell_grid.hpp"
@@ -25,5 +26,9 @@ double auto_skin(const ParticleSystem& sys, double dt, double phi_gas);
 //! The grid for `sys` in the stepper's frame `box` (0 to L): `cells` (all 0 = automatic).
 GridChoice choose_grid(const ParticleSystem& sys, const Box& box, const std::array<int, 3>& cells, double dt,
                        double phi_gas, const SizeSplit& split, const std::array<double, 3>& gravity);
+
+//! Why `choice` (skin <= 0) cannot serve `sys`: the box too short for its spheres (the grid is
+//! automatic, or a periodic axis has fewer than 3 cells), or the user's cells too narrow.
+std::string grid_refusal(const ParticleSystem& sys, const GridChoice& choice, bool auto_cells, const SizeSplit& split);
 
 }  // namespace hardsphere::detail
