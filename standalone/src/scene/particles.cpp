@@ -257,11 +257,11 @@ void validate_and_wrap(ParticleSystem& sys, const std::string& source, const std
     m << atom_origin(sys, o->i, source, atom_lines) << " overlaps atom " << sys.id[o->j];
     if (atom_lines && o->j < atom_lines->size()) m << " (line " << (*atom_lines)[o->j] << ")";
     m << ": distance " << o->distance << " < contact distance " << o->contact;
-    const double float_eps = std::numeric_limits<float>::epsilon();
     // Only a data file read by a double run can hold a float run's state.
-    if (atom_lines && rounding_eps > 0 && rounding_eps < float_eps &&
-        o->contact - o->distance <= overlap_tolerance(sys, float_eps))
-      m << " (within a float run's rounding, " << overlap_tolerance(sys, float_eps)
+    const double float_eps = std::numeric_limits<float>::epsilon();
+    const double float_slack = overlap_tolerance(sys, float_eps);
+    if (atom_lines && rounding_eps > 0 && rounding_eps < float_eps && o->contact - o->distance <= float_slack)
+      m << " (within a float run's rounding, " << float_slack
         << ": a state written by --precision float is read by float runs only)";
     throw InputError(m.str());
   }
