@@ -3,7 +3,10 @@
 # Never -ffast-math: "no contact" is +inf and NaN checks must stay meaningful.
 add_library(hardsphere_build_flags INTERFACE)
 target_compile_features(hardsphere_build_flags INTERFACE cxx_std_17)
-target_compile_options(hardsphere_build_flags INTERFACE -Wall -Wextra)
+# -ffp-contract=off: no fused multiply-adds the source does not spell, so a native build gives the
+# portable build's results bit for bit, and moving code between files or functions (which changes
+# what the compiler inlines and fuses) cannot change a run.
+target_compile_options(hardsphere_build_flags INTERFACE -Wall -Wextra -ffp-contract=off)
 if(HS_NATIVE)
   target_compile_options(hardsphere_build_flags INTERFACE -march=native)
 endif()
