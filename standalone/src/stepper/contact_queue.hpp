@@ -7,6 +7,7 @@
 //! entries come out exactly as from a binary heap with that order, which it replaces: most
 //! entries are predictions that go stale before their time, and each push and pop of the heap
 //! sifted through several levels (see docs/dev/performance.md).
+#include <algorithm>
 #include <cstddef>
 #include <cstdint>
 #include <vector>
@@ -80,5 +81,41 @@ class ContactQueue {
   std::size_t best_ = 0;  // earliest entry of the top bucket
   std::size_t size_ = 0;
 };
+
+//! out = in, earliest contact first (the order of std::sort with `earlier`). Contact times
+//! spread over the step of length dt, so a bucket pass by time (monotone in `back`, so it never
+//! contradicts `earlier`) leaves a handful per bucket for insertion sorts: O(n), where a
+//! comparison sort of a dense step's contacts was a visible part of the run (see
+//! docs/dev/performance.md). bucket_start and bucket_fill are scratch.
+template <class Candidate, class Real, class Earlier>
+void order_by_time(const std::vector<Candidate>& in, std::vector<Candidate>& out, Real dt, const Earlier& earlier,
+                   std::vector<std::uint32_t>& bucket_start, std::vector<std::uint32_t>& bucket_fill) {
+  const std::size_t n = in.size();
+  out.resize(n);
+  if (n < 32) {
+    std::copy(in.begin(), in.end(), out.begin());
+    std::sort(out.begin(), out.end(), earlier);
+    return;
+  }
+  const Real scale = Real(n) / dt;
+  auto bucket = [&](Real back) {  // larger back (earlier contact) -> lower bucket
+    const Real b = std::max(back, Real(0)) * scale;
+    return b < Real(n) ? n - 1 - std::size_t(b) : 0;
+  };
+  bucket_start.assign(n + 1, 0);
+  for (const Candidate& c : in) ++bucket_start[bucket(c.back) + 1];
+  for (std::size_t b = 0; b < n; ++b) bucket_start[b + 1] += bucket_start[b];
+  bucket_fill.assign(bucket_start.begin(), bucket_start.end() - 1);
+  for (const Candidate& c : in) out[bucket_fill[bucket(c.back)]++] = c;
+  for (std::size_t b = 0; b < n; ++b) {
+    const std::uint32_t lo = bucket_start[b], hi = bucket_start[b + 1];
+    for (std::uint32_t k = lo + 1; k < hi; ++k) {  // insertion sort: buckets hold ~1
+      const Candidate c = out[k];
+      std::uint32_t m = k;
+      for (; m > lo && earlier(c, out[m - 1]); --m) out[m] = out[m - 1];
+      out[m] = c;
+    }
+  }
+}
 
 }  // namespace hardsphere

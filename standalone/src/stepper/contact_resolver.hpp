@@ -24,46 +24,15 @@
 #include "common/always_inline.hpp"
 #include "common/jam_guard.hpp"
 #include "common/neighbour_entry.hpp"
-#include "common/xyz4.hpp"
 #include "hardsphere/collision.hpp"
 #include "hardsphere/state_exchange.hpp"
 #include "hardsphere/vec3.hpp"
+#include "stepper/contact_arrays.hpp"
 #include "stepper/contact_queue.hpp"
+#include "stepper/distance_filter.hpp"
+#include "stepper/wall_events.hpp"
 
 namespace hardsphere {
-
-//! Views of an engine's per-sphere arrays and of its neighbour lists (CSR, both directions).
-//! For entry e = adj[k] of sphere s the separation is
-//! pos[s] - pos[adj_partner(e)] - image_shift[adj_image(e)]; indices are at most kMaxAdjIndex.
-template <class Real>
-struct ContactArrays {
-  Vec3<Real>* pos = nullptr;
-  Vec3<Real>* vel = nullptr;
-  const Real* radius = nullptr;
-  const Real* mass = nullptr;
-  const std::int64_t* id = nullptr;        //!< tie-break for equal contact times
-  const std::uint32_t* id_slot = nullptr;  //!< if set, sphere i's id is id[id_slot[i]]
-  const std::uint32_t* adj_start = nullptr;
-  const std::uint32_t* adj = nullptr;       //!< adj_entry(partner, image), rows adj_start[s] .. adj_start[s + 1]
-  const Vec3<Real>* image_shift = nullptr;  //!< 27 shifts by image code
-  //! Optional: |vel| per sphere, current at the start of each step; the resolver keeps it
-  //! current through collisions. Lets neighbour sweeps bound each pair's closing speed by
-  //! |v_s| + |v_q| instead of |v_s| + the fastest speed of all.
-  Real* speed = nullptr;
-  //! Optional: row s's entries before adj_plain_end[s] all have image kNoImage (the sweeps then
-  //! skip their shift, a sizeable part of the filter's instructions; see docs/dev/performance.md).
-  const std::uint32_t* adj_plain_end = nullptr;
-  //! Optional: each sphere's pair collisions (indexed like pos), incremented for both spheres.
-  std::int64_t* pair_collisions = nullptr;
-  //! Optional: 6 per sphere (indexed like pos): each collision adds half its virial tensor
-  //! r_ij (x) dp_i (xx yy zz xy xz yz) to both spheres, so the spheres' sums add up to the tally's.
-  double* sphere_virial = nullptr;
-  //! Optional: told of every collision and bounce (indices like pos).
-  CollisionObserver* observer = nullptr;
-  //! Rough spheres (set_roughness): angular velocities, indexed like pos. nullptr: smooth, and
-  //! collisions run the smooth kernel.
-  Vec3<Real>* omega = nullptr;
-};
 
 //! Totals of resolved contacts.
 struct ContactTally {
@@ -134,14 +103,12 @@ class ContactResolver {
     mass_ = mass;
   }
   void set_event_limit(std::int64_t max_events) { max_events_ = max_events; }
-  //! Reflecting walls at lo[d] and hi[d] on every axis d that is not periodic.
+  //! Reflecting walls, gravity and the resting time: see WallEvents (wall_events.hpp).
   void set_walls(const std::array<bool, 3>& periodic, const std::array<Real, 3>& lo, const std::array<Real, 3>& hi) {
-    n_wall_axes_ = 0;
-    for (int d = 0; d < 3; ++d)
-      if (!periodic[std::size_t(d)]) wall_axis_[n_wall_axes_++] = d;
-    lo_ = lo;
-    hi_ = hi;
+    walls_.set_walls(periodic, lo, hi);
   }
+  void set_resting_time(Real t) { walls_.set_resting_time(t); }
+  void set_gravity(const std::array<Real, 3>& g) { walls_.set_gravity(g); }
   static constexpr std::uint32_t kWall = 0xffffffffu;
   //! An upper bound of every sphere's speed in this step (the resolver raises it after each
   //! collision). It lets neighbour sweeps reject distant partners early; +inf (the default)
@@ -183,48 +150,16 @@ class ContactResolver {
       return a_.mass[i];
   }
 
-  //! A uniform acceleration (gravity) along the wall axes: flights are parabolas, so wall
-  //! contacts are found on them. Pair contacts need nothing: relative motion stays straight.
-  //! Physics::resting_time (0: the sub-step).
-  void set_resting_time(Real t) { resting_time_ = t; }
-  void set_gravity(const std::array<Real, 3>& g) {
-    gravity_ = g;
-    has_gravity_ = g[0] != Real(0) || g[1] != Real(0) || g[2] != Real(0);
-  }
-
   //! Queues a bounce of sphere s for each wall its path over its window ends beyond.
   void predict_walls(std::uint32_t s) {
-    for (int k = 0; k < n_wall_axes_; ++k) {
-      const int d = wall_axis_[k];
-      if (has_gravity_ && gravity_[std::size_t(d)] != Real(0)) {
-        predict_wall_in_flight(s, d);
-        continue;
-      }
-      // The kernel's mirror on copies decides whether s went past a wall; it moves the
-      // coordinate by twice the distance past the contact plane, which s covered since the bounce.
-      Real x = a_.pos[s][d], v = a_.vel[s][d];
-      if (kernel::reflect_from_walls(x, v, lo_[std::size_t(d)], hi_[std::size_t(d)], radius(s)) == Real(0)) continue;
-      const Real back = std::min(std::abs(x - a_.pos[s][d]) / (Real(2) * std::abs(v)), change_[s].back);
-      candidates_.push_back({s, kWall, std::uint8_t(d), back, change_[s].count, 0});
-    }
-  }
-  void predict_wall_in_flight(std::uint32_t s, int d) {
-    const Real x = a_.pos[s][d], v = a_.vel[s][d], g = gravity_[std::size_t(d)], r = radius(s);
-    const Real window = change_[s].back;
-    const Real lo = lo_[std::size_t(d)] + r, hi = hi_[std::size_t(d)] - r;
-    // The earlier of the two walls it reached in its window (the larger back time).
-    Real back =
-        std::max(kernel::wall_back_time(x, v, g, lo, -1, window), kernel::wall_back_time(x, v, g, hi, +1, window));
-    // Rounding can leave a sphere a hair beyond a wall at the start of its window (resting on a
-    // floor, say), where no crossing is found: one that ends beyond it moving into it bounces
-    // at the start of its window, as the straight-line mirror would have it.
-    if (back < Real(0) && ((x < lo && v < Real(0)) || (x > hi && v > Real(0)))) back = window;
-    if (back < Real(0)) return;
-    candidates_.push_back({s, kWall, std::uint8_t(d), back, change_[s].count, 0});
+    const Change cs = change_[s];
+    walls_.predict(a_.pos[s], a_.vel[s], radius(s), cs.back, [&](int d, Real back) {
+      candidates_.push_back({s, kWall, std::uint8_t(d), back, cs.count, 0});
+    });
   }
   //! predict_walls() for every sphere (after a scan).
   void predict_all_walls() {
-    if (n_wall_axes_ == 0) return;
+    if (!walls_.any()) return;
     for (std::uint32_t s = 0; s < change_.size(); ++s) predict_walls(s);
   }
 
@@ -281,33 +216,9 @@ class ContactResolver {
       const std::uint32_t k0 = a_.adj_start[s], k1 = a_.adj_start[s + 1];
       const std::uint32_t plain = a_.adj_plain_end ? a_.adj_plain_end[s] : k0;
       std::uint32_t k = k0;
-#ifdef HS_XYZ4
-      if constexpr (Mono && Speeds && sizeof(Real) == sizeof(float)) {
-        // Four partners at a time: one masked three-lane load per position, a 4x4 transpose,
-        // vector arithmetic and one compress of the passing entries. |dr|^2 may round
-        // differently from dot(), far inside the bound's slack (see above).
-        const __m128 px = _mm_set1_ps(ps.x), py = _mm_set1_ps(ps.y), pz = _mm_set1_ps(ps.z);
-        const __m128 near4 = _mm_set1_ps(sigma_ + reach_s), w4 = _mm_set1_ps(w);
-        const __m128i skip4 = _mm_set1_epi32(int(skip_s)), iota = _mm_setr_epi32(0, 1, 2, 3);
-        const float* pbase = &pos[0].x;
-        for (; k < plain; k += 4) {
-          const __mmask8 live = plain - k >= 4 ? __mmask8(0xf) : __mmask8((1u << (plain - k)) - 1);
-          const __m128i q = _mm_srli_epi32(_mm_maskz_loadu_epi32(live, adj + k), int(kAdjImageBits));
-          alignas(16) std::uint32_t qs[4];
-          _mm_store_si128(reinterpret_cast<__m128i*>(qs), q);  // dead lanes: sphere 0, masked below
-          const Xyz4 r =
-              transpose_xyz4(load_xyz(pbase + 3 * std::size_t(qs[0])), load_xyz(pbase + 3 * std::size_t(qs[1])),
-                             load_xyz(pbase + 3 * std::size_t(qs[2])), load_xyz(pbase + 3 * std::size_t(qs[3])));
-          const __m128 dx = _mm_sub_ps(px, r.x), dy = _mm_sub_ps(py, r.y), dz = _mm_sub_ps(pz, r.z);
-          const __m128 d2 = _mm_fmadd_ps(dz, dz, _mm_fmadd_ps(dx, dx, _mm_mul_ps(dy, dy)));
-          const __m128 sq = _mm_setr_ps(a_.speed[qs[0]], a_.speed[qs[1]], a_.speed[qs[2]], a_.speed[qs[3]]);
-          const __m128 far = _mm_fmadd_ps(sq, w4, near4);
-          const __mmask8 pass = _mm_mask_cmp_ps_mask(live, d2, _mm_mul_ps(far, far), _CMP_LT_OQ) &
-                                _mm_mask_cmpneq_epi32_mask(live, q, skip4);
-          _mm_storeu_si128(reinterpret_cast<__m128i*>(hits + m),
-                           _mm_maskz_compress_epi32(pass, _mm_add_epi32(_mm_set1_epi32(int(k)), iota)));
-          m += std::uint32_t(__builtin_popcount(pass));
-        }
+#ifdef HS_DISTANCE_FILTER_SIMD
+      if constexpr (Mono && Speeds && sizeof(Real) == sizeof(float)) {  // four at a time (distance_filter.hpp)
+        m = detail::filter_partners(ps, sigma_ + reach_s, w, skip_s, adj, pos, a_.speed, k, plain, hits, m);
         k = plain;
       }
 #endif
@@ -364,8 +275,8 @@ class ContactResolver {
     // Periodic scenes skip every wall test; smooth ones every rough test (their loop is the one
     // they had before rough spheres).
     if (a_.omega)
-      return n_wall_axes_ > 0 ? resolve_impl<true, true>(hooks, tally) : resolve_impl<false, true>(hooks, tally);
-    if (n_wall_axes_ > 0) return resolve_impl<true, false>(hooks, tally);
+      return walls_.any() ? resolve_impl<true, true>(hooks, tally) : resolve_impl<false, true>(hooks, tally);
+    if (walls_.any()) return resolve_impl<true, false>(hooks, tally);
     return resolve_impl<false, false>(hooks, tally);
   }
 
@@ -511,33 +422,10 @@ class ContactResolver {
   template <bool Rough, class Hooks>
   void bounce(const Candidate& c, Hooks& hooks, ContactTally& tally) {
     const int d = c.image;
-    Real& v = a_.vel[c.i][d];
-    const Real g = gravity_[std::size_t(d)];
-    // The velocity at contact, whose reversal is the impulse the wall takes.
-    const Real v_before = v - g * c.back;
-    double impulse = 2.0 * std::abs(double(v_before));  // per unit mass
-    bool rested = false;
-    if (has_gravity_ && g != Real(0)) {
-      const Real s = c.back;
-      const Real x_contact = a_.pos[c.i][d] - v * s + Real(0.5) * g * s * s;
-      const Real lo = lo_[std::size_t(d)] + radius(c.i), hi = hi_[std::size_t(d)] - radius(c.i);
-      const Real w = std::abs(x_contact - lo) <= std::abs(x_contact - hi) ? lo : hi;
-      if (resting_contact(v_before, g, w == lo)) {
-        // Resting contact: bounces this slow would follow each other without end (a sphere at
-        // rest on a floor bounces at once again). It leaves the wall at half the speed gravity
-        // builds in the rest of the sub-step, so it is back on the wall exactly at its end: it
-        // rests on the wall at every sub-step's end, the wall carries its weight, and its flight
-        // stays the shared parabola of every other sphere.
-        a_.pos[c.i][d] = w;
-        v = Real(0.5) * g * s;  // leaving at -g s / 2, arriving at +g s / 2
-        impulse = std::abs(double(v_before)) + std::abs(double(v));
-        rested = true;
-      } else {
-        kernel::reflect_in_flight(a_.pos[c.i][d], v, g, w, s);
-      }
-    } else {
-      kernel::reflect_from_walls(a_.pos[c.i][d], v, lo_[std::size_t(d)], hi_[std::size_t(d)], radius(c.i));
-    }
+    const auto b = walls_.reflect(a_.pos[c.i][d], a_.vel[c.i][d], d, radius(c.i), c.back, dt_);
+    const bool rested = b.rested;
+    const Real v_before = b.v_before;
+    const double impulse = b.impulse;
     // Rough spheres: the tangential impulse at the contact time; resting contacts take none.
     if constexpr (Rough)
       if (!rested) rough_bounce(c.i, d, v_before, c.back, tally);
@@ -558,7 +446,8 @@ class ContactResolver {
   void rough_bounce(std::uint32_t i, int d, Real v_before, Real back, ContactTally& tally) {
     Vec3<Real> n{};
     n[d] = v_before < Real(0) ? Real(1) : Real(-1);
-    const Vec3<Real> g{gravity_[0], gravity_[1], gravity_[2]};
+    const auto& gravity = walls_.gravity();
+    const Vec3<Real> g{gravity[0], gravity[1], gravity[2]};
     const Vec3<Real> v_contact = a_.vel[i] - back * g;
     Real dissipated = 0;
     bool sliding = false;
@@ -570,14 +459,6 @@ class ContactResolver {
     const Real speed = norm(a_.vel[i]);
     speed_bound_ = std::max(speed_bound_, speed);
     if (a_.speed) a_.speed[i] = speed;
-  }
-
-  //! A wall contact at normal speed v_before (towards the wall) under the acceleration g along that
-  //! axis is a resting contact when gravity pulls the sphere into that wall and it arrives no
-  //! faster than gravity speeds it up in one sub-step.
-  bool resting_contact(Real v_before, Real g, bool lower_wall) const {
-    return (lower_wall ? g < Real(0) : g > Real(0)) &&
-           std::abs(v_before) <= std::abs(g) * (resting_time_ > Real(0) ? resting_time_ : dt_);
   }
 
   //! When the event limit stops a step, spheres may still be beyond a wall: mirror them (their
@@ -594,38 +475,9 @@ class ContactResolver {
     candidates_.resize(mark);
   }
 
-  //! out = in, earliest contact first (the order of std::sort with later()). Contact times
-  //! spread over the step, so a bucket pass by time (monotone in `back`, so it never
-  //! contradicts later()) leaves a handful per bucket for insertion sorts: O(n), where a
-  //! comparison sort of a dense step's contacts was a visible part of the run (see docs/dev/performance.md).
   void order_by_time(const std::vector<Candidate>& in, std::vector<Candidate>& out) {
-    const std::size_t n = in.size();
-    out.resize(n);
     auto earlier = [this](const Candidate& x, const Candidate& y) { return later(y, x); };
-    if (n < 32) {
-      std::copy(in.begin(), in.end(), out.begin());
-      std::sort(out.begin(), out.end(), earlier);
-      return;
-    }
-    const Real scale = Real(n) / dt_;
-    auto bucket = [&](Real back) {  // larger back (earlier contact) -> lower bucket
-      const Real b = std::max(back, Real(0)) * scale;
-      return b < Real(n) ? n - 1 - std::size_t(b) : 0;
-    };
-    bucket_start_.assign(n + 1, 0);
-    for (const Candidate& c : in) ++bucket_start_[bucket(c.back) + 1];
-    for (std::size_t b = 0; b < n; ++b) bucket_start_[b + 1] += bucket_start_[b];
-    bucket_fill_.assign(bucket_start_.begin(), bucket_start_.end() - 1);
-    for (const Candidate& c : in) out[bucket_fill_[bucket(c.back)]++] = c;
-    for (std::size_t b = 0; b < n; ++b) {
-      const std::uint32_t lo = bucket_start_[b], hi = bucket_start_[b + 1];
-      for (std::uint32_t k = lo + 1; k < hi; ++k) {  // insertion sort: buckets hold ~1
-        const Candidate c = out[k];
-        std::uint32_t m = k;
-        for (; m > lo && earlier(c, out[m - 1]); --m) out[m] = out[m - 1];
-        out[m] = c;
-      }
-    }
+    hardsphere::order_by_time(in, out, dt_, earlier, bucket_start_, bucket_fill_);
   }
 
   template <class Hooks>
@@ -750,12 +602,8 @@ class ContactResolver {
   ContactQueue<Candidate, Real> queue_;
   std::vector<std::uint32_t> bucket_start_, bucket_fill_;  // order_by_time() scratch
   std::vector<std::uint32_t> near_;                        // sweep scratch: list entries that pass the distance test
-  std::array<Real, 3> lo_{}, hi_{};                        // wall positions
-  std::array<Real, 3> gravity_{0, 0, 0};                   // uniform acceleration (wall axes only)
-  bool has_gravity_ = false;
-  Real resting_time_ = 0;                           // see set_resting_time()
-  int wall_axis_[3] = {0, 0, 0}, n_wall_axes_ = 0;  // the axes with walls
-  kernel::Roughness<Real> rough_;                   // tangential law while a_.omega is set
+  WallEvents<Real> walls_;
+  kernel::Roughness<Real> rough_;  // tangential law while a_.omega is set
 };
 
 }  // namespace hardsphere

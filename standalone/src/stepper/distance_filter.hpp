@@ -1,4 +1,7 @@
 #pragma once
+//! The stepper's SIMD distance filters, together: the per-step list scan's (distance2_filter,
+//! filter_pairs) and the contact resolver's neighbour sweeps (filter_partners).
+//!
 //! |a - b|^2 for the per-step list scan's distance filter. With AVX-512VL each position is one
 //! masked three-lane load and the squares are summed with two shuffles: fewer instructions and
 //! cycles per pair than six scalar loads (see docs/dev/performance.md). The lanes are summed in
@@ -9,6 +12,7 @@
 #include <cstdint>
 
 #include "common/always_inline.hpp"
+#include "common/neighbour_entry.hpp"
 #include "common/xyz4.hpp"
 #include "hardsphere/vec3.hpp"
 
@@ -81,5 +85,41 @@ HS_ALWAYS_INLINE std::uint32_t filter_pairs(const Vec3<Real>* __restrict pos, co
   }
   return n;
 }
+
+#ifdef HS_DISTANCE_FILTER_SIMD
+//! The contact resolver's neighbour-sweep filter (ContactResolver::sweep_neighbours) for equal
+//! radii in float with per-sphere speeds, over list entries [k, plain) of the sphere at `ps`
+//! (entries without an image): appends to hits[m...] each entry whose partner q has
+//! |dr|^2 < (near + speed[q] w)^2 and q != skip, returns the new m. Four partners at a time: one
+//! masked three-lane load per position, a 4x4 transpose, vector arithmetic and one compress of
+//! the passing entries. |dr|^2 may round differently from dot(), far inside the bound's slack.
+HS_ALWAYS_INLINE std::uint32_t filter_partners(const Vec3<float>& ps, float near, float w, std::uint32_t skip,
+                                               const std::uint32_t* __restrict adj, const Vec3<float>* __restrict pos,
+                                               const float* speed, std::uint32_t k, std::uint32_t plain,
+                                               std::uint32_t* __restrict hits, std::uint32_t m) {
+  const __m128 px = _mm_set1_ps(ps.x), py = _mm_set1_ps(ps.y), pz = _mm_set1_ps(ps.z);
+  const __m128 near4 = _mm_set1_ps(near), w4 = _mm_set1_ps(w);
+  const __m128i skip4 = _mm_set1_epi32(int(skip)), iota = _mm_setr_epi32(0, 1, 2, 3);
+  const float* pbase = &pos[0].x;
+  for (; k < plain; k += 4) {
+    const __mmask8 live = plain - k >= 4 ? __mmask8(0xf) : __mmask8((1u << (plain - k)) - 1);
+    const __m128i q = _mm_srli_epi32(_mm_maskz_loadu_epi32(live, adj + k), int(kAdjImageBits));
+    alignas(16) std::uint32_t qs[4];
+    _mm_store_si128(reinterpret_cast<__m128i*>(qs), q);  // dead lanes: sphere 0, masked below
+    const Xyz4 r = transpose_xyz4(load_xyz(pbase + 3 * std::size_t(qs[0])), load_xyz(pbase + 3 * std::size_t(qs[1])),
+                                  load_xyz(pbase + 3 * std::size_t(qs[2])), load_xyz(pbase + 3 * std::size_t(qs[3])));
+    const __m128 dx = _mm_sub_ps(px, r.x), dy = _mm_sub_ps(py, r.y), dz = _mm_sub_ps(pz, r.z);
+    const __m128 d2 = _mm_fmadd_ps(dz, dz, _mm_fmadd_ps(dx, dx, _mm_mul_ps(dy, dy)));
+    const __m128 sq = _mm_setr_ps(speed[qs[0]], speed[qs[1]], speed[qs[2]], speed[qs[3]]);
+    const __m128 far = _mm_fmadd_ps(sq, w4, near4);
+    const __mmask8 pass =
+        _mm_mask_cmp_ps_mask(live, d2, _mm_mul_ps(far, far), _CMP_LT_OQ) & _mm_mask_cmpneq_epi32_mask(live, q, skip4);
+    _mm_storeu_si128(reinterpret_cast<__m128i*>(hits + m),
+                     _mm_maskz_compress_epi32(pass, _mm_add_epi32(_mm_set1_epi32(int(k)), iota)));
+    m += std::uint32_t(__builtin_popcount(pass));
+  }
+  return m;
+}
+#endif
 
 }  // namespace hardsphere::detail
