@@ -13,6 +13,7 @@
 #include "hardsphere/errors.hpp"
 #include "hardsphere/lammps_io.hpp"
 #include "hardsphere/observables.hpp"
+#include "hardsphere/precision.hpp"
 
 namespace hardsphere::python {
 
@@ -175,7 +176,8 @@ void EventSim::check_work(double duration) const {
 
 RunTotals EventSim::totals() const { return run_totals(engine_->counters(), 0, {}); }
 
-double EventSim::rounding_epsilon() const { return std::numeric_limits<double>::epsilon(); }
+// The event engine computes in double whatever the stepper's precision.
+double EventSim::rounding_epsilon() const { return hardsphere::rounding_epsilon(Precision::Double); }
 
 std::string EventSim::title() const {
   return "hardsphere state after event-driven time " + std::to_string(engine_->counters().sim_time);

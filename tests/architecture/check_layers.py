@@ -23,7 +23,7 @@ BELOW = {
     "run": {"common", "scene", "kernel", "stepper", "event", "init", "io"},
 }
 PUBLIC = {
-    "vec3.hpp": "common", "errors.hpp": "common", "limits.hpp": "common", "rng.hpp": "common",
+    "vec3.hpp": "common", "precision.hpp": "common", "errors.hpp": "common", "limits.hpp": "common", "rng.hpp": "common",
     "format.hpp": "common", "collision_totals.hpp": "common",
     "box.hpp": "scene", "particles.hpp": "scene", "scene_limits.hpp": "scene", "observables.hpp": "scene",
     "physics.hpp": "scene",

@@ -22,16 +22,11 @@
 
 #include "hardsphere/particles.hpp"
 #include "hardsphere/physics.hpp"
+#include "hardsphere/precision.hpp"
 
 namespace hardsphere {
 
-enum class Precision { Double, Float };
 Precision parse_precision(const std::string& s);
-//! Machine epsilon of a stepper's arithmetic: the states it writes may hold overlaps up to
-//! overlap_tolerance(sys, rounding_epsilon(p)), which every face reading them accepts.
-inline double rounding_epsilon(Precision p) {
-  return p == Precision::Float ? double(std::numeric_limits<float>::epsilon()) : std::numeric_limits<double>::epsilon();
-}
 
 //! How contacts are found at the end of a step. Overlap: the seed's a posteriori test (pairs
 //! that overlap now), plus a sweep of the neighbours of every colliding sphere so contacts are

@@ -9,6 +9,7 @@
 #include "hardsphere/errors.hpp"
 #include "hardsphere/event_engine.hpp"
 #include "hardsphere/observables.hpp"
+#include "hardsphere/precision.hpp"
 #include "hardsphere/scene_limits.hpp"
 #include "run/engine_run.hpp"
 #include "run/rotation_reach.hpp"
@@ -62,7 +63,8 @@ class EventRun final : public EngineRun {
   RunTotals totals(double kinetic0, const Vec3d& momentum0) const override {
     return run_totals(engine_->counters(), kinetic0, momentum0);
   }
-  double rounding_epsilon() const override { return std::numeric_limits<double>::epsilon(); }
+  // The event engine computes in double whatever the stepper's precision.
+  double rounding_epsilon() const override { return hardsphere::rounding_epsilon(Precision::Double); }
   void add_summary(nlohmann::json& j, const ParticleSystem& fin, double cpu) const override;
   std::string final_title() const override {
     return "hardsphere state after event-driven time " + std::to_string(engine_->counters().sim_time);
