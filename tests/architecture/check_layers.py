@@ -27,7 +27,7 @@ PUBLIC = {
     "format.hpp": "common", "collision_totals.hpp": "common",
     "box.hpp": "scene", "particles.hpp": "scene", "scene_limits.hpp": "scene", "observables.hpp": "scene",
     "physics.hpp": "scene",
-    "collision.hpp": "kernel",
+    "collision.hpp": "kernel", "contact_law.hpp": "kernel",
     "stepper.hpp": "stepper", "state_exchange.hpp": "stepper",
     "event_engine.hpp": "event",
     "init.hpp": "init",

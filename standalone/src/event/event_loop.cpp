@@ -6,7 +6,7 @@
 
 #include "event/centre_grid.hpp"
 #include "event/renumbering.hpp"
-#include "hardsphere/collision.hpp"
+#include "hardsphere/contact_law.hpp"
 #include "hardsphere/errors.hpp"
 #include "scene/size_classes.hpp"
 
@@ -44,7 +44,7 @@ EventLoop::EventLoop(const ParticleSystem& sys, const Physics& physics_in, const
   const std::size_t n = sys.size();
   // Physics: validated, then the collision rule's parameters.
   const Physics physics = validated(physics_in, sys.box.periodic);
-  restitution_ = physics.restitution;
+  law_.restitution = physics.restitution;
   contact_time_ = physics.contact_time;
   // The smallest diameter's fall time scales the default resting time (hops of ~1e-5 d) and,
   // with the crossing time, the window the jam guard counts as one instant.
@@ -55,12 +55,11 @@ EventLoop::EventLoop(const ParticleSystem& sys, const Physics& physics_in, const
   if (physics.rough()) {
     omega_.assign(n, Vec3d{});
     if (sys.omega.size() == n) omega_ = sys.omega;
-    rough_ = {physics.tangential_restitution, physics.friction, physics.inertia};
+    law_.roughness = {physics.tangential_restitution, physics.friction, physics.inertia};
   }
   ids_ = &sys.id;
   jam_ = JamGuard(1e-10 * time_scale(sys, d, fall), n);
   mono_ = sys.monodisperse();
-  mass0_ = n ? sys.mass[0] : 1.0;
   // Geometry: the box, the shell and the cells, sized by the spheres filed in cells (validated).
   const SizeSplit split = split_by_size(sys);
   geometry_ = EventGeometry(sys, cfg, split);
@@ -136,10 +135,8 @@ void EventLoop::step() {
       ++c_.stale_events;
       if (!predictions_.promote_second(i)) predict(i);
       schedule(i);
-    } else if constexpr (Rough) {
-      collide_rough(i, j);
     } else {
-      collide(i, j);
+      collide<Rough>(i, j);
     }
   } else {
     boundary_event<Rough>(i);
@@ -164,6 +161,7 @@ void EventLoop::repredict_pair(int i, int j) {
   schedule(j);
 }
 
+template <bool Rough>
 void EventLoop::collide(int i, int j) {
   // Both lists are requested before either is scanned, so their misses overlap. The neighbourhoods are
   // not: each scan requests its partners itself, and doing it here too was slower (see docs/dev/performance.md).
@@ -182,111 +180,30 @@ void EventLoop::collide(int i, int j) {
   for (int d = 0; d < 3; ++d)  // at contact |dr| <= r_i + r_j < L/2: minimum image
     if (geometry_.periodic(std::size_t(d)))
       dr[d] -= geometry_.len(std::size_t(d)) * std::nearbyint(dr[d] / geometry_.len(std::size_t(d)));
+  const std::size_t in_i = trajectories_.input_index(std::size_t(i)), in_j = trajectories_.input_index(std::size_t(j));
+  const double t = base_ + now_;
+  const kernel::PairRule rule = kernel::pair_rule(
+      law_, [&] { return kernel::tc_elastic(t, last_collision_[in_i], last_collision_[in_j], contact_time_); });
+  if (law_.restitution != 1.0) last_collision_[in_i] = last_collision_[in_j] = t;
   Vec3d va{a.vx, a.vy, a.vz}, vb{b.vx, b.vy, b.vz};
-  const Vec3d va0 = va, vb0 = vb;
-  double w;
-  if (restitution_ != 1.0) {
-    const double t = base_ + now_;
-    double& ti = last_collision_[trajectories_.input_index(std::size_t(i))];
-    double& tj = last_collision_[trajectories_.input_index(std::size_t(j))];
-    const double e = kernel::tc_elastic(t, ti, tj, contact_time_) ? 1.0 : restitution_;
-    w = mono_ ? mass0_ * kernel::collide_equal_mass(dr, va, vb, e)
-              : kernel::collide(dr, va, vb, trajectories_.mass(std::size_t(i)), trajectories_.mass(std::size_t(j)), e);
-    ti = tj = t;
-  } else {
-    w = mono_ ? mass0_ * kernel::collide_equal_mass(dr, va, vb)
-              : kernel::collide(dr, va, vb, trajectories_.mass(std::size_t(i)), trajectories_.mass(std::size_t(j)));
-  }
-  if (va.x == va0.x && va.y == va0.y && va.z == va0.z && vb.x == vb0.x && vb.y == vb0.y && vb.z == vb0.z) {
-    // The impulse is below the rounding of both velocities (an approach at rounding level, e.g.
-    // left by a restitution ~1e-13): it would be predicted again now, without end. The pair
-    // slides; its separation is set a hair beyond contact, where its path no longer meets it.
+  // Exact: an impulse below the rounding of both velocities changes nothing (see collide_pair()).
+  const kernel::ContactOutcome out = kernel::collide_pair<Rough, true>(
+      law_, rule, dr, va, vb, Rough ? &omega_[in_i] : nullptr, Rough ? &omega_[in_j] : nullptr,
+      trajectories_.mass(std::size_t(i)), trajectories_.mass(std::size_t(j)), a.r, b.r, mono_);
+  if (!out.changed) {
+    // An approach at rounding level, e.g. left by a restitution ~1e-13: it would be predicted
+    // again now, without end. The pair slides; its separation is set a hair beyond contact, where
+    // its path no longer meets it.
     Trajectories::part(a, b, dr, a.r + b.r);
     ++c_.unresolvable_contacts;
   } else {
     Trajectories::set_velocity(a, va);
     Trajectories::set_velocity(b, vb);
-    c_.pair_virial += w;
-    ++c_.collisions;
-    ++pair_collisions_[trajectories_.input_index(std::size_t(i))];
-    ++pair_collisions_[trajectories_.input_index(std::size_t(j))];
-  }
-  repredict_pair(i, j);
-}
-
-template <bool Rough>
-void EventLoop::boundary_event(int i) {
-  Body& s = trajectories_.body(std::size_t(i));
-  trajectories_.sync(s, now_);
-  const int d = predictions_.wall_axis(i);
-  if (d < 0) return rebuild(i);
-  const double g = trajectories_.gravity()[std::size_t(d)], v = d == 0 ? s.vx : (d == 1 ? s.vy : s.vz);
-  // Moving into the wall gravity pulls it to, slower than gravity builds over the resting time:
-  // a resting contact, which leaves at half that speed and is back after the resting time (the
-  // bounces of a sphere at rest would follow each other without end).
-  if (g != 0 && g * v >= 0 && std::abs(v) <= std::abs(g) * resting_time_) {
-    const double leave = -0.5 * g * resting_time_;
-    const double speed = trajectories_.rest(s, std::size_t(d), leave, geometry_);
-    c_.wall_impulse[std::size_t(d)] += trajectories_.mass(std::size_t(i)) * (speed + std::abs(leave));
-    ++c_.resting_contacts;
-  } else {
-    const double speed = trajectories_.reflect(s, std::size_t(d), geometry_);
-    if constexpr (Rough) rough_bounce(s, i, d, v);
-    c_.wall_impulse[std::size_t(d)] += 2 * trajectories_.mass(std::size_t(i)) * speed;
-    ++c_.wall_collisions;
-  }
-  predictions_.course_changed(i);
-  predict(i);
-  schedule(i);
-}
-
-void EventLoop::collide_rough(int i, int j) {
-  lists_.prefetch(i);
-  lists_.prefetch(j);
-  predictions_.prefetch(j);
-  Body& a = trajectories_.body(std::size_t(i));
-  Body& b = trajectories_.body(std::size_t(j));
-  trajectories_.sync(a, now_);
-  trajectories_.sync(b, now_);
-  Vec3d dr{a.x - b.x, a.y - b.y, a.z - b.z};
-  for (int d = 0; d < 3; ++d)
-    if (geometry_.periodic(std::size_t(d)))
-      dr[d] -= geometry_.len(std::size_t(d)) * std::nearbyint(dr[d] / geometry_.len(std::size_t(d)));
-  const std::size_t in_i = trajectories_.input_index(std::size_t(i)), in_j = trajectories_.input_index(std::size_t(j));
-  const double mi = trajectories_.mass(std::size_t(i)), mj = trajectories_.mass(std::size_t(j));
-  Vec3d va{a.vx, a.vy, a.vz}, vb{b.vx, b.vy, b.vz};
-  double e = 1.0;
-  bool rough = true;
-  if (restitution_ != 1.0) {
-    const double t = base_ + now_;
-    double& ti = last_collision_[in_i];
-    double& tj = last_collision_[in_j];
-    rough = !kernel::tc_elastic(t, ti, tj, contact_time_);  // a TC-elastic collision is smooth too
-    e = rough ? restitution_ : 1.0;
-    ti = tj = t;
-  }
-  // Whether the normal impulse changes the velocities at all decides, as in collide(): a
-  // tangential impulse alone would leave the pair approaching at rounding level without end.
-  Vec3d va_n = va, vb_n = vb;
-  const double w_n =
-      mono_ ? mass0_ * kernel::collide_equal_mass(dr, va_n, vb_n, e) : kernel::collide(dr, va_n, vb_n, mi, mj, e);
-  if (va_n.x == va.x && va_n.y == va.y && va_n.z == va.z && vb_n.x == vb.x && vb_n.y == vb.y && vb_n.z == vb.z) {
-    Trajectories::part(a, b, dr, a.r + b.r);
-    ++c_.unresolvable_contacts;
-  } else {
-    double w = w_n;
-    if (rough) {
-      const auto out =
-          kernel::collide_rough(dr, va, vb, omega_[in_i], omega_[in_j], mi, mj, a.r, b.r, e, rough_, mono_);
-      w = out.virial;
+    c_.pair_virial += out.virial;
+    if constexpr (Rough) {
       c_.dissipated_normal += out.dissipated_normal;
       c_.dissipated_tangential += out.dissipated_tangential;
-    } else {
-      va = va_n, vb = vb_n;
     }
-    Trajectories::set_velocity(a, va);
-    Trajectories::set_velocity(b, vb);
-    c_.pair_virial += w;
     ++c_.collisions;
     ++pair_collisions_[in_i];
     ++pair_collisions_[in_j];
@@ -294,17 +211,40 @@ void EventLoop::collide_rough(int i, int j) {
   repredict_pair(i, j);
 }
 
-void EventLoop::rough_bounce(Body& s, int i, int d, double v_before) {
-  Vec3d n{};
-  n[d] = v_before < 0 ? 1.0 : -1.0;
-  const Vec3d v{s.vx, s.vy, s.vz};
-  double dissipated = 0;
-  bool sliding = false;
-  const Vec3d dv = kernel::wall_tangential(n, v, omega_[trajectories_.input_index(std::size_t(i))],
-                                           trajectories_.mass(std::size_t(i)), s.r, 2 * std::abs(v_before), rough_,
-                                           dissipated, sliding);
-  Trajectories::set_velocity(s, v + dv);
-  c_.dissipated_tangential += dissipated;
+//! Sphere i's wall event: a bounce (the wall law, contact_law.hpp, at the synced contact) or, with
+//! no wall axis, leaving its shell.
+template <bool Rough>
+void EventLoop::boundary_event(int i) {
+  Body& s = trajectories_.body(std::size_t(i));
+  trajectories_.sync(s, now_);
+  const int d = predictions_.wall_axis(i);
+  if (d < 0) return rebuild(i);
+  const std::size_t a = std::size_t(d);
+  const double g = trajectories_.gravity()[a], m = trajectories_.mass(std::size_t(i));
+  // The wall it touches: the nearer contact plane.
+  const double x = d == 0 ? s.x : (d == 1 ? s.y : s.z);
+  const double lo = geometry_.lo(a) + s.r, hi = geometry_.lo(a) + geometry_.len(a) - s.r;
+  const int side = std::abs(x - lo) <= std::abs(x - hi) ? -1 : 1;
+  // A resting contact leaves at half the speed gravity builds over the resting time and is back
+  // after it (the bounces of a sphere at rest would follow each other without end).
+  const auto out =
+      kernel::collide_wall<Rough>(law_.roughness, d, side, Vec3d{s.vx, s.vy, s.vz}, g, resting_time_, resting_time_,
+                                  Rough ? &omega_[trajectories_.input_index(std::size_t(i))] : nullptr, m, s.r);
+  if (out.rested) {
+    trajectories_.rest(s, a, out.leave, geometry_);
+    ++c_.resting_contacts;
+  } else {
+    trajectories_.reflect(s, a, geometry_);
+    if constexpr (Rough) {
+      Trajectories::set_velocity(s, Vec3d{s.vx, s.vy, s.vz} + out.dv);
+      c_.dissipated_tangential += out.contact.dissipated_tangential;
+    }
+    ++c_.wall_collisions;
+  }
+  c_.wall_impulse[a] += m * out.impulse;
+  predictions_.course_changed(i);
+  predict(i);
+  schedule(i);
 }
 
 //! Sphere i (synced) has left its shell: new list centre at its position (wrapped into the

@@ -15,7 +15,7 @@
 #include "event/neighbour_lists.hpp"
 #include "event/prediction.hpp"
 #include "event/trajectories.hpp"
-#include "hardsphere/collision.hpp"
+#include "hardsphere/contact_law.hpp"
 #include "hardsphere/event_engine.hpp"
 #include "hardsphere/particles.hpp"
 #include "hardsphere/physics.hpp"
@@ -55,14 +55,11 @@ class EventLoop {
   void run_until_impl(double t_end, double run_end);
   template <bool Rough>
   void run_events_impl(std::int64_t count);
+  //! A pair collision: the pair law (contact_law.hpp) at the synced contact.
+  template <bool Rough>
   inline void collide(int i, int j);
-  //! collide() for rough spheres.
-  inline void collide_rough(int i, int j);
   //! After a pair collision or parting: both spheres' next events predicted and scheduled.
   inline void repredict_pair(int i, int j);
-  //! The tangential impulse of sphere i's bounce (synced, velocity reflected) off a wall of axis
-  //! d it reached at velocity v_before along d.
-  void rough_bounce(Body& s, int i, int d, double v_before);
   template <bool Rough>
   inline void boundary_event(int i);
   inline void rebuild(int i);
@@ -87,13 +84,12 @@ class EventLoop {
   EventCalendar calendar_;  // each sphere's earliest predicted event
 
   bool mono_ = true;
-  double mass0_ = 1;
-  double restitution_ = 1.0, contact_time_ = 0.0;
-  double resting_time_ = 0;                    // Physics::resting_time (or its default)
-  std::vector<double> last_collision_;         // input index: time of the last collision (restitution < 1)
-  std::vector<std::int64_t> pair_collisions_;  // input index: pair collisions since reset_counters()
-  std::vector<Vec3d> omega_;                   // input index: angular velocities (rough only)
-  kernel::Roughness<double> rough_;
+  kernel::PairLaw<double> law_;  // restitution (1: elastic) and the tangential law (rough only)
+  double contact_time_ = 0.0;
+  double resting_time_ = 0;                         // Physics::resting_time (or its default)
+  std::vector<double> last_collision_;              // input index: time of the last collision (restitution < 1)
+  std::vector<std::int64_t> pair_collisions_;       // input index: pair collisions since reset_counters()
+  std::vector<Vec3d> omega_;                        // input index: angular velocities (rough only)
   const std::vector<std::int64_t>* ids_ = nullptr;  // input index: atom id (the caller's), for messages
   JamGuard jam_;
 

@@ -7,6 +7,7 @@
 //! (ties broken by atom ids, so every engine and every MPI rank orders them alike). A collision
 //! changes two velocities: their pending predictions are invalidated by per-sphere counters and
 //! their contacts over the rest of the step are predicted again from the neighbour lists.
+//! The collisions' physics is the kernel's (contact_law.hpp), as in the event engine.
 //! Bounces off reflecting walls are events in the same order: a sphere whose straight path ends
 //! beyond a wall is mirrored at its wall contact time, and only then are its contacts on the
 //! path after the bounce predicted (mirroring at once would skip the path up to the wall).
@@ -25,6 +26,7 @@
 #include "common/jam_guard.hpp"
 #include "common/neighbour_entry.hpp"
 #include "hardsphere/collision.hpp"
+#include "hardsphere/contact_law.hpp"
 #include "hardsphere/state_exchange.hpp"
 #include "hardsphere/vec3.hpp"
 #include "stepper/contact_arrays.hpp"
@@ -90,14 +92,14 @@ class ContactResolver {
   //! within `contact_time` of either sphere's previous one is elastic. `last` (indexed like id)
   //! holds each sphere's last collision time on the clock of set_step_end().
   void set_restitution(Real e, double contact_time, double* last) {
-    restitution_ = e;
+    law_.restitution = e;
     contact_time_ = contact_time;
     last_collision_ = last;
   }
   //! The time at the end of the current step, on the clock of the last collision times.
   void set_step_end(double t) { step_end_ = t; }
   //! The tangential law of rough spheres, used while ContactArrays::omega is set.
-  void set_roughness(const kernel::Roughness<Real>& k) { rough_ = k; }
+  void set_roughness(const kernel::Roughness<Real>& k) { law_.roughness = k; }
   void set_uniform(Real sigma, Real mass) {
     sigma_ = sigma;
     mass_ = mass;
@@ -321,9 +323,9 @@ class ContactResolver {
       if constexpr (Walls) {
         if (wall)
           bounce<Rough>(c, hooks, tally);
-        else if (!(Rough ? collide_rough(c, hooks, tally) : collide(c, hooks, tally)))
+        else if (!collide<Rough>(c, hooks, tally))
           continue;
-      } else if (!(Rough ? collide_rough(c, hooks, tally) : collide(c, hooks, tally))) {
+      } else if (!collide<Rough>(c, hooks, tally)) {
         continue;
       }
       if (hooks.must_rescan()) {
@@ -418,47 +420,42 @@ class ContactResolver {
                               contact_time_);
   }
 
-  //! Mirrors sphere c.i at the wall of axis c.image, `c.back` before the end of the step.
+  //! Sphere c.i's bounce off the wall of axis c.image, `c.back` before the end of the step: the
+  //! wall law at the contact (kernel::collide_wall()), then its end-of-step position and velocity.
   template <bool Rough, class Hooks>
   void bounce(const Candidate& c, Hooks& hooks, ContactTally& tally) {
+    const std::uint32_t i = c.i;
     const int d = c.image;
-    const auto b = walls_.reflect(a_.pos[c.i][d], a_.vel[c.i][d], d, radius(c.i), c.back, dt_);
-    const bool rested = b.rested;
-    const Real v_before = b.v_before;
-    const double impulse = b.impulse;
-    // Rough spheres: the tangential impulse at the contact time; resting contacts take none.
-    if constexpr (Rough)
-      if (!rested) rough_bounce(c.i, d, v_before, c.back, tally);
-    if (rested) {
+    const Real back = c.back;
+    Real &x = a_.pos[i][d], &v = a_.vel[i][d];
+    const auto& gravity = walls_.gravity();
+    const Vec3<Real> g{gravity[0], gravity[1], gravity[2]};
+    const auto wall = walls_.contact(x, v, d, radius(i), back);
+    // The law sees the velocity at contact; a resting sphere hops for the rest of the step.
+    const auto out =
+        kernel::collide_wall<Rough>(law_.roughness, d, wall.side, a_.vel[i] - back * g, g[d], walls_.resting_time(dt_),
+                                    back, Rough ? a_.omega + i : nullptr, mass(i), radius(i));
+    walls_.reflect(x, v, d, radius(i), back, wall, out.rested, out.leave);
+    // Rough spheres: the tangential change at contact moves the position by back times it.
+    if constexpr (Rough) {
+      if (!out.rested) {
+        a_.vel[i] += out.dv;
+        a_.pos[i] += back * out.dv;
+        tally.dissipated_tangential += out.contact.dissipated_tangential;
+        const Real speed = norm(a_.vel[i]);
+        speed_bound_ = std::max(speed_bound_, speed);
+        if (a_.speed) a_.speed[i] = speed;
+      }
+    }
+    if (out.rested) {
       ++tally.resting_contacts;
     } else {
       ++tally.wall_collisions;
-      if (a_.observer) a_.observer->bounce(c.i);
+      if (a_.observer) a_.observer->bounce(i);
     }
-    tally.wall_impulse[std::size_t(d)] += double(Mono ? mass_ : a_.mass[c.i]) * impulse;
-    mark_changed(c.i, c.back);
-    hooks.after_bounce(c.i);
-  }
-
-  //! The tangential impulse of a bounce of sphere i off a wall of axis d, `back` before the end of
-  //! the step, arriving at v_before along d: the velocity changes at contact, so the position
-  //! moves by back times the change (the normal reflection is done).
-  void rough_bounce(std::uint32_t i, int d, Real v_before, Real back, ContactTally& tally) {
-    Vec3<Real> n{};
-    n[d] = v_before < Real(0) ? Real(1) : Real(-1);
-    const auto& gravity = walls_.gravity();
-    const Vec3<Real> g{gravity[0], gravity[1], gravity[2]};
-    const Vec3<Real> v_contact = a_.vel[i] - back * g;
-    Real dissipated = 0;
-    bool sliding = false;
-    const Vec3<Real> dv = kernel::wall_tangential(n, v_contact, a_.omega[i], mass(i), radius(i),
-                                                  Real(2) * std::abs(v_before), rough_, dissipated, sliding);
-    a_.vel[i] += dv;
-    a_.pos[i] += back * dv;
-    tally.dissipated_tangential += double(dissipated);
-    const Real speed = norm(a_.vel[i]);
-    speed_bound_ = std::max(speed_bound_, speed);
-    if (a_.speed) a_.speed[i] = speed;
+    tally.wall_impulse[std::size_t(d)] += double(Mono ? mass_ : a_.mass[i]) * out.impulse;
+    mark_changed(i, back);
+    hooks.after_bounce(i);
   }
 
   //! When the event limit stops a step, spheres may still be beyond a wall: mirror them (their
@@ -480,7 +477,10 @@ class ContactResolver {
     hardsphere::order_by_time(in, out, dt_, earlier, bucket_start_, bucket_fill_);
   }
 
-  template <class Hooks>
+  //! A pair collision at its contact, `c.back` before the end of the step: the pair law
+  //! (contact_law.hpp) at the rewound positions, then commit_collision(). Rough: in the loop
+  //! instantiated for rough spheres, so the smooth loop compiles as it did without them.
+  template <bool Rough, class Hooks>
   bool collide(const Candidate& c, Hooks& hooks, ContactTally& tally) {
     const std::uint32_t i = c.i, j = c.j;
     Vec3<Real> ri = a_.pos[i], rj = a_.pos[j], vi = a_.vel[i], vj = a_.vel[j];
@@ -493,64 +493,30 @@ class ContactResolver {
     rj -= back * vj;
     const Vec3<Real> contact = ri - rj - shift;
     const Vec3<Real> vi_before = vi;
-    double virial;
-    const bool restituted = restitution_ != Real(1) && !collided_recently(i, j, back);
-    if (restituted) {
-      if constexpr (Mono)
-        virial = double(mass_) * double(kernel::collide_equal_mass(contact, vi, vj, restitution_));
-      else
-        virial = double(kernel::collide(contact, vi, vj, a_.mass[i], a_.mass[j], restitution_));
-    } else if constexpr (Mono) {
-      virial = double(mass_) * double(kernel::collide_equal_mass(contact, vi, vj));
-    } else {
-      virial = double(kernel::collide(contact, vi, vj, a_.mass[i], a_.mass[j]));
+    const kernel::PairRule rule = kernel::pair_rule(law_, [&] { return collided_recently(i, j, back); });
+    Vec3<Real> wi{}, wj{};
+    if constexpr (Rough) wi = a_.omega[i], wj = a_.omega[j];
+    const kernel::ContactOutcome out = kernel::collide_pair<Rough, false>(law_, rule, contact, vi, vj, &wi, &wj,
+                                                                          mass(i), mass(j), radius(i), radius(j), Mono);
+    // Summed before the check, as the reference totals were: a float virial that rounds to 0 (the
+    // double one tiny) still counts the energy its uncommitted collision would have taken.
+    if constexpr (Rough) {
+      tally.dissipated_normal += out.dissipated_normal;
+      tally.dissipated_tangential += out.dissipated_tangential;
     }
-    if (virial == 0.0) return false;  // receding at the rewound contact: nothing to resolve
-    return commit_collision(i, j, ri, rj, vi, vj, vi_before, contact, back, virial, hooks, tally);
+    if (!out.changed) return false;  // receding at the rewound contact: nothing to resolve
+    if constexpr (Rough) a_.omega[i] = wi, a_.omega[j] = wj;
+    return commit_collision(i, j, ri, rj, vi, vj, vi_before, contact, back, out.virial, hooks, tally);
   }
 
-  //! collide() for rough spheres (ContactArrays::omega set), in the loop instantiated for them,
-  //! so the smooth loop compiles as it did without rough spheres.
-  template <class Hooks>
-  bool collide_rough(const Candidate& c, Hooks& hooks, ContactTally& tally) {
-    const std::uint32_t i = c.i, j = c.j;
-    Vec3<Real> ri = a_.pos[i], rj = a_.pos[j], vi = a_.vel[i], vj = a_.vel[j];
-    const Vec3<Real> shift = a_.image_shift[c.image];
-    // A candidate that is not stale was predicted from this very state and these windows, so
-    // its rewind time stands. (Computing it again put a square root and a division on the
-    // critical path of every collision; the two evaluations could also differ in the last bit.)
-    const Real back = c.back;
-    ri -= back * vi;
-    rj -= back * vj;
-    const Vec3<Real> contact = ri - rj - shift;
-    const Vec3<Real> vi_before = vi;
-    double virial;
-    const bool restituted = restitution_ != Real(1) && !collided_recently(i, j, back);
-    // A collision the TC rule makes elastic is smooth too.
-    const bool rough = restituted || restitution_ == Real(1);
-    Vec3<Real> wi = a_.omega[i], wj = a_.omega[j];
-    if (rough) {
-      const auto out = kernel::collide_rough(contact, vi, vj, wi, wj, mass(i), mass(j), radius(i), radius(j),
-                                             restitution_, rough_, Mono);
-      virial = double(out.virial);
-      tally.dissipated_normal += double(out.dissipated_normal);
-      tally.dissipated_tangential += double(out.dissipated_tangential);
-    } else if constexpr (Mono) {
-      virial = double(mass_) * double(kernel::collide_equal_mass(contact, vi, vj));
-    } else {
-      virial = double(kernel::collide(contact, vi, vj, a_.mass[i], a_.mass[j]));
-    }
-    if (virial == 0.0) return false;  // receding at the rewound contact: nothing to resolve
-    a_.omega[i] = wi, a_.omega[j] = wj;
-    return commit_collision(i, j, ri, rj, vi, vj, vi_before, contact, back, virial, hooks, tally);
-  }
   //! What every resolved pair collision records: the TC clock, the virial, the new positions and
   //! velocities at the end of the step, the speed bound, counts, observers and re-predictions.
   template <class Hooks>
   HS_ALWAYS_INLINE bool commit_collision(std::uint32_t i, std::uint32_t j, Vec3<Real> ri, Vec3<Real> rj, Vec3<Real> vi,
                                          Vec3<Real> vj, Vec3<Real> vi_before, Vec3<Real> contact, Real back,
                                          double virial, Hooks& hooks, ContactTally& tally) {
-    if (restitution_ != Real(1)) last_collision_[id_index(i)] = last_collision_[id_index(j)] = step_end_ - double(back);
+    if (law_.restitution != Real(1))
+      last_collision_[id_index(i)] = last_collision_[id_index(j)] = step_end_ - double(back);
     const double mi = Mono ? double(mass_) : double(a_.mass[i]);
     const Vec3<Real> dvi = vi - vi_before;
     const double dp[3] = {mi * double(dvi.x), mi * double(dvi.y), mi * double(dvi.z)};
@@ -591,9 +557,9 @@ class ContactResolver {
 
   ContactArrays<Real> a_;
   Real dt_ = 0, sigma_ = 0, mass_ = 0;
-  Real restitution_ = 1;  // normal restitution (1: elastic)
+  kernel::PairLaw<Real> law_;  // normal restitution (1: elastic); the tangential law while a_.omega is set
   double contact_time_ = 0, step_end_ = 0;
-  double* last_collision_ = nullptr;  // id-indexed last collision times (restitution_ < 1 only)
+  double* last_collision_ = nullptr;  // id-indexed last collision times (law_.restitution < 1 only)
   Real speed_bound_ = std::numeric_limits<Real>::infinity();
   std::int64_t max_events_ = 100000000;
   std::vector<Change> change_, moved_;  // moved_: scratch for permute()
@@ -603,7 +569,6 @@ class ContactResolver {
   std::vector<std::uint32_t> bucket_start_, bucket_fill_;  // order_by_time() scratch
   std::vector<std::uint32_t> near_;                        // sweep scratch: list entries that pass the distance test
   WallEvents<Real> walls_;
-  kernel::Roughness<Real> rough_;  // tangential law while a_.omega is set
 };
 
 }  // namespace hardsphere

@@ -1,8 +1,9 @@
 #pragma once
 //! The stepper's reflecting walls as events of the contact resolver: which walls a sphere's path
 //! over its window ends beyond (straight lines, or parabolas under gravity) and the normal part
-//! of a bounce, with the resting-contact rule under gravity. ContactResolver orders the bounces
-//! with the pair contacts and adds the rest (tallies, the rough tangential impulse, re-predictions).
+//! of a bounce as the stepper moves it: the contact's wall, and the end-of-step coordinate after
+//! the wall law (kernel::collide_wall(), contact_law.hpp) decided at it. ContactResolver orders
+//! the bounces with the pair contacts and adds the rest (the law's call, tallies, re-predictions).
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -52,44 +53,44 @@ class WallEvents {
     }
   }
 
-  //! What a bounce did along its axis: the normal velocity at contact, the momentum per unit
-  //! mass the wall took, and whether it was a resting contact.
-  struct Bounce {
-    Real v_before;
-    double impulse;
-    bool rested;
+  //! The wall a bounce off axis d touches, `back` before the end of the step (x, v: the sphere's
+  //! coordinate and velocity along d at the end of the step): its side (-1: lower, +1: upper) and
+  //! the contact plane of the centre.
+  struct Contact {
+    int side;
+    Real plane;
   };
-  //! The normal part of a bounce off the wall of axis d, `back` before the end of a step of
-  //! length dt: x and v (the sphere's coordinate and velocity along d at the end of the step)
-  //! are mirrored at the contact, or left resting on the wall.
-  Bounce reflect(Real& x, Real& v, int d, Real r, Real back, Real dt) const {
+  Contact contact(Real x, Real v, int d, Real r, Real back) const {
     const Real g = gravity_[std::size_t(d)];
-    // The velocity at contact, whose reversal is the impulse the wall takes.
-    const Real v_before = v - g * back;
-    double impulse = 2.0 * std::abs(double(v_before));  // per unit mass
-    bool rested = false;
-    if (has_gravity_ && g != Real(0)) {
+    const Real lo = lo_[std::size_t(d)] + r, hi = hi_[std::size_t(d)] - r;
+    if (has_gravity_ && g != Real(0)) {  // the wall nearer to where the parabola was at contact
       const Real s = back;
       const Real x_contact = x - v * s + Real(0.5) * g * s * s;
-      const Real lo = lo_[std::size_t(d)] + r, hi = hi_[std::size_t(d)] - r;
-      const Real w = std::abs(x_contact - lo) <= std::abs(x_contact - hi) ? lo : hi;
-      if (resting_contact(v_before, g, w == lo, dt)) {
-        // Resting contact: bounces this slow would follow each other without end (a sphere at
-        // rest on a floor bounces at once again). It leaves the wall at half the speed gravity
-        // builds in the rest of the sub-step, so it is back on the wall exactly at its end: it
-        // rests on the wall at every sub-step's end, the wall carries its weight, and its flight
-        // stays the shared parabola of every other sphere.
-        x = w;
-        v = Real(0.5) * g * s;  // leaving at -g s / 2, arriving at +g s / 2
-        impulse = std::abs(double(v_before)) + std::abs(double(v));
-        rested = true;
+      const bool lower = std::abs(x_contact - lo) <= std::abs(x_contact - hi);
+      return {lower ? -1 : 1, lower ? lo : hi};
+    }
+    return {v < Real(0) ? -1 : 1, v < Real(0) ? lo : hi};  // straight: the wall it moves into
+  }
+  //! The resting contacts' threshold (kernel::resting_contact()): Physics::resting_time, or the
+  //! step dt if that is 0.
+  Real resting_time(Real dt) const { return resting_time_ > Real(0) ? resting_time_ : dt; }
+
+  //! Moves x and v (along d, at the end of the step) as the wall law decided at `wall`, `back`
+  //! before the end of the step: mirrored at the contact, or left resting on the wall having left
+  //! it at `leave` (kernel::collide_wall() with hop = back: back on the wall at the step's end, so
+  //! the wall carries its weight and its flight stays the shared parabola of every other sphere).
+  void reflect(Real& x, Real& v, int d, Real r, Real back, Contact wall, bool rested, Real leave) const {
+    const Real g = gravity_[std::size_t(d)];
+    if (has_gravity_ && g != Real(0)) {
+      if (rested) {
+        x = wall.plane;
+        v = -leave;  // leaving at -g s / 2, arriving at +g s / 2
       } else {
-        kernel::reflect_in_flight(x, v, g, w, s);
+        kernel::reflect_in_flight(x, v, g, wall.plane, back);
       }
     } else {
       kernel::reflect_from_walls(x, v, lo_[std::size_t(d)], hi_[std::size_t(d)], r);
     }
-    return {v_before, impulse, rested};
   }
 
  private:
@@ -106,13 +107,6 @@ class WallEvents {
     if (back < Real(0) && ((x < lo && v < Real(0)) || (x > hi && v > Real(0)))) back = window;
     if (back < Real(0)) return;
     push(d, back);
-  }
-  //! A wall contact at normal speed v_before (towards the wall) under the acceleration g along
-  //! that axis is a resting contact when gravity pulls the sphere into that wall and it arrives
-  //! no faster than gravity speeds it up in one sub-step (dt).
-  bool resting_contact(Real v_before, Real g, bool lower_wall, Real dt) const {
-    return (lower_wall ? g < Real(0) : g > Real(0)) &&
-           std::abs(v_before) <= std::abs(g) * (resting_time_ > Real(0) ? resting_time_ : dt);
   }
 
   std::array<Real, 3> lo_{}, hi_{};       // wall positions

@@ -1,0 +1,161 @@
+#pragma once
+//! The contact laws: what a pair or wall collision does to the spheres' velocities, evaluated by
+//! both engines (the stepper at a rewound contact, the event engine at a synced one). A pair law
+//! is one prologue (the TC model: restituted, or the elastic fallback) and an evaluator per physics
+//! (smooth: collide() / collide_equal_mass(); rough: collide_rough()). A wall law is the normal
+//! part (reflection or the resting contact under gravity, and the impulse) and, for rough spheres,
+//! wall_tangential(). A new law (e.g. a wall's own restitution and friction) is one more evaluator
+//! here; the engines keep only what is theirs (moving spheres to and from the contact, tallies,
+//! re-predictions).
+#include <cmath>
+
+#include "hardsphere/collision.hpp"
+#include "hardsphere/vec3.hpp"
+
+namespace hardsphere::kernel {
+
+//! What a contact law did, in double as both engines sum it.
+struct ContactOutcome {
+  double virial = 0;             //!< a pair's r_ij . dp_i at contact (0: receding)
+  double dissipated_normal = 0;  //!< kinetic energy taken, by channel (rough spheres only)
+  double dissipated_tangential = 0;
+  bool changed = false;  //!< the velocities changed: the engine records a collision
+  bool sliding = false;  //!< Walton's limit capped the tangential impulse
+};
+
+//! A pair law's parameters: normal restitution e (1: elastic) and, for rough spheres, the
+//! tangential law.
+template <class T>
+struct PairLaw {
+  T restitution = T(1);
+  Roughness<T> roughness;
+};
+
+//! The TC model's decision for one pair collision (Luding and McNamara 1998).
+struct PairRule {
+  bool restituted;  //!< e < 1 applies; otherwise the collision is elastic
+  bool full;        //!< the whole law applies; false: the TC model made it elastic, and smooth too
+};
+
+//! The prologue every pair law shares: with e < 1 a collision is restituted unless either sphere
+//! collided within the contact time before it (`collided_recently()`, asked only then).
+template <class T, class Recent>
+inline PairRule pair_rule(const PairLaw<T>& law, Recent&& collided_recently) {
+  const bool restituted = law.restitution != T(1) && !collided_recently();
+  return {restituted, restituted || law.restitution == T(1)};
+}
+
+namespace detail {
+//! The smooth evaluator: the normal impulse alone, its virial in double.
+template <class T>
+inline double smooth_impulse(const PairLaw<T>& law, PairRule rule, Vec3<T> dr, Vec3<T>& v1, Vec3<T>& v2, T m1, T m2,
+                             bool equal_mass) {
+  // The elastic forms without e where the rule is elastic: one multiplication fewer per collision.
+  if (rule.restituted)
+    return equal_mass ? double(m1) * double(collide_equal_mass(dr, v1, v2, law.restitution))
+                      : double(collide(dr, v1, v2, m1, m2, law.restitution));
+  return equal_mass ? double(m1) * double(collide_equal_mass(dr, v1, v2)) : double(collide(dr, v1, v2, m1, m2));
+}
+//! Not deduced from (T is the law's): a smooth call passes a plain nullptr.
+template <class T>
+struct NoDeduce {
+  using type = T;
+};
+template <class T>
+inline bool same(Vec3<T> a, Vec3<T> b) {
+  return a.x == b.x && a.y == b.y && a.z == b.z;
+}
+}  // namespace detail
+
+//! A pair collision at contact separation dr = r1 - r2 under `rule` (from pair_rule()): the smooth
+//! law, or with Rough the rough one (angular velocities w1, w2, radii a1, a2) unless the rule is
+//! TC-elastic. equal_mass (m1 = m2): collide_equal_mass(), which conserves momentum bit for bit.
+//! `changed`: with Exact, whether the normal impulse changed a velocity at all (an approach below
+//! the velocities' rounding would be predicted again at once, without end: the event engine
+//! parts such pairs); otherwise whether the pair approached (virial != 0). Nothing changes when
+//! it is false.
+template <bool Rough, bool Exact, class T>
+inline ContactOutcome collide_pair(const PairLaw<T>& law, PairRule rule, Vec3<T> dr, Vec3<T>& v1, Vec3<T>& v2,
+                                   typename detail::NoDeduce<Vec3<T>*>::type w1,
+                                   typename detail::NoDeduce<Vec3<T>*>::type w2, T m1, T m2, T a1, T a2,
+                                   bool equal_mass) {
+  ContactOutcome out;
+  if constexpr (Exact) {
+    Vec3<T> u1 = v1, u2 = v2;
+    out.virial = detail::smooth_impulse(law, rule, dr, u1, u2, m1, m2, equal_mass);
+    out.changed = !(detail::same(u1, v1) && detail::same(u2, v2));
+    if (!out.changed || !(Rough && rule.full)) {
+      v1 = u1, v2 = u2;
+      return out;
+    }
+  }
+  if constexpr (Rough) {
+    if (rule.full) {  // the normal impulse again, as collide_rough() applies it (the same bits)
+      const RoughOutcome<T> r =
+          collide_rough(dr, v1, v2, *w1, *w2, m1, m2, a1, a2, law.restitution, law.roughness, equal_mass);
+      out.virial = double(r.virial);
+      out.dissipated_normal = double(r.dissipated_normal);
+      out.dissipated_tangential = double(r.dissipated_tangential);
+      out.sliding = r.sliding;
+      if constexpr (!Exact) out.changed = out.virial != 0.0;
+      return out;
+    }
+  }
+  if constexpr (!Exact) {
+    out.virial = detail::smooth_impulse(law, rule, dr, v1, v2, m1, m2, equal_mass);
+    out.changed = out.virial != 0.0;
+  }
+  return out;
+}
+
+//! A wall contact is a resting contact when gravity (g along the wall's axis) pulls the sphere
+//! into that wall (side -1: the lower wall, +1: the upper one) and it arrives at normal speed |v|
+//! no faster than gravity builds over the resting time: its bounces would follow each other
+//! without end (a sphere at rest on a floor bounces at once again).
+template <class T>
+inline bool resting_contact(T v, T g, int side, T resting_time) {
+  return (side < 0 ? g < T(0) : g > T(0)) && std::abs(v) <= std::abs(g) * resting_time;
+}
+
+//! What a wall contact does: the ContactOutcome's energy (tangential) and, along the normal,
+//! whether it rested and the velocity it leaves a resting contact with; `impulse` is the momentum
+//! per unit mass the wall took, dv the sphere's tangential velocity change (rough spheres).
+template <class T>
+struct WallOutcome {
+  bool rested = false;
+  T leave = T(0);  //!< resting: the normal velocity at leaving, -g hop / 2
+  double impulse = 0;
+  Vec3<T> dv{};
+  ContactOutcome contact;
+};
+
+//! The wall law (the wall an infinite mass at rest, elastic along its normal): a sphere of mass m,
+//! radius a touching the wall on `side` of axis d at velocity v (its normal part v[d] towards the
+//! wall) under gravity g along d either rests (resting_contact() over `resting_time`: it leaves at
+//! half the speed gravity builds over `hop`, so it is back on the wall after hop) or is reflected,
+//! v[d] -> -v[d], which the engine applies to its own coordinates. Rough (w its angular velocity,
+//! updated): a reflected sphere also takes wall_tangential()'s impulse; a resting one none.
+template <bool Rough, class T>
+inline WallOutcome<T> collide_wall(const Roughness<T>& k, int d, int side, Vec3<T> v, T g, T resting_time, T hop,
+                                   typename detail::NoDeduce<Vec3<T>*>::type w, T m, T a) {
+  WallOutcome<T> out;
+  const T vn = v[d];
+  out.rested = resting_contact(vn, g, side, resting_time);
+  out.contact.changed = true;
+  if (out.rested) {
+    out.leave = -(T(0.5) * g * hop);
+    out.impulse = std::abs(double(vn)) + std::abs(double(out.leave));
+    return out;
+  }
+  out.impulse = 2.0 * std::abs(double(vn));
+  if constexpr (Rough) {
+    Vec3<T> n{};
+    n[d] = side < 0 ? T(1) : T(-1);  // into the box
+    T dissipated = T(0);
+    out.dv = wall_tangential(n, v, *w, m, a, T(2) * std::abs(vn), k, dissipated, out.contact.sliding);
+    out.contact.dissipated_tangential = double(dissipated);
+  }
+  return out;
+}
+
+}  // namespace hardsphere::kernel
