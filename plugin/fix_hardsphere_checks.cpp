@@ -275,7 +275,7 @@ void FixHardSphere::apply_neighbor_settings() {
   // this run on. Serial: LAMMPS's own check every step keeps its wrapping and sorting regular
   // (the stepper needs no LAMMPS list). Owned + ghost path: re-neighbouring refreshes the ghosts
   // each rank's stepper is made from, and the fix asks for it exactly when an atom could have
-  // used up the ghost shell's slack (rank_stepper.cpp); LAMMPS's own checks would only make
+  // used up the ghost shell's slack (ghost_checks.cpp); LAMMPS's own checks would only make
   // the steppers again more often.
   const int every = serial ? 1 : kFixDecides;
   const Neighbor *nb = neighbor;
