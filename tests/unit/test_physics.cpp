@@ -139,3 +139,36 @@ TEST(Physics, WallLawsAreRefusedOutsideTheirRangesNamingTheFace) {
   named.wall_faces[2] = true;
   EXPECT_NE(refused(q, floor_only, named).find("the box has no wall at ylo (axis y is periodic)"), std::string::npos);
 }
+
+TEST(Physics, WallSettingsReadOneValueOrFaceValueLists) {
+  const auto refused = [](const std::string& text) {
+    Physics p;
+    PhysicsGiven g;
+    try {
+      parse_wall_setting(p, g, WallSetting::Restitution, text, "--wall-restitution");
+    } catch (const InputError& e) {
+      return std::string(e.what());
+    }
+    return std::string();
+  };
+  Physics p;
+  PhysicsGiven g;
+  parse_wall_setting(p, g, WallSetting::Restitution, "0.5", "--wall-restitution");
+  EXPECT_TRUE(g.all_walls);
+  for (const WallLaw& w : p.walls) EXPECT_EQ(w.restitution, 0.5);
+  Physics q;
+  PhysicsGiven h;
+  parse_wall_setting(q, h, WallSetting::Friction, "zlo=0.3,xhi=inf", "--wall-friction");
+  EXPECT_FALSE(h.all_walls);
+  EXPECT_EQ(*q.walls[4].friction, 0.3);
+  EXPECT_EQ(*q.walls[1].friction, std::numeric_limits<double>::infinity());
+  EXPECT_FALSE(q.walls[0].friction);
+  EXPECT_TRUE(h.wall_faces[4] && h.wall_faces[1] && !h.wall_faces[0]);
+  EXPECT_NE(refused("abc").find("--wall-restitution 'abc': 'abc' is not a number"), std::string::npos);
+  EXPECT_NE(refused("zlo=0.5,top=1").find("unknown face 'top'"), std::string::npos);
+  EXPECT_NE(refused("zlo=0.5,zlo=0.7").find("names face zlo twice"), std::string::npos);
+  EXPECT_NE(refused("zlo=0.5,0.7").find("'0.7' is not face=value"), std::string::npos);
+  EXPECT_NE(refused("zlo=").find("'' is not a number"), std::string::npos);
+  EXPECT_NE(refused("=0.5").find("names no face"), std::string::npos);
+  EXPECT_NE(refused("zlo=0.5,").find("'' is not face=value"), std::string::npos);
+}

@@ -135,6 +135,22 @@ struct PhysicsGiven {
 Physics validated(Physics p, const std::array<bool, 3>& periodic, const PhysicsNames& names = {},
                   const PhysicsGiven& given = {});
 
+//! The wall laws' settings, as every face names them (PhysicsNames::wall_*).
+enum class WallSetting { Restitution, TangentialRestitution, Friction };
+
+//! Sets `setting` of box face `face` (a kFaceNames entry; "" : every face) to `value`, recording
+//! it in `given` (validated() then refuses a face without a wall, and a setting for every wall in
+//! a box without any). Throws InputError naming `option` for an unknown face.
+void set_wall_law(Physics& p, PhysicsGiven& given, WallSetting setting, const std::string& face, double value,
+                  const std::string& option);
+
+//! The command line's and Python's text form of a wall setting: one number for every wall
+//! ("0.5") or a list of face=value ("zlo=0.5,zhi=0.9"), applied with set_wall_law(). Throws
+//! InputError naming `option` and the text for anything else (a number that is not one, an
+//! unknown face, a face twice, an empty item).
+void parse_wall_setting(Physics& p, PhysicsGiven& given, WallSetting setting, const std::string& text,
+                        const std::string& option);
+
 //! What a refusal of jammed spheres adds for inelastic collisions (empty when elastic): the
 //! chain may be an inelastic collapse (a settling bed), which a longer contact time lets
 //! through, named as the face names it.
