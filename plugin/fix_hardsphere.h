@@ -58,6 +58,7 @@ class FixHardSphere : public Fix {
   void check_other_fixes();
 
  private:
+  void check_other_fix(class Fix *f, int mask);  //!< one other fix, by its style and mask
   void check_setup();
   void check_timestep() const;
   //! The last step's collision virial, as LAMMPS's virial (energy units) when it asks, global

@@ -78,6 +78,13 @@ std::string in_step_stages(int mask) {
   return out;
 }
 
+// The stages a fix's mask may name: acting on forces, moving atoms inside the step.
+constexpr int kForceStages = PRE_FORCE | PRE_FORCE_RESPA | PRE_REVERSE | POST_FORCE | POST_FORCE_RESPA;
+constexpr int kMoveStages = INITIAL_INTEGRATE | INITIAL_INTEGRATE_RESPA | POST_INTEGRATE | POST_INTEGRATE_RESPA |
+                            FINAL_INTEGRATE | FINAL_INTEGRATE_RESPA;
+
+std::string fix_name(const Fix *f) { return "fix " + std::string(f->id) + " (" + f->style + ")"; }
+
 }  // namespace
 
 void FixHardSphere::check_timestep() const {
@@ -172,10 +179,6 @@ void FixHardSphere::check_other_fixes() {
   // re-neighbouring or only in minimisations are allowed, as are 'setforce NULL NULL NULL'
   // (sets nothing), store/force (records the zero forces), balance (load balancing), dynamic
   // groups and heat/flow with add/heat (per-atom temperatures).
-  const int force_stages = PRE_FORCE | PRE_FORCE_RESPA | PRE_REVERSE | POST_FORCE | POST_FORCE_RESPA;
-  const int move_stages = INITIAL_INTEGRATE | INITIAL_INTEGRATE_RESPA | POST_INTEGRATE | POST_INTEGRATE_RESPA |
-                          FINAL_INTEGRATE | FINAL_INTEGRATE_RESPA;
-  auto name = [](const Fix *f) { return "fix " + std::string(f->id) + " (" + f->style + ")"; };
   // Most specific first: another integrator, then fixes that insert or delete atoms (fix pour
   // needs fix gravity, which would otherwise be named first).
   for (int i = 0; i < modify->nfix; i++) {
@@ -185,86 +188,86 @@ void FixHardSphere::check_other_fixes() {
           FLERR,
           std::string("fix hardsphere is the time integrator") +
               (physics.rough() ? " of positions, velocities and angular velocities (tangential_restitution)" : "") +
-              ": remove " + name(f));
+              ": remove " + fix_name(f));
   }
   for (int i = 0; i < modify->nfix; i++)
     if (inserts_or_deletes_atoms(modify->fix[i]))
-      error->all(FLERR, "fix hardsphere: " + name(modify->fix[i]) +
+      error->all(FLERR, "fix hardsphere: " + fix_name(modify->fix[i]) +
                             " inserts or deletes atoms during a run, but fix hardsphere follows one set of atoms "
                             "through a run: remove it and add or delete atoms between runs (create_atoms, "
                             "delete_atoms)");
-  for (int i = 0; i < modify->nfix; i++) {
-    Fix *f = modify->fix[i];
-    const int mask = modify->fmask[i];
-    if (f == this) continue;
-    if (is_style(f, "store/force") || is_style(f, "balance")) continue;
-    // A dynamic group's fix (post_integrate in LAMMPS 2021) only reads positions to set its
-    // members; both paths write them on its steps (OtherFixes::reads).
-    if (is_style(f, "GROUP")) continue;
-    // Per-atom temperatures integrated from heat flows (fix property/atom temperature heatflow):
-    // in the force stages and final_integrate, but on neither forces, positions nor velocities.
-    // Hard-sphere collisions conduct no heat; sources such as add/heat act as they would.
-    if (is_style(f, "heat/flow") || is_style(f, "add/heat")) continue;
-    if (is_style(f, "setforce") && SetForceAxes::all_null(f)) continue;
-    if (is_style(f, "gravity")) {  // acts through the stepper's parabolic flights (read_gravity)
-      if (f->igroup != 0)
-        error->all(FLERR, "fix hardsphere: " + name(f) + " acts on group '" + group->names[f->igroup] +
-                              "', but every atom is a hard sphere: use group all");
-      if (!GravityStyle::constant(f))
-        error->all(FLERR, "fix hardsphere: " + name(f) +
-                              " has a variable magnitude or direction; hard-sphere flights need a constant one");
-      gravity_fixes.push_back(f);
-      continue;
-    }
-    if (utils::strmatch(f->style, "^wall/"))
-      error->all(FLERR, "fix hardsphere: " + name(f) +
-                            " is a wall fix, which hard spheres would not feel (they have no forces): walls "
-                            "come from the box, use 'boundary f' on that axis (spheres bounce off fixed faces) "
-                            "and remove 'fix " +
-                            f->id + "'");
-    if (is_style(f, "adapt"))
-      error->all(FLERR, "fix hardsphere: " + name(f) +
-                            " changes parameters during a run, which fix hardsphere takes only at a run's start: "
-                            "remove it and change diameters between runs ('set ... diameter')");
-    // Its end-of-step position correction is for a Verlet integrator's O(dt^3) error; flights are
-    // exact, and the stepper would not take up positions changed between its steps.
-    if (is_style(f, "ehex"))
-      error->all(FLERR, "fix hardsphere: " + name(f) +
-                            " corrects positions at the end of each step (for a Verlet integrator's error; "
-                            "hard-sphere flights are exact): use fix heat, the same heat exchange without that "
-                            "correction");
-    if (is_style(f, "dt/reset"))
-      error->all(FLERR, "fix hardsphere: " + name(f) +
-                            " changes the timestep during a run; hard spheres need a fixed 'timestep' "
-                            "(4 v_max dt < skin): remove it");
-    // A Python callback at post_force may do anything, inside the step: not a force fix.
-    if (is_style(f, "python/invoke") && (mask & force_stages))
-      error->all(FLERR, "fix hardsphere: " + name(f) +
-                            " calls its Python function at post_force, inside the time step, where fix hardsphere "
-                            "owns positions and velocities: call it at the end of the step ('fix " +
-                            f->id +
-                            " all python/invoke N end_of_step FUNCTION'), where fix hardsphere takes up what "
-                            "it changes");
-    if (mask & force_stages) {
-      std::string hint;
-      if (utils::strmatch(f->style, "^langevin") || utils::strmatch(f->style, "^viscous"))
-        hint = " (thermostat with an end-of-step fix instead, e.g. temp/berendsen or temp/rescale)";
-      else if (is_style(f, "setforce"))
-        hint = " ('setforce NULL NULL NULL', which sets nothing, is allowed)";
-      error->all(FLERR, "fix hardsphere: " + name(f) +
-                            " adds or acts on forces, but hard spheres have no forces (fix hardsphere moves them "
-                            "by collisions only), so it would have no effect: remove it" +
-                            hint);
-    }
-    if (mask & move_stages)
-      error->all(FLERR, "fix hardsphere: " + name(f) + " moves atoms inside the time step (" + in_step_stages(mask) +
-                            "), where fix hardsphere owns positions and velocities: remove it (fixes acting at "
-                            "the end of a step, e.g. temp/berendsen, temp/rescale or momentum, are allowed)");
-    if (mask & PRE_EXCHANGE)
-      error->all(FLERR, "fix hardsphere: " + name(f) +
-                            " changes atoms between steps (pre_exchange: inserting, deleting, moving or retyping "
-                            "them), which fix hardsphere does not follow within a run: remove it");
+  for (int i = 0; i < modify->nfix; i++)
+    if (modify->fix[i] != this) check_other_fix(modify->fix[i], modify->fmask[i]);
+}
+
+void FixHardSphere::check_other_fix(Fix *f, int mask) {
+  if (is_style(f, "store/force") || is_style(f, "balance")) return;
+  // A dynamic group's fix (post_integrate in LAMMPS 2021) only reads positions to set its
+  // members; both paths write them on its steps (OtherFixes::reads).
+  if (is_style(f, "GROUP")) return;
+  // Per-atom temperatures integrated from heat flows (fix property/atom temperature heatflow):
+  // in the force stages and final_integrate, but on neither forces, positions nor velocities.
+  // Hard-sphere collisions conduct no heat; sources such as add/heat act as they would.
+  if (is_style(f, "heat/flow") || is_style(f, "add/heat")) return;
+  if (is_style(f, "setforce") && SetForceAxes::all_null(f)) return;
+  if (is_style(f, "gravity")) {  // acts through the stepper's parabolic flights (read_gravity)
+    if (f->igroup != 0)
+      error->all(FLERR, "fix hardsphere: " + fix_name(f) + " acts on group '" + group->names[f->igroup] +
+                            "', but every atom is a hard sphere: use group all");
+    if (!GravityStyle::constant(f))
+      error->all(FLERR, "fix hardsphere: " + fix_name(f) +
+                            " has a variable magnitude or direction; hard-sphere flights need a constant one");
+    gravity_fixes.push_back(f);
+    return;
   }
+  if (utils::strmatch(f->style, "^wall/"))
+    error->all(FLERR, "fix hardsphere: " + fix_name(f) +
+                          " is a wall fix, which hard spheres would not feel (they have no forces): walls "
+                          "come from the box, use 'boundary f' on that axis (spheres bounce off fixed faces) "
+                          "and remove 'fix " +
+                          f->id + "'");
+  if (is_style(f, "adapt"))
+    error->all(FLERR, "fix hardsphere: " + fix_name(f) +
+                          " changes parameters during a run, which fix hardsphere takes only at a run's start: "
+                          "remove it and change diameters between runs ('set ... diameter')");
+  // Its end-of-step position correction is for a Verlet integrator's O(dt^3) error; flights are
+  // exact, and the stepper would not take up positions changed between its steps.
+  if (is_style(f, "ehex"))
+    error->all(FLERR, "fix hardsphere: " + fix_name(f) +
+                          " corrects positions at the end of each step (for a Verlet integrator's error; "
+                          "hard-sphere flights are exact): use fix heat, the same heat exchange without that "
+                          "correction");
+  if (is_style(f, "dt/reset"))
+    error->all(FLERR, "fix hardsphere: " + fix_name(f) +
+                          " changes the timestep during a run; hard spheres need a fixed 'timestep' "
+                          "(4 v_max dt < skin): remove it");
+  // A Python callback at post_force may do anything, inside the step: not a force fix.
+  if (is_style(f, "python/invoke") && (mask & kForceStages))
+    error->all(FLERR, "fix hardsphere: " + fix_name(f) +
+                          " calls its Python function at post_force, inside the time step, where fix hardsphere "
+                          "owns positions and velocities: call it at the end of the step ('fix " +
+                          f->id +
+                          " all python/invoke N end_of_step FUNCTION'), where fix hardsphere takes up what "
+                          "it changes");
+  if (mask & kForceStages) {
+    std::string hint;
+    if (utils::strmatch(f->style, "^langevin") || utils::strmatch(f->style, "^viscous"))
+      hint = " (thermostat with an end-of-step fix instead, e.g. temp/berendsen or temp/rescale)";
+    else if (is_style(f, "setforce"))
+      hint = " ('setforce NULL NULL NULL', which sets nothing, is allowed)";
+    error->all(FLERR, "fix hardsphere: " + fix_name(f) +
+                          " adds or acts on forces, but hard spheres have no forces (fix hardsphere moves them "
+                          "by collisions only), so it would have no effect: remove it" +
+                          hint);
+  }
+  if (mask & kMoveStages)
+    error->all(FLERR, "fix hardsphere: " + fix_name(f) + " moves atoms inside the time step (" + in_step_stages(mask) +
+                          "), where fix hardsphere owns positions and velocities: remove it (fixes acting at "
+                          "the end of a step, e.g. temp/berendsen, temp/rescale or momentum, are allowed)");
+  if (mask & PRE_EXCHANGE)
+    error->all(FLERR, "fix hardsphere: " + fix_name(f) +
+                          " changes atoms between steps (pre_exchange: inserting, deleting, moving or retyping "
+                          "them), which fix hardsphere does not follow within a run: remove it");
 }
 
 void FixHardSphere::apply_neighbor_settings() {
@@ -272,7 +275,7 @@ void FixHardSphere::apply_neighbor_settings() {
   // this run on. Serial: LAMMPS's own check every step keeps its wrapping and sorting regular
   // (the stepper needs no LAMMPS list). Owned + ghost path: re-neighbouring refreshes the ghosts
   // each rank's stepper is made from, and the fix asks for it exactly when an atom could have
-  // used up the ghost shell's slack (rank_stepper.cpp); LAMMPS's own checks would only make
+  // used up the ghost shell's slack (ghost_checks.cpp); LAMMPS's own checks would only make
   // the steppers again more often.
   const int every = serial ? 1 : kFixDecides;
   const Neighbor *nb = neighbor;

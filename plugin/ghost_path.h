@@ -7,6 +7,8 @@
 //! that met an owned atom in a step must end it like its owner; if one does not (a collision
 //! chain ran in from beyond the ghost shell), the step is re-run for all atoms at once.
 //! Collision totals are weighted by ownership, so the ranks add up to one stepper's totals.
+//! Its parts: ghost_path.cpp (the step), ghost_build.cpp (the rank's stepper), ghost_rerun.cpp
+//! (the re-run for all atoms), ghost_checks.cpp (owner check, re-neighbouring), ghost_comm.cpp.
 #include <array>
 #include <cstdint>
 #include <memory>
@@ -59,8 +61,28 @@ class GhostPath : public StepPath, protected Pointers {
   //! A run's start: the owned atoms as the serial path checks them (error->one naming the atom),
   //! and the run's overlap tolerance.
   void check_owned_atoms();
+  //! The rank's box: the bounds of the held atoms along each axis, and which axes it spans whole.
+  struct RankBox {
+    hardsphere::Box box;
+    std::array<bool, 3> whole{};
+    double lo[3], hi[3];  //!< the ghost shell's bounds (ghosts beyond them are not held)
+  };
+  //! build()'s steps: the rank's box (and which walls its stepper never reaches), the owned atoms
+  //! and the ghosts it holds (owned: per input, whether it is owned), the start's overlap check,
+  //! and the stepper with its ownership tally.
+  RankBox rank_box(double shell, double dmax, hardsphere::StepperConfig &config) const;
+  hardsphere::ParticleSystem held_atoms(const RankBox &b, double dmax, std::vector<std::uint8_t> &owned);
+  void check_held_overlaps(const hardsphere::ParticleSystem &sys);
+  void make_rank_stepper(const hardsphere::ParticleSystem &sys, const hardsphere::StepperConfig &config,
+                         const std::vector<std::uint8_t> &owned);
   void start_epoch(double shell, double dmax);
   void map_slots();
+  //! step()'s parts: LAMMPS's velocities taken up (another fix changed them), the stepper's step
+  //! (the velocities other ranks hold as ghosts kept for the owner check), and once the check
+  //! has passed, the owned atoms written back with this step's totals.
+  void refresh_velocities();
+  void advance_held_atoms();
+  StepTotals write_owned_atoms();
   void sync_ghosts();
   void forward_comm(int mode);
   void forward_comm_learning_swaps();
@@ -75,7 +97,7 @@ class GhostPath : public StepPath, protected Pointers {
   StepTotals restart_globally(const std::string &source, const std::string &hint);
   //! From an engine over all atoms (step_globally): the owned atoms' collision virials.
   void take_owned_virial(hardsphere::StateExchange &exch);
-  // Rough spheres' angular velocities, alongside the velocities (ghost_path.cpp's last part).
+  // Rough spheres' angular velocities, alongside the velocities (ghost_comm.cpp's last part).
   hardsphere::Vec3d omega_of(int row) const;  //!< LAMMPS's omega row (zero for smooth spheres)
   void sync_ghost_omegas();                   //!< the ghost copies' omegas from their owners
   void refresh_omegas();                      //!< every omega from LAMMPS's rows
@@ -96,6 +118,7 @@ class GhostPath : public StepPath, protected Pointers {
   //! Whether other styles' LAMMPS lists (other_lists_) need re-neighbouring: an atom moved more
   //! than half the skin since the last one (all ranks agree).
   bool lists_expired();
+  static double norm2(const hardsphere::Vec3d &a) { return a.x * a.x + a.y * a.y + a.z * a.z; }
 
   class Fix *fix_;
   PartTimer &timer_;

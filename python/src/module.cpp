@@ -114,22 +114,8 @@ void add_simulation(py::class_<Sim>& c) {
       "The current state as a System (a copy).");
 }
 
-}  // namespace
-
-PYBIND11_MODULE(_hardsphere, m) {
-  m.doc() = "hardsphere: time-stepped and event-driven hard-sphere simulation (docs/python.md)";
-  py::register_exception_translator([](std::exception_ptr p) {
-    try {
-      if (p) std::rethrow_exception(p);
-    } catch (const FileError& e) {
-      set_error(PyExc_OSError, e.what());
-    } catch (const InputError& e) {
-      set_error(PyExc_ValueError, e.what());
-    } catch (const ReentryError& e) {
-      set_error(PyExc_RuntimeError, e.what());
-    }
-  });
-
+//! hs.Box: lengths, boundaries and the exact repr.
+void bind_box(py::module_& m) {
   py::class_<Box>(m, "Box", "An axis-aligned box, periodic ('p') or walled ('w') per axis.")
       .def(py::init([](py::object lengths, py::object boundary, py::object lo) {
              return make_box(lengths, text_arg(boundary, "boundary"), lo);
@@ -153,7 +139,10 @@ PYBIND11_MODULE(_hardsphere, m) {
         return "Box(lengths=" + three({b.length(0), b.length(1), b.length(2)}) + ", boundary='" +
                boundary_string(b.periodic) + "', lo=" + three(b.lo) + ")";
       });
+}
 
+//! hs.System: generated, read or given states, their arrays and write_data.
+void bind_system(py::module_& m) {
   py::class_<SystemData, std::shared_ptr<SystemData>> sys(
       m, "System", "A particle state: generated, read from a LAMMPS data file or given as arrays.");
   sys.def(py::init(&make_system), "box"_a, "positions"_a, "velocities"_a = py::none(), "radii"_a = 0.5,
@@ -223,7 +212,10 @@ PYBIND11_MODULE(_hardsphere, m) {
             });
           },
           "path"_a, "title"_a = "hardsphere state", "Writes a LAMMPS data file (17 digits, atomic).");
+}
 
+//! hs.DumpWriter: a dump of several frames, committed at close().
+void bind_dump_writer(py::module_& m) {
   py::class_<DumpFile>(m, "DumpWriter",
                        "A LAMMPS text dump as the CLI's --dump writes it, one frame per write(sim); the file appears "
                        "complete at close() (a with block closes it, or discards it on an exception).")
@@ -268,7 +260,10 @@ PYBIND11_MODULE(_hardsphere, m) {
         }
         return false;
       });
+}
 
+//! hs.Stepper: the time stepper, with the CLI's options as keywords.
+void bind_stepper(py::module_& m) {
   py::class_<StepperSim> st(m, "Stepper", "The time stepper (the CLI's default engine).");
   st.def(py::init([](const SystemData& s, double dt, double restitution, std::optional<double> contact_time,
                      std::optional<std::array<double, 3>> gravity, std::optional<double> resting_time,
@@ -307,7 +302,10 @@ PYBIND11_MODULE(_hardsphere, m) {
   st.def_property_readonly("cells_per_dim", [](const StepperSim& s) { return s.engine().cells_per_dim(); });
   st.def_property_readonly("scene_kernel", [](const StepperSim& s) { return s.engine().scene_kernel(); });
   add_simulation(st);
+}
 
+//! hs.EventEngine: the event-driven engine, with the CLI's options as keywords.
+void bind_event_engine(py::module_& m) {
   py::class_<EventSim> ev(m, "EventEngine", "The exact event-driven engine (the CLI's --engine event).");
   ev.def(py::init([](const SystemData& s, double restitution, std::optional<double> contact_time,
                      std::optional<std::array<double, 3>> gravity, std::optional<double> resting_time, py::object cells,
@@ -344,4 +342,27 @@ PYBIND11_MODULE(_hardsphere, m) {
   ev.def_property_readonly("cells_per_dim", [](const EventSim& s) { return s.engine().cells_per_dim(); });
   ev.def_property_readonly("scene_kernel", [](const EventSim& s) { return s.engine().scene_kernel(); });
   add_simulation(ev);
+}
+
+}  // namespace
+
+PYBIND11_MODULE(_hardsphere, m) {
+  m.doc() = "hardsphere: time-stepped and event-driven hard-sphere simulation (docs/python.md)";
+  py::register_exception_translator([](std::exception_ptr p) {
+    try {
+      if (p) std::rethrow_exception(p);
+    } catch (const FileError& e) {
+      set_error(PyExc_OSError, e.what());
+    } catch (const InputError& e) {
+      set_error(PyExc_ValueError, e.what());
+    } catch (const ReentryError& e) {
+      set_error(PyExc_RuntimeError, e.what());
+    }
+  });
+
+  bind_box(m);
+  bind_system(m);
+  bind_dump_writer(m);
+  bind_stepper(m);
+  bind_event_engine(m);
 }

@@ -104,9 +104,11 @@ void run_stepper(StepperSim& sim, py::object self, std::optional<std::int64_t> s
   }
 }
 
-void run_event(EventSim& sim, py::object self, std::optional<std::int64_t> steps, std::optional<double> time,
-               py::object callback, std::optional<double> every, py::object progress, std::int64_t blocks) {
-  const Simulation::InRun in_run(sim);
+namespace {
+
+//! The event engine's run arguments, refused as the CLI refuses them (before anything runs).
+void check_event_run(EventSim& sim, std::optional<std::int64_t> steps, std::optional<double> time,
+                     const py::object& callback, std::optional<double> every, std::int64_t blocks) {
   if (steps) throw InputError("steps is a stepper option; the event engine runs for time (simulated time)");
   if (!time) throw InputError("the event engine needs time=T (simulated time to run)");
   if (!(*time > 0) || !std::isfinite(*time))
@@ -133,12 +135,26 @@ void run_event(EventSim& sim, py::object self, std::optional<std::int64_t> steps
       throw InputError("every = " + number(*every) + " gives more than " + number(kMaxCallbacks) +
                        " callbacks over time " + number(*time));
   }
+}
+
+//! The first chunk's simulated time: about kChunkWork events.
+double first_chunk(EventSim& sim, double time) {
   // Chunks of about kChunkWork events, from the event rate of the last chunk; the first from the
   // neighbour-list events alone (one per half shell moved), times a margin for the collisions.
   double speeds = 0;
   for (const Vec3d& v : sim.state()->vel) speeds += norm(v);
   const double rate = 4 * speeds / (0.5 * sim.engine().shell());
-  double chunk = rate > 0 ? std::min(*time, kChunkWork / rate) : *time;
+  return rate > 0 ? std::min(time, kChunkWork / rate) : time;
+}
+
+}  // namespace
+
+void run_event(EventSim& sim, py::object self, std::optional<std::int64_t> steps, std::optional<double> time,
+               py::object callback, std::optional<double> every, py::object progress, std::int64_t blocks) {
+  const Simulation::InRun in_run(sim);
+  check_event_run(sim, steps, time, callback, every, blocks);
+  const double t0 = sim.time(), target = t0 + *time;
+  double chunk = first_chunk(sim, *time);
   std::int64_t calls = 0;
   auto next_call = [&] {
     if (!every) return target;

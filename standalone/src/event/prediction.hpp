@@ -109,11 +109,6 @@ class Predictions {
   void scan(int i, const Trajectories& tr, const std::uint32_t* cand, int m, double now) {
     const Body& s = tr[std::size_t(i)];
     const std::array<double, 3>& g = tr.gravity();
-    // Best and second-best candidates (time from now, partner, partner's counter when found).
-    double best = pred_[std::size_t(i)].col_time - now, best2 = pred_[std::size_t(i)].col2_time - now;
-    int partner = pred_[std::size_t(i)].col_partner, partner2 = pred_[std::size_t(i)].col2_partner;
-    std::uint32_t cnt = pred_[std::size_t(i)].col_count, cnt2 = pred_[std::size_t(i)].col2_count;
-    const bool second_known = partner2 >= 0;
     const double sigma0 = 2 * s.r;
     // Pass 1: request the partners' states (and collision counters, read for the few that
     // pass the screen) at once, so their cache misses overlap.
@@ -169,7 +164,23 @@ class Predictions {
       hit[nh] = u;
       nh += (bb < 0) & (disc > 0);
     }
-    // Pass 4: contact times of the survivors, best and second best.
+    keep_earliest<Mono>(i, tr, cand, nh, now, stride);
+  }
+  //! scan()'s pass 4: the contact times of the nh candidates that passed the screen (hits_, their
+  //! relative states in soa_), kept when earlier than sphere i's best and second-best ones.
+  template <bool Mono>
+  HS_ALWAYS_INLINE void keep_earliest(int i, const Trajectories& tr, const std::uint32_t* cand, int nh, double now,
+                                      std::size_t stride) {
+    const Body& s = tr[std::size_t(i)];
+    const double sigma0 = 2 * s.r;
+    const double* rx = soa_.data();
+    const double *ry = rx + stride, *rz = ry + stride, *ux = rz + stride, *uy = ux + stride, *uz = uy + stride;
+    const int* hit = hits_.data();
+    // Best and second-best candidates (time from now, partner, partner's counter when found).
+    double best = pred_[std::size_t(i)].col_time - now, best2 = pred_[std::size_t(i)].col2_time - now;
+    int partner = pred_[std::size_t(i)].col_partner, partner2 = pred_[std::size_t(i)].col2_partner;
+    std::uint32_t cnt = pred_[std::size_t(i)].col_count, cnt2 = pred_[std::size_t(i)].col2_count;
+    const bool second_known = partner2 >= 0;
     for (int h = 0; h < nh; ++h) {
       const int u = hit[h];
       const int j = int(adj_partner(cand[u]));

@@ -233,7 +233,10 @@ void assign_angular_velocities(ParticleSystem& sys, double t, double q, Rng& rng
   }
 }
 
-ParticleSystem make_initial_state(const InitSpec& spec) {
+namespace {
+
+//! The spec's numbers and the box, refused with the value at fault before anything is made.
+void check_init_spec(const InitSpec& spec) {
   validate_box(spec.box, "initial state");
   if (spec.n < 1) throw InputError("number of particles n = " + std::to_string(spec.n) + " must be >= 1");
   if (spec.n > std::int64_t(kMaxAdjIndex) + 1)
@@ -270,6 +273,10 @@ ParticleSystem make_initial_state(const InitSpec& spec) {
       throw InputError("box length " + format_number(spec.box.length(d)) +
                        " between walls is not more than one diameter (" + format_number(2 * spec.radius) + ")");
   }
+}
+
+//! The route to the spec's packing fraction (auto's choice), refused where none reaches it.
+InitMethod init_method(const InitSpec& spec) {
   const double phi = double(spec.n) * 4.0 / 3.0 * M_PI * std::pow(spec.radius, 3) / spec.box.volume();
   if (above(phi, kClosePacking))
     throw InputError("packing fraction " + format_number(phi) + " is impossible: above close packing " +
@@ -288,6 +295,14 @@ ParticleSystem make_initial_state(const InitSpec& spec) {
     throw InputError("packing fraction " + format_number(phi) + " is above " + format_number(kLatticeRouteLimit) +
                      ", the densest fluid the lattice route makes (freezing is at 0.494); --init dense reaches " +
                      format_number(kDenseLimit));
+  return method;
+}
+
+}  // namespace
+
+ParticleSystem make_initial_state(const InitSpec& spec) {
+  check_init_spec(spec);
+  const InitMethod method = init_method(spec);
   Rng rng(spec.seed);
   ParticleSystem sys;
   sys.box = spec.box;

@@ -54,9 +54,7 @@ std::ostringstream message() {
   return m;
 }
 
-}  // namespace
-
-void check_scene_numbers(const ParticleSystem& sys, const std::string& source, const std::vector<long>* atom_lines) {
+void check_box_extent(const ParticleSystem& sys, const std::string& source) {
   for (int d = 0; d < 3; ++d) {
     const double lo = sys.box.lo[d], hi = sys.box.hi[d], len = hi - lo;
     if (!std::isfinite(lo) || !std::isfinite(hi) || !std::isfinite(len) || !(len > 0)) {
@@ -65,7 +63,9 @@ void check_scene_numbers(const ParticleSystem& sys, const std::string& source, c
       refuse(source, m);
     }
   }
-  if (sys.size() == 0) return;
+}
+
+void check_finite_atoms(const ParticleSystem& sys, const std::string& source, const std::vector<long>* atom_lines) {
   if (sys.radius.size() != sys.size() || sys.mass.size() != sys.size() || sys.vel.size() != sys.size() ||
       sys.id.size() != sys.size())
     throw InputError(source + ": inconsistent particle arrays");
@@ -80,7 +80,10 @@ void check_scene_numbers(const ParticleSystem& sys, const std::string& source, c
                        "positive)");
     }
   }
-  const double dmin = smallest_diameter(sys), tol = kCoordinateResolution * dmin;
+}
+
+//! The box's bounds must be resolved to a fraction of the smallest diameter dmin (tol).
+void check_box_resolution(const ParticleSystem& sys, const std::string& source, double dmin, double tol) {
   for (int d = 0; d < 3; ++d)
     for (const double bound : {sys.box.lo[d], sys.box.hi[d]})
       if (spacing(bound) > tol) {
@@ -90,6 +93,12 @@ void check_scene_numbers(const ParticleSystem& sys, const std::string& source, c
           << " of a diameter; shift the box towards the origin";
         refuse(source, m);
       }
+}
+
+//! Each atom's position resolved, mass, speed, surface speed and the running kinetic energy
+//! within the ranges the arithmetic keeps finite.
+void check_atom_ranges(const ParticleSystem& sys, const std::string& source, const std::vector<long>* atom_lines,
+                       double dmin, double tol) {
   // Masses: reduced masses m1 m2 / (m1 + m2) must neither overflow nor underflow.
   const double mass_lo = 1e-150, mass_hi = 1e150, speed_hi = 1e150;
   const double resolved = resolved_below(tol);
@@ -142,6 +151,17 @@ void check_scene_numbers(const ParticleSystem& sys, const std::string& source, c
       throw InputError(m.str());
     }
   }
+}
+
+}  // namespace
+
+void check_scene_numbers(const ParticleSystem& sys, const std::string& source, const std::vector<long>* atom_lines) {
+  check_box_extent(sys, source);
+  if (sys.size() == 0) return;
+  check_finite_atoms(sys, source, atom_lines);
+  const double dmin = smallest_diameter(sys), tol = kCoordinateResolution * dmin;
+  check_box_resolution(sys, source, dmin, tol);
+  check_atom_ranges(sys, source, atom_lines, dmin, tol);
 }
 
 void check_engine_numbers(const ParticleSystem& sys, double eps, double largest, double dt, const std::string& what,
