@@ -181,10 +181,10 @@ void add_physics_options(CLI::App* app, RunOptions& o) {
   o.o_gravity = app->add_option("--gravity", o.gravity_s,
                                 "uniform acceleration gx,gy,gz along wall axes only, e.g. 0,0,-1 with "
                                 "--boundary p,p,w (default none)");
-  o.o_restitution =
-      app->add_option("--restitution", o.restitution_s,
-                      "normal restitution e of sphere collisions, 0 < e <= 1 (default 1: elastic; walls stay elastic)")
-          ->type_name("FLOAT");
+  o.o_restitution = app->add_option("--restitution", o.restitution_s,
+                                    "normal restitution e of sphere collisions, 0 < e <= 1 (default 1: elastic; the "
+                                    "walls: --wall-restitution)")
+                        ->type_name("FLOAT");
   o.o_contact_time =
       app->add_option("--contact-time", o.contact_time_s,
                       "TC model: a collision within this time of a sphere's previous one is elastic (default 1e-4; "
