@@ -39,7 +39,9 @@ FixHardSphere::FixHardSphere(LAMMPS *lmp, int narg, char **arg) : Fix(lmp, narg,
     const std::string key = arg[a];
     if (a + 1 >= narg) error->all(FLERR, "fix hardsphere: keyword '" + key + "' needs a value");
     const std::string val = arg[a + 1];
-    if (key == "detect") {
+    if (key.rfind("wall_", 0) == 0) {
+      a += wall_keyword(a, narg, arg) - 2;
+    } else if (key == "detect") {
       if (val == "overlap")
         sweep = false;
       else if (val == "sweep")
@@ -81,9 +83,11 @@ FixHardSphere::FixHardSphere(LAMMPS *lmp, int narg, char **arg) : Fix(lmp, narg,
       else
         error->all(FLERR, "fix hardsphere: path must be 'auto' or 'ghosts', got '" + val + "'");
     } else {
-      error->all(FLERR, "fix hardsphere: unknown keyword '" + key +
-                            "' (known: detect, max_events, restitution, contact_time, tangential_restitution, "
-                            "friction, inertia, ghost, path, timing)");
+      error->all(FLERR,
+                 "fix hardsphere: unknown keyword '" + key +
+                     "' (known: detect, max_events, restitution, contact_time, tangential_restitution, "
+                     "friction, inertia, wall_restitution, wall_tangential_restitution, wall_friction, ghost, path, "
+                     "timing)");
     }
   }
   try {  // gravity comes from fix gravity at setup, checked there against the boundaries
@@ -111,6 +115,33 @@ FixHardSphere::FixHardSphere(LAMMPS *lmp, int narg, char **arg) : Fix(lmp, narg,
   maxexchange = 6;          // vstep travels with migrating atoms
   create_attribute = 1;     // atoms created between runs start with no collision virial
   atom->add_callback(Atom::GROW);
+}
+
+int FixHardSphere::wall_keyword(int a, int narg, char **arg) {
+  using hardsphere::WallSetting;
+  const std::string key = arg[a];
+  WallSetting setting = WallSetting::Restitution;
+  if (key == "wall_tangential_restitution")
+    setting = WallSetting::TangentialRestitution;
+  else if (key == "wall_friction")
+    setting = WallSetting::Friction;
+  else if (key != "wall_restitution")
+    error->all(FLERR, "fix hardsphere: unknown keyword '" + key +
+                          "' (the wall keywords: wall_restitution, wall_tangential_restitution, wall_friction)");
+  // 'KEY face value' when a face follows, else 'KEY value' for every wall.
+  const std::string next = arg[a + 1];
+  const bool face = next.find_first_of("0123456789.") == std::string::npos && next != "inf" && next != "INF";
+  if (face && a + 2 >= narg) error->all(FLERR, "fix hardsphere: " + key + " " + next + " needs a value");
+  const std::string face_name = face ? next : "";
+  if (!wall_keys_seen.insert(key + " " + face_name).second)
+    error->all(FLERR, "fix hardsphere: " + key + (face ? " " + face_name : "") + " is given twice; give it once");
+  const double value = utils::numeric(FLERR, arg[a + (face ? 2 : 1)], false, lmp);
+  try {
+    hardsphere::set_wall_law(physics, given, setting, face_name, value, key);
+  } catch (const std::exception &e) {
+    error->all(FLERR, std::string("fix hardsphere: ") + e.what());
+  }
+  return face ? 3 : 2;
 }
 
 FixHardSphere::~FixHardSphere() {

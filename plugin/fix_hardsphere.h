@@ -15,6 +15,7 @@
 #include <array>
 #include <cstdint>
 #include <memory>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -81,12 +82,17 @@ class FixHardSphere : public Fix {
   //! The summed acceleration of the fix gravity commands (refused along periodic axes).
   void read_gravity();
   bool gravity_changed() const;
+  //! A wall keyword at arg[a]: 'KEY value' (every wall) or 'KEY face value'; returns the
+  //! arguments it took.
+  int wall_keyword(int a, int narg, char **arg);
   //! How the fix's messages name the physics settings.
   static hardsphere::PhysicsNames physics_names() {
     hardsphere::PhysicsNames n;
     n.restitution = "restitution", n.contact_time = "contact_time", n.gravity = "fix gravity";
     n.walls = "'boundary f' on that axis";
     n.tangential_restitution = "tangential_restitution", n.friction = "friction", n.inertia = "inertia";
+    n.wall_restitution = "wall_restitution", n.wall_tangential_restitution = "wall_tangential_restitution";
+    n.wall_friction = "wall_friction", n.face_separator = " ";
     return n;
   }
   //! 2 KE / (3 N) from the sum of m v^2 over this rank's atoms (the standalone's temperature:
@@ -113,8 +119,9 @@ class FixHardSphere : public Fix {
   //! Restitution, contact time, tangential restitution, friction and inertia from the keywords,
   //! gravity from the fix gravity commands (read at setup); validated at setup.
   hardsphere::Physics physics{1.0, hardsphere::kDefaultContactTime, {0, 0, 0}};
-  hardsphere::PhysicsGiven given;  //!< the keywords given: one that would have no effect is refused
-  PartTimer timing;                //!< 'timing yes': wall time per part, printed at the end of each run
+  hardsphere::PhysicsGiven given;        //!< the keywords given: one that would have no effect is refused
+  std::set<std::string> wall_keys_seen;  //!< 'KEY face' of the wall keywords (each once)
+  PartTimer timing;                      //!< 'timing yes': wall time per part, printed at the end of each run
 
   double dt = 0.0;
   std::unique_ptr<StepPath> path;    //!< made at the first init(): serial on one rank, else owned + ghost

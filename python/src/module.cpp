@@ -268,7 +268,8 @@ void bind_stepper(py::module_& m) {
   st.def(py::init([](const SystemData& s, double dt, double restitution, std::optional<double> contact_time,
                      std::optional<std::array<double, 3>> gravity, std::optional<double> resting_time,
                      py::object detect, py::object precision, py::object cells, double work_limit,
-                     double tangential_restitution, std::optional<double> friction, std::optional<double> inertia) {
+                     double tangential_restitution, std::optional<double> friction, std::optional<double> inertia,
+                     py::object wall_e, py::object wall_beta, py::object wall_mu) {
            StepperConfig cfg;
            cfg.dt = dt;
            cfg.detect = parse_detect(text_arg(detect, "detect"));
@@ -276,17 +277,19 @@ void bind_stepper(py::module_& m) {
            cfg.max_particle_steps = work_limit_of(work_limit);
            cfg.names = physics_names();
            const Physics p = physics_of(s.sys.box, restitution, contact_time, gravity, resting_time,
-                                        tangential_restitution, friction, inertia);
+                                        tangential_restitution, friction, inertia, {wall_e, wall_beta, wall_mu});
            return std::make_unique<StepperSim>(s, p, cfg, parse_precision(text_arg(precision, "precision")));
          }),
          "system"_a, py::kw_only(), "dt"_a = 0.01, "restitution"_a = 1.0, "contact_time"_a = py::none(),
          "gravity"_a = py::none(), "resting_time"_a = py::none(), "detect"_a = "auto", "precision"_a = "double",
          "cells"_a = "auto", "work_limit"_a = 1e15, "tangential_restitution"_a = -1.0, "friction"_a = py::none(),
-         "inertia"_a = py::none(),
+         "inertia"_a = py::none(), "wall_restitution"_a = py::none(), "wall_tangential_restitution"_a = py::none(),
+         "wall_friction"_a = py::none(),
          "Stepper(system, *, dt=0.01, restitution=1, contact_time=1e-4 when restitution < 1, gravity=None, "
          "resting_time=None (with gravity; 0: the sub-step), detect='auto', precision='double', cells='auto', "
          "work_limit=1e15, tangential_restitution=-1, friction=None (inf), inertia=None (0.4; both rough spheres "
-         "only)): the CLI's options.");
+         "only), wall_restitution=None (1), wall_tangential_restitution=None, wall_friction=None (the spheres'; "
+         "each one number, 'zlo=0.5,...' or {'zlo': 0.5})): the CLI's options.");
   st.def(
       "_run",
       [](py::object self, py::object steps, std::optional<double> time, py::object callback, py::object every,
@@ -310,22 +313,25 @@ void bind_event_engine(py::module_& m) {
   ev.def(py::init([](const SystemData& s, double restitution, std::optional<double> contact_time,
                      std::optional<std::array<double, 3>> gravity, std::optional<double> resting_time, py::object cells,
                      double shell, double work_limit, double tangential_restitution, std::optional<double> friction,
-                     std::optional<double> inertia) {
+                     std::optional<double> inertia, py::object wall_e, py::object wall_beta, py::object wall_mu) {
            EventConfig cfg;
            cfg.cells = cells_of(cells);
            cfg.shell = shell;
            cfg.max_events = work_limit_of(work_limit);
            cfg.names = physics_names();
            const Physics p = physics_of(s.sys.box, restitution, contact_time, gravity, resting_time,
-                                        tangential_restitution, friction, inertia);
+                                        tangential_restitution, friction, inertia, {wall_e, wall_beta, wall_mu});
            return std::make_unique<EventSim>(s, p, cfg);
          }),
          "system"_a, py::kw_only(), "restitution"_a = 1.0, "contact_time"_a = py::none(), "gravity"_a = py::none(),
          "resting_time"_a = py::none(), "cells"_a = "auto", "shell"_a = 0.0, "work_limit"_a = 1e15,
          "tangential_restitution"_a = -1.0, "friction"_a = py::none(), "inertia"_a = py::none(),
+         "wall_restitution"_a = py::none(), "wall_tangential_restitution"_a = py::none(),
+         "wall_friction"_a = py::none(),
          "EventEngine(system, *, restitution=1, contact_time=1e-4 when restitution < 1, gravity=None, "
          "resting_time=None (with gravity; 0.01 sqrt(d/|g|)), cells='auto', shell=0 (auto), work_limit=1e15, "
-         "tangential_restitution=-1, friction=None (inf), inertia=None (0.4; both rough spheres only)): the CLI's "
+         "tangential_restitution=-1, friction=None (inf), inertia=None (0.4; both rough spheres only), "
+         "wall_restitution=None, wall_tangential_restitution=None, wall_friction=None (as Stepper's)): the CLI's "
          "options.");
   ev.def(
       "_run",

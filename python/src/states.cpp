@@ -139,27 +139,61 @@ std::shared_ptr<SystemData> from_data(const std::string& path, const std::string
   return data;
 }
 
+namespace {
+double number_arg(const py::handle& v, const std::string& name) {
+  if (py::isinstance<py::bool_>(v) || !(py::isinstance<py::float_>(v) || py::isinstance<py::int_>(v)))
+    throw InputError(name + " takes a number, 'face=value,...' text or a dict {face: value}, got " +
+                     py::repr(v).cast<std::string>());
+  return v.cast<double>();
+}
+
+//! One wall keyword into p (see WallArgs).
+void take_wall_arg(Physics& p, PhysicsGiven& given, WallSetting setting, const py::object& value,
+                   const std::string& name) {
+  if (value.is_none()) return;
+  if (py::isinstance<py::str>(value)) return parse_wall_setting(p, given, setting, value.cast<std::string>(), name);
+  if (py::isinstance<py::dict>(value)) {
+    for (const auto item : value.cast<py::dict>()) {
+      if (!py::isinstance<py::str>(item.first) || item.first.cast<std::string>().empty())
+        throw InputError(name + ": the keys are faces (xlo xhi ylo yhi zlo zhi), got " +
+                         py::repr(item.first).cast<std::string>());
+      set_wall_law(p, given, setting, item.first.cast<std::string>(), number_arg(item.second, name), name);
+    }
+    return;
+  }
+  set_wall_law(p, given, setting, "", number_arg(value, name), name);
+}
+}  // namespace
+
 Physics physics_of(const Box& box, double restitution, std::optional<double> contact_time,
                    std::optional<std::array<double, 3>> gravity, std::optional<double> resting_time,
-                   double tangential_restitution, std::optional<double> friction, std::optional<double> inertia) {
+                   double tangential_restitution, std::optional<double> friction, std::optional<double> inertia,
+                   const WallArgs& walls) {
   Physics p;
+  PhysicsGiven given;
+  take_wall_arg(p, given, WallSetting::Restitution, walls.restitution, "wall_restitution");
+  take_wall_arg(p, given, WallSetting::TangentialRestitution, walls.tangential_restitution,
+                "wall_tangential_restitution");
+  take_wall_arg(p, given, WallSetting::Friction, walls.friction, "wall_friction");
   p.tangential_restitution = tangential_restitution;
   p.friction = friction.value_or(p.friction), p.inertia = inertia.value_or(p.inertia);
   p.restitution = restitution;
-  p.contact_time = contact_time.value_or(restitution < 1 ? kDefaultContactTime : 0.0);
+  p.contact_time = contact_time.value_or(restitution < 1 || p.inelastic_walls() ? kDefaultContactTime : 0.0);
   if (gravity) p.gravity = *gravity;
   p.resting_time = resting_time.value_or(0.0);
   // The library's option rules refuse a keyword given where it has no effect.
-  PhysicsGiven given;
   given.contact_time = contact_time.has_value(), given.resting_time = resting_time.has_value();
   given.friction = friction.has_value(), given.inertia = inertia.has_value();
   return validated(p, box.periodic, physics_names(), given);
 }
 
 const PhysicsNames& physics_names() {
-  static const PhysicsNames names{
-      "restitution",  "contact_time",           "gravity",  "walls on that axis (boundary ...,w)",
-      "resting_time", "tangential_restitution", "friction", "inertia"};
+  static const PhysicsNames names{"restitution",      "contact_time",
+                                  "gravity",          "walls on that axis (boundary ...,w)",
+                                  "resting_time",     "tangential_restitution",
+                                  "friction",         "inertia",
+                                  "wall_restitution", "wall_tangential_restitution",
+                                  "wall_friction"};
   return names;
 }
 

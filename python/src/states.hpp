@@ -61,10 +61,18 @@ std::shared_ptr<SystemData> from_data(const std::string& path, const std::string
 //! The keywords' names of the physics settings, for the library's messages.
 const PhysicsNames& physics_names();
 
+//! The wall keywords as given: None, one number for every wall, the CLI's text ('zlo=0.5,zhi=0.9')
+//! or a dict {face: value}.
+struct WallArgs {
+  pybind11::object restitution = pybind11::none(), tangential_restitution = pybind11::none(),
+                   friction = pybind11::none();
+};
+
 //! The physics keywords, validated with the keywords' names in messages.
 Physics physics_of(const Box& box, double restitution, std::optional<double> contact_time,
                    std::optional<std::array<double, 3>> gravity, std::optional<double> resting_time,
-                   double tangential_restitution, std::optional<double> friction, std::optional<double> inertia);
+                   double tangential_restitution, std::optional<double> friction, std::optional<double> inertia,
+                   const WallArgs& walls = {});
 
 //! work_limit: positive and finite (a NaN or infinity would be no limit at all).
 double work_limit_of(double limit);

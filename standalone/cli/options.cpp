@@ -120,9 +120,12 @@ void check_command(int argc, const char* const* argv) {
 
 //! The command line's names of the physics settings, for the library's messages.
 const PhysicsNames& physics_names() {
-  static const PhysicsNames names{
-      "--restitution",  "--contact-time",           "--gravity",  "walls on that axis (--boundary ...,w)",
-      "--resting-time", "--tangential-restitution", "--friction", "--inertia"};
+  static const PhysicsNames names{"--restitution",      "--contact-time",
+                                  "--gravity",          "walls on that axis (--boundary ...,w)",
+                                  "--resting-time",     "--tangential-restitution",
+                                  "--friction",         "--inertia",
+                                  "--wall-restitution", "--wall-tangential-restitution",
+                                  "--wall-friction"};
   return names;
 }
 
@@ -133,11 +136,11 @@ struct RunOptions {
   std::string boundary_s = "p", cells_s = "auto", precision_s = "double", init_s = "auto", json_s, detect_s = "auto";
   std::string read_data_s, write_data_s, dump_s, seed_s = "1", engine_s = "stepper", time_s, etime_s, blocks_s;
   std::string dump_every_s, bins_s, restitution_s, contact_time_s, resting_time_s, gravity_s, track_s, track_every_s,
-      track_file_s, beta_s, friction_s, inertia_s, t_rot_s;
+      track_file_s, beta_s, friction_s, inertia_s, t_rot_s, wall_e_s, wall_beta_s, wall_mu_s;
   CLI::Option *o_beta, *o_bins, *o_blocks, *o_box, *o_contact_time, *o_detect, *o_dt, *o_dump, *o_dump_every, *o_equil,
       *o_etime, *o_friction, *o_gravity, *o_inertia, *o_init, *o_json, *o_mass, *o_n, *o_phi, *o_radius, *o_read,
       *o_resting_time, *o_restitution, *o_seed, *o_speed, *o_steps, *o_t, *o_t_rot, *o_time, *o_track, *o_track_every,
-      *o_track_file, *o_write;
+      *o_track_file, *o_write, *o_wall_e, *o_wall_beta, *o_wall_mu;
 };
 
 // The options, declared in the order the help lists them: the initial state, the stepping, the
@@ -178,10 +181,10 @@ void add_physics_options(CLI::App* app, RunOptions& o) {
   o.o_gravity = app->add_option("--gravity", o.gravity_s,
                                 "uniform acceleration gx,gy,gz along wall axes only, e.g. 0,0,-1 with "
                                 "--boundary p,p,w (default none)");
-  o.o_restitution =
-      app->add_option("--restitution", o.restitution_s,
-                      "normal restitution e of sphere collisions, 0 < e <= 1 (default 1: elastic; walls stay elastic)")
-          ->type_name("FLOAT");
+  o.o_restitution = app->add_option("--restitution", o.restitution_s,
+                                    "normal restitution e of sphere collisions, 0 < e <= 1 (default 1: elastic; the "
+                                    "walls: --wall-restitution)")
+                        ->type_name("FLOAT");
   o.o_contact_time =
       app->add_option("--contact-time", o.contact_time_s,
                       "TC model: a collision within this time of a sphere's previous one is elastic (default 1e-4; "
@@ -208,6 +211,19 @@ void add_physics_options(CLI::App* app, RunOptions& o) {
                               "normal with variance T/I (default: the translational temperature)")
                   ->type_name("FLOAT")
                   ->needs(o.o_beta);
+  // The walls' own laws: one value for every wall, or face=value items (docs/cli.md).
+  o.o_wall_e = app->add_option("--wall-restitution", o.wall_e_s,
+                               "normal restitution of the walls, 0 < e_w <= 1: one value, or face=value items of "
+                               "xlo xhi ylo yhi zlo zhi, e.g. zlo=0.5 (default 1: elastic)")
+                   ->type_name("E|FACE=E,...");
+  o.o_wall_beta = app->add_option("--wall-tangential-restitution", o.wall_beta_s,
+                                  "rough spheres: the walls' tangential restitution, -1 <= beta_w <= 1, one value or "
+                                  "face=value items (default: --tangential-restitution)")
+                      ->type_name("B|FACE=B,...");
+  o.o_wall_mu = app->add_option("--wall-friction", o.wall_mu_s,
+                                "rough spheres: the walls' Coulomb friction mu_w >= 0, one value or face=value items "
+                                "(default: --friction)")
+                    ->type_name("MU|FACE=MU,...");
 }
 
 void add_output_options(CLI::App* app, RunOptions& o, bool& quiet) {
@@ -256,6 +272,19 @@ void take_settings(const RunOptions& o, RunSpec& spec) {
   if (o.o_bins->count()) spec.histogram_bins = int(whole("--histogram-bins", o.bins_s, 1, kMaxBins));
 }
 
+//! The walls' laws; inelastic walls take the TC model's default contact time, as --restitution.
+void take_wall_laws(const RunOptions& o, RunSpec& spec, PhysicsGiven& given) {
+  const std::pair<CLI::Option*, WallSetting> settings[] = {{o.o_wall_e, WallSetting::Restitution},
+                                                           {o.o_wall_beta, WallSetting::TangentialRestitution},
+                                                           {o.o_wall_mu, WallSetting::Friction}};
+  const std::string* texts[] = {&o.wall_e_s, &o.wall_beta_s, &o.wall_mu_s};
+  for (std::size_t k = 0; k < 3; ++k)
+    if (settings[k].first->count())
+      parse_wall_setting(spec.physics, given, settings[k].second, *texts[k], settings[k].first->get_name());
+  if (spec.physics.inelastic_walls() && !o.o_contact_time->count() && spec.physics.contact_time == 0)
+    spec.physics.contact_time = kDefaultContactTime;
+}
+
 //! The physics, checked by the library's rules under the command line's names.
 void take_physics(const RunOptions& o, RunSpec& spec) {
   if (o.o_restitution->count()) {
@@ -275,6 +304,7 @@ void take_physics(const RunOptions& o, RunSpec& spec) {
   if (o.o_inertia->count()) spec.physics.inertia = real("--inertia", o.inertia_s);
   // The option rules (a setting given where it has no effect) are the library's, as for every face.
   PhysicsGiven given;
+  take_wall_laws(o, spec, given);
   given.contact_time = o.o_contact_time->count(), given.resting_time = o.o_resting_time->count();
   given.friction = o.o_friction->count(), given.inertia = o.o_inertia->count();
   spec.physics = validated(spec.physics, spec.periodic, physics_names(), given);

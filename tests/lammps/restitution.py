@@ -25,6 +25,30 @@ def cooling(ctx, case):
 
 
 @cases.case
+def wall(ctx, case):
+    """One sphere dropped 4.503 onto a floor with 'wall_restitution zlo 0.5' (fix gravity 1): its
+    flight energy after the bounce is (e_w v0)^2 / 2 above the contact, so it rises to
+    e_w^2 4.503 above the contact; the standalone's --wall-restitution zlo=0.5 run from the same
+    state ends at the same position and velocity."""
+    out = ctx.lammps("restitution/wall_drop.lmp", vars=dict(ew=0.5))
+    rows = out.rows
+    after = [r for r in rows if r["f_hs[5]"] == 1]
+    rebound = after[-1]["v_e"] - 0.5  # vz^2 / 2 + g (z - 0.5): the height it rises to
+    ctx.standalone("--read-data", "drop_start.data", "--boundary", "p,p,w", "--gravity", "0,0,-1", "--dt", 0.01,
+                   "--steps", 450, "--wall-restitution", "zlo=0.5", "--write-data", "drop_cli.data")
+    dx, dv = ctx.difference("drop_end.data", "drop_cli.data", periodic=(True, True, False))
+    return {"wall bounces": rows[-1]["f_hs[5]"], "rebound height over the drop": rebound / 4.503,
+            "position against the standalone's": dx, "velocity against the standalone's": dv}, {}
+
+
+@cases.case
+def wall_refused(ctx, case):
+    """A wall keyword naming a face without a wall (x is periodic) is refused, not ignored."""
+    out = ctx.lammps("restitution/wall_drop.lmp", vars=dict(ew="0.5 wall_restitution xlo 0.5"), expect_ok=False)
+    return {"exit status": abs(out.returncode), "output": out.text}, {}
+
+
+@cases.case
 def refused(ctx, case):
     reference(ctx)
     out = ctx.lammps("restitution/inelastic.lmp", vars=dict(data="init.data", dt=0.02, e=1.5), expect_ok=False)

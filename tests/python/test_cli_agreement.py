@@ -161,3 +161,43 @@ def test_rough_spheres_equal_cli(cli, tmp_path, engine):
         assert o[k] == summary[k], k
     assert np.array_equal(hs.System.from_data(str(out)).omegas, sim.omegas)
     assert not hs.Stepper(hs.System.from_data(str(start))).observables().keys() & set(ROUGH_KEYS)
+
+
+WALL_KEYS = ["wall_laws", "wall_dissipated_energy_normal", "wall_dissipated_energy_tangential",
+             "dissipated_energy_normal", "dissipated_energy_tangential"]
+
+
+@pytest.mark.parametrize("engine", ["stepper", "event"])
+def test_wall_laws_equal_cli(cli, bed, tmp_path, engine):
+    """The wall keywords are the CLI's options: text, one number or a dict give the same run."""
+    out = tmp_path / "cli.data"
+    length = ["--steps", 300, "--dt", 0.005] if engine == "stepper" else ["--engine", "event", "--time", 1.5]
+    summary = json.loads(cli("run", "--read-data", bed, "--boundary", "p,p,w", "--gravity", "0,0,-1",
+                             "--tangential-restitution", 0.5, "--wall-restitution", "zlo=0.5,zhi=0.8",
+                             "--wall-tangential-restitution", 0, "--wall-friction", "zlo=0.3", *length,
+                             "--json", "-", "--write-data", out).stdout)
+    system = hs.System.from_data(str(bed), boundary="p,p,w")
+    laws = dict(gravity=(0, 0, -1), tangential_restitution=0.5, wall_restitution={"zlo": 0.5, "zhi": 0.8},
+                wall_tangential_restitution=0, wall_friction="zlo=0.3")
+    sim = hs.Stepper(system, dt=0.005, **laws) if engine == "stepper" else hs.EventEngine(system, **laws)
+    sim.run(steps=300) if engine == "stepper" else sim.run(time=1.5)
+    compare(sim, summary, out, "p,p,w")
+    o = sim.observables()
+    assert summary["wall_dissipated_energy_normal"] > 0
+    for k in WALL_KEYS:
+        assert o[k] == summary[k], k
+
+
+@pytest.mark.parametrize("kwargs,needle", [
+    (dict(wall_restitution=1.5), "wall_restitution 1.5 must be in (0, 1]"),
+    (dict(wall_restitution={"zlo": 0}), "wall_restitution zlo=0 must be in (0, 1]"),
+    (dict(wall_restitution={"bottom": 0.5}), "unknown face 'bottom'"),
+    (dict(wall_restitution="xlo=0.5"), "no wall at xlo"),
+    (dict(wall_restitution=True), "wall_restitution takes a number"),
+    (dict(wall_friction=0.3), "wall_friction 0.3 needs rough spheres"),
+])
+def test_bad_wall_keywords_are_value_errors(bed, kwargs, needle):
+    system = hs.System.from_data(str(bed), boundary="p,p,w")
+    for engine in (hs.Stepper, hs.EventEngine):
+        with pytest.raises(ValueError, match=needle.replace("(", r"\(").replace(")", r"\)").replace("[", r"\[")):
+            engine(system, **kwargs)

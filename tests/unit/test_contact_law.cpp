@@ -169,22 +169,25 @@ TEST(RestingContact, EitherSideOfTheThresholdOnBothWallsForBothSignsOfG) {
   EXPECT_FALSE(k::resting_contact(0.0, 0.0, 1, rt));
 }
 
+//! The TC clock of a sphere that collided long ago.
+static bool never() { return false; }
+
 TEST(WallLaw, ReflectionOrRestWithTheirImpulses) {
-  const k::Roughness<double> smooth_law;
+  const k::WallLaw<double> smooth_law;
   // Onto the floor (axis 2, side -1) at -3 under g = -2: far above the threshold 2 * 0.125, a
   // bounce taking 2 |v| per unit mass.
   k::WallOutcome<double> out =
-      k::collide_wall<false>(smooth_law, 2, -1, Vec3d{1, 0, -3}, -2.0, 0.125, 0.5, nullptr, 1.0, 0.5);
+      k::collide_wall<false>(smooth_law, 2, -1, Vec3d{1, 0, -3}, -2.0, 0.125, 0.5, nullptr, 1.0, 0.5, never);
   EXPECT_FALSE(out.rested);
   EXPECT_DOUBLE_EQ(out.impulse, 6.0);
   EXPECT_EQ(out.dv.x, 0.0);
   // At -0.25: resting; it leaves at -g hop / 2 = 0.5 (hop 0.5), the wall takes 0.25 + 0.5.
-  out = k::collide_wall<false>(smooth_law, 2, -1, Vec3d{1, 0, -0.25}, -2.0, 0.125, 0.5, nullptr, 1.0, 0.5);
+  out = k::collide_wall<false>(smooth_law, 2, -1, Vec3d{1, 0, -0.25}, -2.0, 0.125, 0.5, nullptr, 1.0, 0.5, never);
   EXPECT_TRUE(out.rested);
   EXPECT_DOUBLE_EQ(out.leave, 0.5);
   EXPECT_DOUBLE_EQ(out.impulse, 0.75);
   // The same contact on the ceiling under g = +2 leaves downwards.
-  out = k::collide_wall<false>(smooth_law, 2, 1, Vec3d{1, 0, 0.25}, 2.0, 0.125, 0.5, nullptr, 1.0, 0.5);
+  out = k::collide_wall<false>(smooth_law, 2, 1, Vec3d{1, 0, 0.25}, 2.0, 0.125, 0.5, nullptr, 1.0, 0.5, never);
   EXPECT_TRUE(out.rested);
   EXPECT_DOUBLE_EQ(out.leave, -0.5);
 }
@@ -192,13 +195,13 @@ TEST(WallLaw, ReflectionOrRestWithTheirImpulses) {
 TEST(WallLaw, RoughBetaKeepsOrReversesTheContactPointVelocity) {
   // A sphere (m = 2, a = 0.5, q = 0.4) onto the upper wall of axis 1 (inward normal -y), sliding
   // and spinning: with beta = -1 nothing tangential changes, with beta = 1 the contact point's
-  // tangential velocity v - a w x n is reversed; a resting contact takes no tangential impulse.
+  // tangential velocity v - a w x n is reversed. (Resting contacts: below.)
   const Vec3d n{0, -1, 0}, v{0.7, 1.5, -0.2};
   for (const double beta : {-1.0, 1.0}) {
-    const k::Roughness<double> law{beta, kInf, 0.4};
+    const k::WallLaw<double> law{1.0, {beta, kInf, 0.4}};
     Vec3d w{0.3, -0.4, 1.1};
     const Vec3d gt0 = tangential(v - 0.5 * cross(w, n), n);
-    const k::WallOutcome<double> out = k::collide_wall<true>(law, 1, 1, v, 0.0, 0.125, 0.0, &w, 2.0, 0.5);
+    const k::WallOutcome<double> out = k::collide_wall<true>(law, 1, 1, v, 0.0, 0.125, 0.0, &w, 2.0, 0.5, never);
     EXPECT_FALSE(out.rested);
     EXPECT_DOUBLE_EQ(out.impulse, 3.0);
     EXPECT_EQ(out.dv.y, 0.0);  // tangential only: the normal reflection is the engine's
@@ -207,11 +210,47 @@ TEST(WallLaw, RoughBetaKeepsOrReversesTheContactPointVelocity) {
     expect_near(gt1, beta == 1 ? -1.0 * gt0 : gt0, 1e-15);
     EXPECT_NEAR(out.contact.dissipated_tangential, 0.0, 1e-15);
   }
-  const k::Roughness<double> law{1.0, kInf, 0.4};
-  Vec3d w{0.3, -0.4, 1.1};
-  const k::WallOutcome<double> rest =
-      k::collide_wall<true>(law, 1, 1, Vec3d{0.7, 0.1, 0}, 1.0, 0.125, 0.1, &w, 2.0, 0.5);
-  EXPECT_TRUE(rest.rested);
-  EXPECT_EQ(rest.dv.x, 0.0);
-  EXPECT_EQ(w.z, 1.1);
+}
+
+TEST(WallLaw, RestingContactTakesTheWallsTangentialLaw) {
+  // A resting contact on the upper wall of axis 1 (g = +1 pulls into it) arriving at 0.1 and
+  // leaving at g hop / 2 = 0.05: its normal impulse per unit mass is 0.15. Sticking (mu = inf,
+  // beta = 1) reverses the contact point's tangential velocity; with mu = 0.1 the tangential
+  // impulse per unit mass is capped at mu 0.15 against it.
+  const Vec3d n{0, -1, 0}, v{0.7, 0.1, 0};
+  const Vec3d w0{0.3, -0.4, 1.1};
+  const Vec3d gt0 = tangential(v - 0.5 * cross(w0, n), n);
+  Vec3d w = w0;
+  const k::WallOutcome<double> stick =
+      k::collide_wall<true>(k::WallLaw<double>{1.0, {1.0, kInf, 0.4}}, 1, 1, v, 1.0, 0.125, 0.1, &w, 2.0, 0.5, never);
+  EXPECT_TRUE(stick.rested);
+  EXPECT_DOUBLE_EQ(stick.leave, -0.05);
+  expect_near(tangential(v + stick.dv - 0.5 * cross(w, n), n), -1.0 * gt0, 1e-15);
+  w = w0;
+  const k::WallOutcome<double> slide =
+      k::collide_wall<true>(k::WallLaw<double>{1.0, {1.0, 0.1, 0.4}}, 1, 1, v, 1.0, 0.125, 0.1, &w, 2.0, 0.5, never);
+  EXPECT_TRUE(slide.contact.sliding);
+  EXPECT_NEAR(norm(slide.dv), 0.1 * 0.15, 1e-15);
+  EXPECT_NEAR(dot(slide.dv, gt0), -norm(slide.dv) * norm(gt0), 1e-15);  // against the slip
+}
+
+TEST(WallLaw, RestitutionLeavesAtEwTimesTheNormalSpeedWithTheTcFallback) {
+  // Onto the floor at -3 with e_w = 0.5 (m = 2): it leaves at 1.5, the wall takes 4.5 per unit
+  // mass and the kinetic energy 1/2 m (1 - e_w^2) 9 = 6.75. Within the contact time of its last
+  // collision (the TC rule), elastic: leaves at 3, nothing dissipated.
+  const k::WallLaw<double> law{0.5, {}};
+  k::WallOutcome<double> out =
+      k::collide_wall<false>(law, 2, -1, Vec3d{1, 0, -3}, 0.0, 0.0, 0.0, nullptr, 2.0, 0.5, never);
+  EXPECT_TRUE(out.restituted);
+  EXPECT_EQ(out.leave, 1.5);
+  EXPECT_EQ(out.impulse, 4.5);
+  EXPECT_EQ(out.contact.dissipated_normal, 6.75);
+  out = k::collide_wall<false>(law, 2, -1, Vec3d{1, 0, -3}, 0.0, 0.0, 0.0, nullptr, 2.0, 0.5, [] { return true; });
+  EXPECT_FALSE(out.restituted);
+  EXPECT_EQ(out.leave, 3.0);
+  EXPECT_EQ(out.contact.dissipated_normal, 0.0);
+  // A resting contact's net energy: arriving at 0.25, leaving at 0.5 (hop 0.5 under g = -2).
+  out = k::collide_wall<false>(law, 2, -1, Vec3d{1, 0, -0.25}, -2.0, 0.125, 0.5, nullptr, 2.0, 0.5, never);
+  EXPECT_TRUE(out.rested);
+  EXPECT_DOUBLE_EQ(out.contact.dissipated_normal, 0.25 * 0.25 - 0.5 * 0.5);
 }

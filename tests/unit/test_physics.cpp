@@ -91,3 +91,84 @@ TEST(Physics, SettingsGivenWhereTheyHaveNoEffectAreRefused) {
   elastic.restitution = 0.5;
   EXPECT_EQ(refused(elastic, contact, lammps), "");
 }
+
+TEST(Physics, WallLawsAreRefusedOutsideTheirRangesNamingTheFace) {
+  const std::array<bool, 3> floor_only{true, true, false}, walls{false, false, false};
+  const auto refused = [](const Physics& p, const std::array<bool, 3>& periodic, const PhysicsGiven& given = {}) {
+    try {
+      validated(p, periodic, {}, given);
+    } catch (const InputError& e) {
+      return std::string(e.what());
+    }
+    return std::string();
+  };
+  Physics p;
+  p.contact_time = 1e-4;
+  p.walls[4].restitution = 0;
+  EXPECT_NE(refused(p, floor_only).find("wall restitution zlo=0 must be in (0, 1]"), std::string::npos);
+  p.walls[4].restitution = 0.5;
+  EXPECT_EQ(refused(p, floor_only), "");
+  p.contact_time = 0;  // an inelastic wall keeps the TC model's clock
+  EXPECT_NE(refused(p, floor_only).find("contact time 0 with a wall restitution below 1"), std::string::npos);
+  // A tangential law needs rough spheres; then its ranges, and a friction a sticking limit.
+  Physics r;
+  r.walls[1].friction = 0.3;
+  EXPECT_NE(refused(r, walls).find("wall friction xhi=0.3 needs rough spheres"), std::string::npos);
+  r.tangential_restitution = 0.5;
+  EXPECT_EQ(refused(r, walls), "");
+  r.walls[1].friction = -1;
+  EXPECT_NE(refused(r, walls).find("wall friction xhi=-1 must be >= 0"), std::string::npos);
+  r.walls[1].friction = 0.3;
+  r.walls[1].tangential_restitution = -1;
+  EXPECT_NE(refused(r, walls).find("wall friction xhi=0.3 needs a wall tangential restitution above -1"),
+            std::string::npos);
+  r.walls[1].tangential_restitution = 1.5;
+  EXPECT_NE(refused(r, walls).find("wall tangential restitution xhi=1.5 must be in [-1, 1]"), std::string::npos);
+  // A face named where the box has no wall is refused; a setting for every wall sets those that
+  // exist, and is refused where there are none.
+  Physics q;
+  q.contact_time = 1e-4;
+  for (WallLaw& w : q.walls) w.restitution = 0.5;
+  PhysicsGiven all;
+  all.all_walls = true;
+  const Physics v = validated(q, floor_only, {}, all);
+  EXPECT_EQ(v.walls[0].restitution, 1.0);
+  EXPECT_EQ(v.walls[5].restitution, 0.5);
+  EXPECT_NE(refused(q, {true, true, true}, all).find("the box has no walls"), std::string::npos);
+  PhysicsGiven named;
+  named.wall_faces[2] = true;
+  EXPECT_NE(refused(q, floor_only, named).find("the box has no wall at ylo (axis y is periodic)"), std::string::npos);
+}
+
+TEST(Physics, WallSettingsReadOneValueOrFaceValueLists) {
+  const auto refused = [](const std::string& text) {
+    Physics p;
+    PhysicsGiven g;
+    try {
+      parse_wall_setting(p, g, WallSetting::Restitution, text, "--wall-restitution");
+    } catch (const InputError& e) {
+      return std::string(e.what());
+    }
+    return std::string();
+  };
+  Physics p;
+  PhysicsGiven g;
+  parse_wall_setting(p, g, WallSetting::Restitution, "0.5", "--wall-restitution");
+  EXPECT_TRUE(g.all_walls);
+  for (const WallLaw& w : p.walls) EXPECT_EQ(w.restitution, 0.5);
+  Physics q;
+  PhysicsGiven h;
+  parse_wall_setting(q, h, WallSetting::Friction, "zlo=0.3,xhi=inf", "--wall-friction");
+  EXPECT_FALSE(h.all_walls);
+  EXPECT_EQ(*q.walls[4].friction, 0.3);
+  EXPECT_EQ(*q.walls[1].friction, std::numeric_limits<double>::infinity());
+  EXPECT_FALSE(q.walls[0].friction);
+  EXPECT_TRUE(h.wall_faces[4] && h.wall_faces[1] && !h.wall_faces[0]);
+  EXPECT_NE(refused("abc").find("--wall-restitution 'abc': 'abc' is not a number"), std::string::npos);
+  EXPECT_NE(refused("zlo=0.5,top=1").find("unknown face 'top'"), std::string::npos);
+  EXPECT_NE(refused("zlo=0.5,zlo=0.7").find("names face zlo twice"), std::string::npos);
+  EXPECT_NE(refused("zlo=0.5,0.7").find("'0.7' is not face=value"), std::string::npos);
+  EXPECT_NE(refused("zlo=").find("'' is not a number"), std::string::npos);
+  EXPECT_NE(refused("=0.5").find("names no face"), std::string::npos);
+  EXPECT_NE(refused("zlo=0.5,").find("'' is not face=value"), std::string::npos);
+}

@@ -15,11 +15,12 @@ namespace hardsphere {
 template <class Count>
 struct BasicCollisionTotals {
   Count collisions = 0, wall_collisions = 0;
-  Count resting_contacts = 0;                                  //!< wall contacts too slow to bounce
-  double pair_virial = 0;                                      //!< sum over collisions of r_ij . dp_i
-  std::array<double, 6> pair_virial_tensor{0, 0, 0, 0, 0, 0};  //!< r_ij (x) dp_i: xx yy zz xy xz yz
-  std::array<double, 3> wall_impulse{0, 0, 0};                 //!< momentum given to the walls of each axis
-  double dissipated_normal = 0, dissipated_tangential = 0;     //!< rough spheres: energy taken by channel
+  Count resting_contacts = 0;                                         //!< wall contacts too slow to bounce
+  double pair_virial = 0;                                             //!< sum over collisions of r_ij . dp_i
+  std::array<double, 6> pair_virial_tensor{0, 0, 0, 0, 0, 0};         //!< r_ij (x) dp_i: xx yy zz xy xz yz
+  std::array<double, 3> wall_impulse{0, 0, 0};                        //!< momentum given to the walls of each axis
+  double dissipated_normal = 0, dissipated_tangential = 0;            //!< rough spheres: energy taken by channel
+  double wall_dissipated_normal = 0, wall_dissipated_tangential = 0;  //!< what the walls took, any spheres
 
   BasicCollisionTotals& operator+=(const BasicCollisionTotals& o) {
     collisions += o.collisions, wall_collisions += o.wall_collisions, resting_contacts += o.resting_contacts;
@@ -27,6 +28,7 @@ struct BasicCollisionTotals {
     for (std::size_t k = 0; k < 6; k++) pair_virial_tensor[k] += o.pair_virial_tensor[k];
     for (std::size_t k = 0; k < 3; k++) wall_impulse[k] += o.wall_impulse[k];
     dissipated_normal += o.dissipated_normal, dissipated_tangential += o.dissipated_tangential;
+    wall_dissipated_normal += o.wall_dissipated_normal, wall_dissipated_tangential += o.wall_dissipated_tangential;
     return *this;
   }
   //! What was added since `o` (counters read at two times).
@@ -36,6 +38,8 @@ struct BasicCollisionTotals {
     for (std::size_t k = 0; k < 6; k++) a.pair_virial_tensor[k] -= o.pair_virial_tensor[k];
     for (std::size_t k = 0; k < 3; k++) a.wall_impulse[k] -= o.wall_impulse[k];
     a.dissipated_normal -= o.dissipated_normal, a.dissipated_tangential -= o.dissipated_tangential;
+    a.wall_dissipated_normal -= o.wall_dissipated_normal;
+    a.wall_dissipated_tangential -= o.wall_dissipated_tangential;
     return a;
   }
 };
@@ -61,6 +65,7 @@ BasicCollisionTotals<Count> collision_totals(const Counters& c) {
   if constexpr (detail::HasVirialTensor<Counters>::value) t.pair_virial_tensor = c.pair_virial_tensor;
   t.wall_impulse = c.wall_impulse;
   t.dissipated_normal = c.dissipated_normal, t.dissipated_tangential = c.dissipated_tangential;
+  t.wall_dissipated_normal = c.wall_dissipated_normal, t.wall_dissipated_tangential = c.wall_dissipated_tangential;
   return t;
 }
 

@@ -4,9 +4,10 @@
 //! is one prologue (the TC model: restituted, or the elastic fallback) and an evaluator per physics
 //! (smooth: collide() / collide_equal_mass(); rough: collide_rough()). A wall law is the normal
 //! part (reflection or the resting contact under gravity, and the impulse) and, for rough spheres,
-//! wall_tangential(). A new law (e.g. a wall's own restitution and friction) is one more evaluator
-//! here; the engines keep only what is theirs (moving spheres to and from the contact, tallies,
-//! re-predictions).
+//! wall_tangential(), each wall with its own law (WallLaw: restitution, tangential restitution and
+//! friction). A new law is one more evaluator here; the engines keep only what is theirs (moving spheres to and from
+//! the contact, tallies, re-predictions).
+#include <array>
 #include <cmath>
 
 #include "hardsphere/collision.hpp"
@@ -117,45 +118,90 @@ inline bool resting_contact(T v, T g, int side, T resting_time) {
   return (side < 0 ? g < T(0) : g > T(0)) && std::abs(v) <= std::abs(g) * resting_time;
 }
 
-//! What a wall contact does: the ContactOutcome's energy (tangential) and, along the normal,
-//! whether it rested and the velocity it leaves a resting contact with; `impulse` is the momentum
-//! per unit mass the wall took, dv the sphere's tangential velocity change (rough spheres).
+//! A wall's law (Physics::walls, one box face): normal restitution e_w and, for rough spheres,
+//! the tangential law, the wall an infinite mass (its q is the spheres').
+template <class T>
+using WallLaw = PairLaw<T>;
+
+//! The kernel's laws of the six box faces (kFaceNames order) from validated physics (P: Physics,
+//! a layer the kernel does not include), as both engines take them.
+template <class T, class P>
+inline std::array<WallLaw<T>, 6> wall_laws(const P& p) {
+  std::array<WallLaw<T>, 6> laws;
+  for (int f = 0; f < 6; ++f)
+    laws[std::size_t(f)] = {T(p.walls[std::size_t(f)].restitution),
+                            {T(p.wall_tangential_restitution(f)), T(p.wall_friction(f)), T(p.inertia)}};
+  return laws;
+}
+
+//! What a wall contact does: the ContactOutcome's energy and, along the normal, whether it rested
+//! and the normal velocity it leaves with; `impulse` is the momentum per unit mass the wall took,
+//! dv the sphere's tangential velocity change (rough spheres).
 template <class T>
 struct WallOutcome {
   bool rested = false;
-  T leave = T(0);  //!< resting: the normal velocity at leaving, -g hop / 2
+  bool restituted = false;  //!< e_w < 1 applied (the engine moves it off the wall at `leave`)
+  T leave = T(0);           //!< the normal velocity at leaving (resting: -g hop / 2)
   double impulse = 0;
   Vec3<T> dv{};
-  ContactOutcome contact;
+  ContactOutcome contact;  //!< dissipated_normal: restitution's loss, or a rest's net energy taken
 };
 
-//! The wall law (the wall an infinite mass at rest, elastic along its normal): a sphere of mass m,
-//! radius a touching the wall on `side` of axis d at velocity v (its normal part v[d] towards the
-//! wall) under gravity g along d either rests (resting_contact() over `resting_time`: it leaves at
-//! half the speed gravity builds over `hop`, so it is back on the wall after hop) or is reflected,
-//! v[d] -> -v[d], which the engine applies to its own coordinates. Rough (w its angular velocity,
-//! updated): a reflected sphere also takes wall_tangential()'s impulse; a resting one none.
-template <bool Rough, class T>
-inline WallOutcome<T> collide_wall(const Roughness<T>& k, int d, int side, Vec3<T> v, T g, T resting_time, T hop,
-                                   typename detail::NoDeduce<Vec3<T>*>::type w, T m, T a) {
+//! The wall law: a sphere of mass m, radius a touching the wall on `side` of axis d at velocity v
+//! (its normal part v[d] towards the wall) under gravity g along d either rests (resting_contact()
+//! over `resting_time`: it leaves at half the speed gravity builds over `hop`, so it is back on
+//! the wall after hop) or bounces, leaving at -e_w v[d] (the TC rule as pairs have it, pair_rule()
+//! with `collided_recently`: within the contact time of its last collision it is elastic and
+//! smooth); the engine moves its own coordinates (e_w = 1: the mirror, v[d] -> -v[d]). Rough (w
+//! its angular velocity, updated): the tangential impulse of the wall's law (wall_tangential())
+//! for the normal impulse, a resting contact's too, so a sphere sliding on a floor is braked at
+//! mu_w g and rolls.
+template <bool Rough, class T, class Recent>
+inline WallOutcome<T> collide_wall(const WallLaw<T>& law, int d, int side, Vec3<T> v, T g, T resting_time, T hop,
+                                   typename detail::NoDeduce<Vec3<T>*>::type w, T m, T a, Recent&& collided_recently) {
   WallOutcome<T> out;
   const T vn = v[d];
   out.rested = resting_contact(vn, g, side, resting_time);
   out.contact.changed = true;
+  T jn;  // the normal impulse per unit mass, in T for the tangential law
   if (out.rested) {
     out.leave = -(T(0.5) * g * hop);
     out.impulse = std::abs(double(vn)) + std::abs(double(out.leave));
-    return out;
+    out.contact.dissipated_normal = 0.5 * double(m) * (double(vn) * double(vn) - double(out.leave) * double(out.leave));
+    jn = std::abs(vn) + std::abs(out.leave);
+  } else {
+    const PairRule rule = pair_rule(law, collided_recently);
+    out.restituted = rule.restituted;
+    if (!rule.restituted) {
+      out.leave = -vn;
+      out.impulse = 2.0 * std::abs(double(vn));
+      jn = T(2) * std::abs(vn);
+    } else {
+      out.leave = -law.restitution * vn;
+      out.impulse = std::abs(double(vn)) + std::abs(double(out.leave));
+      out.contact.dissipated_normal =
+          0.5 * double(m) * (double(vn) * double(vn) - double(out.leave) * double(out.leave));
+      jn = std::abs(vn) + std::abs(out.leave);
+    }
+    if (!rule.full) return out;  // TC-elastic: smooth too
   }
-  out.impulse = 2.0 * std::abs(double(vn));
   if constexpr (Rough) {
     Vec3<T> n{};
     n[d] = side < 0 ? T(1) : T(-1);  // into the box
     T dissipated = T(0);
-    out.dv = wall_tangential(n, v, *w, m, a, T(2) * std::abs(vn), k, dissipated, out.contact.sliding);
+    out.dv = wall_tangential(n, v, *w, m, a, jn, law.roughness, dissipated, out.contact.sliding);
     out.contact.dissipated_tangential = double(dissipated);
   }
   return out;
+}
+
+//! A coordinate that touched the contact plane `plane` a time s before the end of the window
+//! under acceleration g along it (0: straight flight) and left it at normal velocity u: its
+//! coordinate and velocity at the end of the window.
+template <class T>
+inline void leave_wall(T& x, T& v, T g, T plane, T s, T u) {
+  x = plane + (u + T(0.5) * g * s) * s;
+  v = u + g * s;
 }
 
 }  // namespace hardsphere::kernel

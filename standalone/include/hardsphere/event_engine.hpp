@@ -84,6 +84,7 @@ struct EventCounters {
   std::array<double, 3> wall_impulse{0, 0, 0};  //!< momentum given to the walls of each axis
   //! Kinetic energy the collisions took, by channel; rough scenes only (as StepCounters').
   double dissipated_normal = 0, dissipated_tangential = 0;
+  double wall_dissipated_normal = 0, wall_dissipated_tangential = 0;  //!< as StepCounters'
 };
 
 class EventEngine {

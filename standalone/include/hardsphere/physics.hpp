@@ -3,6 +3,7 @@
 //! command line and the LAMMPS fix take, checked in one place (validated()).
 #include <array>
 #include <limits>
+#include <optional>
 #include <string>
 
 namespace hardsphere {
@@ -20,8 +21,26 @@ constexpr double kGravityRounding = 1e-12;
 //! takes its sub-step).
 constexpr double kRestingTimeFraction = 0.01;
 
+//! The box faces in the order Physics::walls holds them (face 2 d + 1 is axis d's upper wall),
+//! named as every face names them.
+constexpr std::array<const char*, 6> kFaceNames{"xlo", "xhi", "ylo", "yhi", "zlo", "zhi"};
+
+//! The law of one box face (the wall an infinite mass at rest): normal restitution and, for rough
+//! spheres, Walton's tangential law, as the pair law has them. Unset tangential parameters take the
+//! spheres' (Physics::tangential_restitution, friction), which is what walls did before they had
+//! laws of their own.
+struct WallLaw {
+  double restitution = 1.0;                      //!< e_w in (0, 1]; 1: elastic
+  std::optional<double> tangential_restitution;  //!< beta_w in [-1, 1]; rough spheres only
+  std::optional<double> friction;                //!< mu_w >= 0 (infinity: no sliding); rough spheres only
+  bool operator==(const WallLaw& o) const {
+    return restitution == o.restitution && tangential_restitution == o.tangential_restitution && friction == o.friction;
+  }
+  bool operator!=(const WallLaw& o) const { return !(*this == o); }
+};
+
 struct Physics {
-  //! Normal restitution of sphere-sphere collisions, in (0, 1]; walls stay elastic.
+  //! Normal restitution of sphere-sphere collisions, in (0, 1] (the walls': `walls`).
   double restitution = 1.0;
   //! TC model of inelastic collapse (Luding and McNamara 1998): a collision within this time of
   //! either sphere's previous collision is elastic, so no finite time holds infinitely many.
@@ -45,7 +64,24 @@ struct Physics {
   //! Moment of inertia I = q m r^2 (r the radius) of every sphere, q in (0, 2/3] (2/5: solid).
   double inertia = 0.4;
 
-  bool elastic() const { return restitution == 1.0; }
+  //! Each box face's law (kFaceNames order); the default is elastic and, for smooth spheres,
+  //! frictionless. A wall collision with e_w < 1 takes the TC model as pairs do.
+  std::array<WallLaw, 6> walls{};
+
+  //! Every collision elastic: pairs and walls (the TC model's clock is kept otherwise).
+  bool elastic() const { return restitution == 1.0 && !inelastic_walls(); }
+  bool inelastic_walls() const {
+    for (const WallLaw& w : walls)
+      if (w.restitution != 1.0) return true;
+    return false;
+  }
+  //! Some face's law differs from the default (the run summary then reports the walls' laws).
+  bool wall_laws() const { return walls != std::array<WallLaw, 6>{}; }
+  //! Face f's tangential restitution and friction, the spheres' where the face gives none.
+  double wall_tangential_restitution(int f) const {
+    return walls[std::size_t(f)].tangential_restitution.value_or(tangential_restitution);
+  }
+  double wall_friction(int f) const { return walls[std::size_t(f)].friction.value_or(friction); }
   bool rough() const { return tangential_restitution != -1.0; }
   bool has_gravity() const { return gravity != std::array<double, 3>{0, 0, 0}; }
 };
@@ -63,6 +99,12 @@ struct PhysicsNames {
   std::string tangential_restitution = "tangential restitution";
   std::string friction = "friction";
   std::string inertia = "inertia";
+  std::string wall_restitution = "wall restitution";
+  std::string wall_tangential_restitution = "wall tangential restitution";
+  std::string wall_friction = "wall friction";
+  //! How a face's value is named: `wall_restitution zlo=0.5` on the command line.
+  std::string face_value(const std::string& name, int face, double value) const;
+  std::string face_separator = "=";
 };
 
 //! Which settings the user gave (each adapter knows its own options or keywords). A setting given
@@ -74,6 +116,11 @@ struct PhysicsGiven {
   bool resting_time = false;
   bool friction = false;
   bool inertia = false;
+  //! Wall laws: the faces a wall setting named (refused where the box has no wall), and whether
+  //! one was given for every wall at once (refused where the box has none; it sets the faces with
+  //! walls only).
+  std::array<bool, 6> wall_faces{};
+  bool all_walls = false;
 };
 
 //! `p` checked against boxes with these periodic axes, with gravity components at rounding level
@@ -81,9 +128,28 @@ struct PhysicsGiven {
 //! (0, 1], a contact time that is negative, not finite or 0 with a restitution below 1, a gravity
 //! that is not finite or has a component along a periodic axis, a tangential restitution outside
 //! [-1, 1], a friction below 0 or NaN, or finite without a tangential restitution above -1, an
-//! inertia outside (0, 2/3]; then a setting in `given` that would have no effect (PhysicsGiven).
+//! inertia outside (0, 2/3], a wall law's value outside these ranges, or a wall tangential law for
+//! smooth spheres (a frictional wall turns spheres: they need spins, which only rough scenes
+//! carry); then a setting in `given` that would have no effect (PhysicsGiven). The laws of periodic
+//! faces are reset to the default (a setting for every wall sets the faces that have walls).
 Physics validated(Physics p, const std::array<bool, 3>& periodic, const PhysicsNames& names = {},
                   const PhysicsGiven& given = {});
+
+//! The wall laws' settings, as every face names them (PhysicsNames::wall_*).
+enum class WallSetting { Restitution, TangentialRestitution, Friction };
+
+//! Sets `setting` of box face `face` (a kFaceNames entry; "" : every face) to `value`, recording
+//! it in `given` (validated() then refuses a face without a wall, and a setting for every wall in
+//! a box without any). Throws InputError naming `option` for an unknown face.
+void set_wall_law(Physics& p, PhysicsGiven& given, WallSetting setting, const std::string& face, double value,
+                  const std::string& option);
+
+//! The command line's and Python's text form of a wall setting: one number for every wall
+//! ("0.5") or a list of face=value ("zlo=0.5,zhi=0.9"), applied with set_wall_law(). Throws
+//! InputError naming `option` and the text for anything else (a number that is not one, an
+//! unknown face, a face twice, an empty item).
+void parse_wall_setting(Physics& p, PhysicsGiven& given, WallSetting setting, const std::string& text,
+                        const std::string& option);
 
 //! What a refusal of jammed spheres adds for inelastic collisions (empty when elastic): the
 //! chain may be an inelastic collapse (a settling bed), which a longer contact time lets

@@ -44,6 +44,12 @@ void add_energy_summary(nlohmann::json& j, double kinetic0, double potential0, d
 void add_rough_summary(nlohmann::json& j, const ParticleSystem& initial, const ParticleSystem& final_state,
                        const RunTotals& totals, const Physics& physics);
 
+//! Walls with laws of their own (physics.wall_laws()): adds wall_laws, each face with a wall and
+//! its restitution, tangential_restitution and friction (null: smooth spheres, or no Coulomb
+//! limit), and what the walls took: wall_dissipated_energy_normal (restitution and the resting
+//! contacts' net), wall_dissipated_energy_tangential (friction). Default walls add no key.
+void add_wall_summary(nlohmann::json& j, const Box& box, const RunTotals& totals, const Physics& physics);
+
 //! Writes the JSON file and the final data file, and commits them with the dump and `track`
 //! (a tracker's file, may be null): only after success, and all together (commit_together), so
 //! an error leaves none of them.

@@ -103,6 +103,8 @@ struct StepCounters {
   //! Kinetic energy the collisions took, by channel (normal, tangential); counted in rough scenes
   //! only (0 in smooth ones, whose loss is the change of the kinetic energy).
   double dissipated_normal = 0, dissipated_tangential = 0;
+  //! What the walls took: restitution and resting contacts' net (normal), friction (tangential).
+  double wall_dissipated_normal = 0, wall_dissipated_tangential = 0;
 };
 
 //! Type-erased engine interface, so precision and scene specialisations are chosen at run time.

@@ -57,6 +57,7 @@ EventLoop::EventLoop(const ParticleSystem& sys, const Physics& physics_in, const
     if (sys.omega.size() == n) omega_ = sys.omega;
     law_.roughness = {physics.tangential_restitution, physics.friction, physics.inertia};
   }
+  wall_laws_ = kernel::wall_laws<double>(physics);
   ids_ = &sys.id;
   jam_ = JamGuard(1e-10 * time_scale(sys, d, fall), n);
   mono_ = sys.monodisperse();
@@ -225,22 +226,29 @@ void EventLoop::boundary_event(int i) {
   const double x = d == 0 ? s.x : (d == 1 ? s.y : s.z);
   const double lo = geometry_.lo(a) + s.r, hi = geometry_.lo(a) + geometry_.len(a) - s.r;
   const int side = std::abs(x - lo) <= std::abs(x - hi) ? -1 : 1;
+  const kernel::WallLaw<double>& law = wall_laws_[std::size_t(2 * d + (side > 0))];
+  const std::size_t in = trajectories_.input_index(std::size_t(i));
+  const double t = base_ + now_;
   // A resting contact leaves at half the speed gravity builds over the resting time and is back
   // after it (the bounces of a sphere at rest would follow each other without end).
-  const auto out =
-      kernel::collide_wall<Rough>(law_.roughness, d, side, Vec3d{s.vx, s.vy, s.vz}, g, resting_time_, resting_time_,
-                                  Rough ? &omega_[trajectories_.input_index(std::size_t(i))] : nullptr, m, s.r);
-  if (out.rested) {
+  const auto out = kernel::collide_wall<Rough>(
+      law, d, side, Vec3d{s.vx, s.vy, s.vz}, g, resting_time_, resting_time_, Rough ? &omega_[in] : nullptr, m, s.r,
+      [&] { return kernel::tc_elastic(t, last_collision_[in], last_collision_[in], contact_time_); });
+  if (law.restitution != 1.0 && !out.rested) last_collision_[in] = t;
+  if (out.rested || out.restituted) {  // on the contact plane, leaving at out.leave
     trajectories_.rest(s, a, out.leave, geometry_);
-    ++c_.resting_contacts;
+    if (out.rested) ++c_.resting_contacts;
   } else {
     trajectories_.reflect(s, a, geometry_);
-    if constexpr (Rough) {
-      Trajectories::set_velocity(s, Vec3d{s.vx, s.vy, s.vz} + out.dv);
-      c_.dissipated_tangential += out.contact.dissipated_tangential;
-    }
-    ++c_.wall_collisions;
   }
+  if (!out.rested) ++c_.wall_collisions;
+  if constexpr (Rough) {
+    Trajectories::set_velocity(s, Vec3d{s.vx, s.vy, s.vz} + out.dv);
+    c_.dissipated_normal += out.contact.dissipated_normal;
+    c_.dissipated_tangential += out.contact.dissipated_tangential;
+  }
+  c_.wall_dissipated_normal += out.contact.dissipated_normal;
+  c_.wall_dissipated_tangential += out.contact.dissipated_tangential;
   c_.wall_impulse[a] += m * out.impulse;
   predictions_.course_changed(i);
   predict(i);

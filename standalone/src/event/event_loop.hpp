@@ -86,11 +86,12 @@ class EventLoop {
   bool mono_ = true;
   kernel::PairLaw<double> law_;  // restitution (1: elastic) and the tangential law (rough only)
   double contact_time_ = 0.0;
-  double resting_time_ = 0;                         // Physics::resting_time (or its default)
-  std::vector<double> last_collision_;              // input index: time of the last collision (restitution < 1)
-  std::vector<std::int64_t> pair_collisions_;       // input index: pair collisions since reset_counters()
-  std::vector<Vec3d> omega_;                        // input index: angular velocities (rough only)
-  const std::vector<std::int64_t>* ids_ = nullptr;  // input index: atom id (the caller's), for messages
+  std::array<kernel::WallLaw<double>, 6> wall_laws_{};  // the box faces' (kFaceNames order)
+  double resting_time_ = 0;                             // Physics::resting_time (or its default)
+  std::vector<double> last_collision_;                  // input index: time of the last collision (restitution < 1)
+  std::vector<std::int64_t> pair_collisions_;           // input index: pair collisions since reset_counters()
+  std::vector<Vec3d> omega_;                            // input index: angular velocities (rough only)
+  const std::vector<std::int64_t>* ids_ = nullptr;      // input index: atom id (the caller's), for messages
   JamGuard jam_;
 
   double now_ = 0, base_ = 0, reset_time_ = 0;

@@ -113,6 +113,22 @@ void add_rough_summary(nlohmann::json& j, const ParticleSystem& initial, const P
   j["energy_rel_drift"] = e0 > 0 ? (e1 - e0) / e0 : 0.0;
 }
 
+void add_wall_summary(nlohmann::json& j, const Box& box, const RunTotals& t, const Physics& physics) {
+  if (!physics.wall_laws()) return;
+  nlohmann::json laws = nlohmann::json::object();
+  for (int f = 0; f < 6; ++f) {
+    if (box.periodic[std::size_t(f / 2)]) continue;
+    nlohmann::json face{{"restitution", physics.walls[std::size_t(f)].restitution}};
+    const double beta = physics.wall_tangential_restitution(f), mu = physics.wall_friction(f);
+    face["tangential_restitution"] = physics.rough() ? nlohmann::json(beta) : nlohmann::json(nullptr);
+    face["friction"] = physics.rough() && std::isfinite(mu) ? nlohmann::json(mu) : nlohmann::json(nullptr);
+    laws[kFaceNames[std::size_t(f)]] = face;
+  }
+  j["wall_laws"] = laws;
+  j["wall_dissipated_energy_normal"] = t.wall_dissipated_normal;
+  j["wall_dissipated_energy_tangential"] = t.wall_dissipated_tangential;
+}
+
 void add_energy_summary(nlohmann::json& j, double kinetic0, double potential0, double potential1,
                         const Physics& physics) {
   const double e0 = kinetic0 + potential0, e1 = j["kinetic_energy_final"].get<double>() + potential1;

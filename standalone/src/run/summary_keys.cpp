@@ -52,6 +52,7 @@ nlohmann::json run_summary(const ParticleSystem& initial, const ParticleSystem& 
   add_energy_summary(j, totals.kinetic_energy_initial, potential_energy(initial, physics.gravity),
                      potential_energy(fin, physics.gravity), physics);
   add_rough_summary(j, initial, fin, totals, physics);
+  add_wall_summary(j, fin.box, totals, physics);
   j["loop_cpu_seconds"] = loop_cpu;
   return j;
 }

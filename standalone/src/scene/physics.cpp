@@ -51,7 +51,50 @@ const OptionRule kOptionRules[] = {
      }},
 };
 
+//! The wall laws' ranges, then what a wall setting needs: a wall on the face it names, rough
+//! spheres for a tangential law (see Physics::walls).
+void check_walls(Physics& p, const std::array<bool, 3>& periodic, const PhysicsNames& names,
+                 const PhysicsGiven& given) {
+  for (int f = 0; f < 6; ++f)
+    if (given.wall_faces[std::size_t(f)] && periodic[std::size_t(f / 2)])
+      throw InputError(std::string("the box has no wall at ") + kFaceNames[std::size_t(f)] + " (axis " + "xyz"[f / 2] +
+                       " is periodic): give that face a wall or leave it out of the wall settings");
+  if (given.all_walls && periodic == std::array<bool, 3>{true, true, true})
+    throw InputError("wall settings have no effect: the box has no walls (every axis is periodic)");
+  for (int f = 0; f < 6; ++f)
+    if (periodic[std::size_t(f / 2)]) p.walls[std::size_t(f)] = WallLaw{};
+  // A value given for every wall is named as given; one of a face with its face.
+  const auto label = [&](const std::string& name, int f, double value) {
+    return given.all_walls && !given.wall_faces[std::size_t(f)] ? name + " " + format_number(value)
+                                                                : names.face_value(name, f, value);
+  };
+  for (int f = 0; f < 6; ++f) {
+    const WallLaw& w = p.walls[std::size_t(f)];
+    if (!(w.restitution > 0 && w.restitution <= 1))
+      throw InputError(label(names.wall_restitution, f, w.restitution) + " must be in (0, 1] (1: elastic)");
+    if (w.tangential_restitution && !(*w.tangential_restitution >= -1 && *w.tangential_restitution <= 1))
+      throw InputError(label(names.wall_tangential_restitution, f, *w.tangential_restitution) +
+                       " must be in [-1, 1] (-1: smooth, 1: perfectly rough)");
+    if (w.friction && !(*w.friction >= 0))
+      throw InputError(label(names.wall_friction, f, *w.friction) + " must be >= 0 (infinite: no sliding)");
+    // A frictional wall turns the spheres it touches: only rough scenes carry their spins.
+    if ((w.tangential_restitution || w.friction) && !p.rough())
+      throw InputError(label(w.friction ? names.wall_friction : names.wall_tangential_restitution, f,
+                             w.friction ? *w.friction : *w.tangential_restitution) +
+                       " needs rough spheres (a " + names.tangential_restitution +
+                       " above -1): a wall's tangential impulse turns the spheres, and only rough spheres carry " +
+                       "angular velocities");
+    if (w.friction && std::isfinite(*w.friction) && p.wall_tangential_restitution(f) == -1)
+      throw InputError(label(names.wall_friction, f, *w.friction) + " needs a " + names.wall_tangential_restitution +
+                       " above -1 as its sticking limit beta0");
+  }
+}
+
 }  // namespace
+
+std::string PhysicsNames::face_value(const std::string& name, int face, double value) const {
+  return name + " " + kFaceNames[std::size_t(face)] + face_separator + format_number(value);
+}
 
 Physics validated(Physics p, const std::array<bool, 3>& periodic, const PhysicsNames& names,
                   const PhysicsGiven& given) {
@@ -90,6 +133,11 @@ Physics validated(Physics p, const std::array<bool, 3>& periodic, const PhysicsN
       throw InputError(names.gravity + " along periodic axis " + "xyz"[d] + " (" + format_number(g) +
                        ") would accelerate the spheres without end; put " + names.walls);
   }
+  check_walls(p, periodic, names, given);
+  if (p.inelastic_walls() && p.contact_time == 0)
+    throw InputError(names.contact_time + " 0 with a " + names.wall_restitution +
+                     " below 1: an inelastic collapse against a wall would never end; give " + names.contact_time +
+                     " a value > 0");
   for (const OptionRule& r : kOptionRules)
     if (given.*r.given && !r.has_effect(p))
       throw InputError(names.*r.name + " " + format_number(p.*r.value) + " " + r.why(names));

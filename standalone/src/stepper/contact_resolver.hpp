@@ -48,6 +48,8 @@ struct ContactTally {
   std::array<double, 6> virial_tensor{0, 0, 0, 0, 0, 0};
   //! Kinetic energy the collisions took, by channel (rough spheres only).
   double dissipated_normal = 0, dissipated_tangential = 0;
+  //! What the walls took (restitution and resting contacts; friction), any spheres.
+  double wall_dissipated_normal = 0, wall_dissipated_tangential = 0;
 };
 
 //! Mono: every sphere has the diameter `sigma` and mass `mass` given to set_uniform().
@@ -100,6 +102,8 @@ class ContactResolver {
   void set_step_end(double t) { step_end_ = t; }
   //! The tangential law of rough spheres, used while ContactArrays::omega is set.
   void set_roughness(const kernel::Roughness<Real>& k) { law_.roughness = k; }
+  //! The box faces' laws (kernel::wall_laws()); the default: elastic and smooth.
+  void set_wall_laws(const std::array<kernel::WallLaw<Real>, 6>& laws) { wall_laws_ = laws; }
   void set_uniform(Real sigma, Real mass) {
     sigma_ = sigma;
     mass_ = mass;
@@ -431,21 +435,24 @@ class ContactResolver {
     const auto& gravity = walls_.gravity();
     const Vec3<Real> g{gravity[0], gravity[1], gravity[2]};
     const auto wall = walls_.contact(x, v, d, radius(i), back);
+    const kernel::WallLaw<Real>& law = wall_laws_[std::size_t(2 * d + (wall.side > 0))];
     // The law sees the velocity at contact; a resting sphere hops for the rest of the step.
-    const auto out =
-        kernel::collide_wall<Rough>(law_.roughness, d, wall.side, a_.vel[i] - back * g, g[d], walls_.resting_time(dt_),
-                                    back, Rough ? a_.omega + i : nullptr, mass(i), radius(i));
-    walls_.reflect(x, v, d, radius(i), back, wall, out.rested, out.leave);
+    const auto out = kernel::collide_wall<Rough>(law, d, wall.side, a_.vel[i] - back * g, g[d],
+                                                 walls_.resting_time(dt_), back, Rough ? a_.omega + i : nullptr,
+                                                 mass(i), radius(i), [&] { return collided_recently(i, i, back); });
+    if (law.restitution != Real(1) && !out.rested) last_collision_[id_index(i)] = step_end_ - double(back);
+    walls_.reflect(x, v, d, radius(i), back, wall, out);
+    tally.wall_dissipated_normal += out.contact.dissipated_normal;
+    tally.wall_dissipated_tangential += out.contact.dissipated_tangential;
     // Rough spheres: the tangential change at contact moves the position by back times it.
     if constexpr (Rough) {
-      if (!out.rested) {
-        a_.vel[i] += out.dv;
-        a_.pos[i] += back * out.dv;
-        tally.dissipated_tangential += out.contact.dissipated_tangential;
-        const Real speed = norm(a_.vel[i]);
-        speed_bound_ = std::max(speed_bound_, speed);
-        if (a_.speed) a_.speed[i] = speed;
-      }
+      a_.vel[i] += out.dv;
+      a_.pos[i] += back * out.dv;
+      tally.dissipated_normal += out.contact.dissipated_normal;
+      tally.dissipated_tangential += out.contact.dissipated_tangential;
+      const Real speed = norm(a_.vel[i]);
+      speed_bound_ = std::max(speed_bound_, speed);
+      if (a_.speed) a_.speed[i] = speed;
     }
     if (out.rested) {
       ++tally.resting_contacts;
@@ -558,6 +565,7 @@ class ContactResolver {
   ContactArrays<Real> a_;
   Real dt_ = 0, sigma_ = 0, mass_ = 0;
   kernel::PairLaw<Real> law_;  // normal restitution (1: elastic); the tangential law while a_.omega is set
+  std::array<kernel::WallLaw<Real>, 6> wall_laws_{};  // the box faces' (kFaceNames order)
   double contact_time_ = 0, step_end_ = 0;
   double* last_collision_ = nullptr;  // id-indexed last collision times (law_.restitution < 1 only)
   Real speed_bound_ = std::numeric_limits<Real>::infinity();

@@ -192,6 +192,7 @@ void Stepper<Real, Mono>::configure_resolver(const Physics& physics, const Stepp
     last_collision_.assign(n, -std::numeric_limits<double>::infinity());
     resolver_.set_restitution(Real(physics.restitution), physics.contact_time, last_collision_.data());
   }
+  resolver_.set_wall_laws(kernel::wall_laws<Real>(physics));
   std::array<Real, 3> wall_lo{}, wall_hi{};
   for (std::size_t d = 0; d < 3; ++d) wall_lo[d] = Real(box_.lo[d]), wall_hi[d] = Real(box_.hi[d]);
   unreached_walls_ = cfg.unreached_walls;

@@ -61,6 +61,8 @@ class Stepper final : public StepperBase, public StateExchange {
     counters_.unresolved_steps = tally_.unresolved_steps;
     counters_.dissipated_normal = tally_.dissipated_normal;
     counters_.dissipated_tangential = tally_.dissipated_tangential;
+    counters_.wall_dissipated_normal = tally_.wall_dissipated_normal;
+    counters_.wall_dissipated_tangential = tally_.wall_dissipated_tangential;
     return counters_;
   }
   void reset_counters() override {

@@ -9,6 +9,7 @@
 #include <cmath>
 
 #include "hardsphere/collision.hpp"
+#include "hardsphere/contact_law.hpp"
 #include "hardsphere/vec3.hpp"
 
 namespace hardsphere {
@@ -76,10 +77,14 @@ class WallEvents {
   Real resting_time(Real dt) const { return resting_time_ > Real(0) ? resting_time_ : dt; }
 
   //! Moves x and v (along d, at the end of the step) as the wall law decided at `wall`, `back`
-  //! before the end of the step: mirrored at the contact, or left resting on the wall having left
-  //! it at `leave` (kernel::collide_wall() with hop = back: back on the wall at the step's end, so
-  //! the wall carries its weight and its flight stays the shared parabola of every other sphere).
-  void reflect(Real& x, Real& v, int d, Real r, Real back, Contact wall, bool rested, Real leave) const {
+  //! before the end of the step: mirrored at the contact (elastic), left at `out.leave` (restituted),
+  //! or left resting on the wall having left it at `out.leave` (kernel::collide_wall() with hop =
+  //! back: back on the wall at the step's end, so the wall carries its weight and its flight stays
+  //! the shared parabola of every other sphere).
+  void reflect(Real& x, Real& v, int d, Real r, Real back, Contact wall, const kernel::WallOutcome<Real>& out) const {
+    const bool rested = out.rested;
+    const Real leave = out.leave;
+    if (out.restituted) return kernel::leave_wall(x, v, gravity_[std::size_t(d)], wall.plane, back, leave);
     const Real g = gravity_[std::size_t(d)];
     if (has_gravity_ && g != Real(0)) {
       if (rested) {
