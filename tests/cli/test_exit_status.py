@@ -8,18 +8,11 @@ import subprocess
 
 import pytest
 
-from hs_run import run, run_json
+from hs_run import run, run_json, refused
 
 
 def hardsphere(hs, *args, cwd=None, **kw):
     return subprocess.run([hs, *map(str, args)], capture_output=True, text=True, cwd=cwd, timeout=120, **kw)
-
-
-def assert_refused(p, *needles):
-    assert p.returncode == 2, (p.returncode, p.stdout, p.stderr)
-    assert p.stderr.startswith("hardsphere: error: "), p.stderr
-    for needle in needles:
-        assert needle in p.stderr, (needle, p.stderr)
 
 
 @pytest.mark.parametrize("args,needles", [
@@ -69,7 +62,7 @@ def assert_refused(p, *needles):
 ])
 def test_bad_command_lines_exit_2_with_the_prefix(hs, tmp_path, args, needles):
     p = hardsphere(hs, *args, cwd=tmp_path)
-    assert_refused(p, *needles)
+    refused(p, *needles)
     assert list(tmp_path.iterdir()) == []
 
 
@@ -77,7 +70,7 @@ def test_numbers_are_decimal(hs):
     # CLI11 read "010" as octal 8 and "0x10" as 16.
     assert run_json(hs, "--n", "010", "--phi", 0.1, "--steps", 0)["n"] == 10
     p = run(hs, "--n", "0x10", "--steps", 0)
-    assert_refused(p, "--n '0x10'")
+    refused(p, "--n '0x10'")
 
 
 @pytest.mark.parametrize("args", [["--help"], ["-h"], ["run", "--help"], ["run", "--n", "5", "--help"]])
@@ -92,7 +85,7 @@ def test_help_exits_0(hs, tmp_path, args):
 def test_version_exits_0_and_takes_nothing_after_it(hs, tmp_path):
     p = hardsphere(hs, "--version", cwd=tmp_path)
     assert p.returncode == 0 and re.fullmatch(r"hardsphere \d+\.\d+\.\d+\n", p.stdout) and p.stderr == ""
-    assert_refused(hardsphere(hs, "--version", "run", cwd=tmp_path), "--version", "'run'")
+    refused(hardsphere(hs, "--version", "run", cwd=tmp_path), "--version", "'run'")
 
 
 def limit_memory():
@@ -102,7 +95,7 @@ def limit_memory():
 
 def test_a_run_too_large_for_the_memory_is_refused(hs, tmp_path):
     p = hardsphere(hs, "run", "--n", 134217728, "--steps", 1, "--json", "out.json", cwd=tmp_path, preexec_fn=limit_memory)
-    assert_refused(p, "not enough memory", "134217728")
+    refused(p, "not enough memory", "134217728")
     assert list(tmp_path.iterdir()) == []
 
 

@@ -5,7 +5,7 @@ import json
 import math
 
 import pytest
-from hs_run import run, run_json
+from hs_run import run, run_json, refused
 
 from compare import lammps_files
 
@@ -13,13 +13,6 @@ from compare import lammps_files
 def write_data(path, atoms, box=((0, 20),) * 3):
     """atoms: (x, y, z, vx, vy, vz[, diameter]) rows; ids from 1."""
     return lammps_files.write_data(path, lammps_files.spheres_from_rows(atoms, box=box, title="limits test"))
-
-
-def refused(p, *needles):
-    assert p.returncode == 2, (p.returncode, p.stdout, p.stderr)
-    assert p.stderr.startswith("hardsphere: error: "), p.stderr
-    for n in needles:
-        assert n in p.stderr, (n, p.stderr)
 
 
 def gas_file(hs, path, *args):

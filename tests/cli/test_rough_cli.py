@@ -4,7 +4,7 @@ import math
 
 import numpy as np
 import pytest
-from hs_run import run, run_json
+from hs_run import run, run_json, refused
 
 from compare.lammps_files import read_data
 
@@ -17,13 +17,6 @@ ROUGH_KEYS = [
     "dissipated_energy_normal", "dissipated_energy_tangential",
 ]
 SMALL = ["--n", 300, "--phi", 0.2]
-
-
-def refused(p, *needles):
-    assert p.returncode == 2, (p.returncode, p.stdout, p.stderr)
-    assert p.stderr.startswith("hardsphere: error: "), p.stderr
-    for needle in needles:
-        assert needle in p.stderr, (needle, p.stderr)
 
 
 @pytest.mark.parametrize("args,needles", [

@@ -2,17 +2,10 @@
 --wall-friction (one value, or face=value items) accepted and refused, their JSON keys (absent
 with default walls), and the walls' energy closing the budget in both engines."""
 import pytest
-from hs_run import run, run_json
+from hs_run import run, run_json, refused
 
 BED = ["--n", 200, "--box", "10,10,20", "--boundary", "p,p,w", "--gravity", "0,0,-1"]
 ROUGH = ["--tangential-restitution", 0.5]
-
-
-def refused(p, *needles):
-    assert p.returncode == 2, (p.returncode, p.stdout, p.stderr)
-    assert p.stderr.startswith("hardsphere: error: "), p.stderr
-    for needle in needles:
-        assert needle in p.stderr, (needle, p.stderr)
 
 
 @pytest.mark.parametrize("args,needles", [
