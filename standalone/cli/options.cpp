@@ -274,13 +274,15 @@ void take_settings(const RunOptions& o, RunSpec& spec) {
 
 //! The walls' laws; inelastic walls take the TC model's default contact time, as --restitution.
 void take_wall_laws(const RunOptions& o, RunSpec& spec, PhysicsGiven& given) {
-  const std::pair<CLI::Option*, WallSetting> settings[] = {{o.o_wall_e, WallSetting::Restitution},
-                                                           {o.o_wall_beta, WallSetting::TangentialRestitution},
-                                                           {o.o_wall_mu, WallSetting::Friction}};
-  const std::string* texts[] = {&o.wall_e_s, &o.wall_beta_s, &o.wall_mu_s};
-  for (std::size_t k = 0; k < 3; ++k)
-    if (settings[k].first->count())
-      parse_wall_setting(spec.physics, given, settings[k].second, *texts[k], settings[k].first->get_name());
+  const struct {
+    CLI::Option* option;
+    WallSetting setting;
+    const std::string& text;
+  } settings[] = {{o.o_wall_e, WallSetting::Restitution, o.wall_e_s},
+                  {o.o_wall_beta, WallSetting::TangentialRestitution, o.wall_beta_s},
+                  {o.o_wall_mu, WallSetting::Friction, o.wall_mu_s}};
+  for (const auto& s : settings)
+    if (s.option->count()) parse_wall_setting(spec.physics, given, s.setting, s.text, s.option->get_name());
   if (spec.physics.inelastic_walls() && !o.o_contact_time->count() && spec.physics.contact_time == 0)
     spec.physics.contact_time = kDefaultContactTime;
 }
