@@ -20,7 +20,8 @@ Vec3d total_momentum(const ParticleSystem& sys) {
 double potential_energy(const ParticleSystem& sys, const std::array<double, 3>& g) {
   double u = 0;
   for (std::size_t i = 0; i < sys.size(); ++i)
-    for (int d = 0; d < 3; ++d) u -= sys.mass[i] * g[std::size_t(d)] * (sys.pos[i][d] - sys.box.lo[std::size_t(d)]);
+    for (int d = 0; d < 3; ++d)
+      if (!sys.is_kinematic(i)) u -= sys.mass[i] * g[std::size_t(d)] * (sys.pos[i][d] - sys.box.lo[std::size_t(d)]);
   return u;
 }
 

@@ -31,26 +31,11 @@
 #include "hardsphere/vec3.hpp"
 #include "stepper/contact_arrays.hpp"
 #include "stepper/contact_queue.hpp"
+#include "stepper/contact_tally.hpp"
 #include "stepper/distance_filter.hpp"
 #include "stepper/wall_events.hpp"
 
 namespace hardsphere {
-
-//! Totals of resolved contacts.
-struct ContactTally {
-  std::int64_t collisions = 0;
-  std::int64_t unresolved_steps = 0;  //!< steps that hit the event limit with contacts left
-  std::int64_t resting_contacts = 0;  //!< wall contacts too slow to bounce (see bounce())
-  std::int64_t wall_collisions = 0;
-  std::array<double, 3> wall_impulse{0, 0, 0};  //!< sum of |m dv| of wall bounces, per axis
-  double virial = 0;                            //!< sum over collisions of r_ij . dp_i at contact
-  //! The same sum as a tensor, r_ij (x) dp_i: xx, yy, zz, xy, xz, yz (LAMMPS's virial order).
-  std::array<double, 6> virial_tensor{0, 0, 0, 0, 0, 0};
-  //! Kinetic energy the collisions took, by channel (rough spheres only).
-  double dissipated_normal = 0, dissipated_tangential = 0;
-  //! What the walls took (restitution and resting contacts; friction), any spheres.
-  double wall_dissipated_normal = 0, wall_dissipated_tangential = 0;
-};
 
 //! Mono: every sphere has the diameter `sigma` and mass `mass` given to set_uniform().
 template <class Real, bool Mono>
@@ -121,7 +106,11 @@ class ContactResolver {
   //! disables that, which is always correct.
   void set_speed_bound(Real v_max) { speed_bound_ = v_max; }
   Real speed_bound() const { return speed_bound_; }
-  void bind(const ContactArrays<Real>& a) { a_ = a; }
+  void bind(const ContactArrays<Real>& a) {
+    a_ = a;
+    const auto& g = walls_.gravity();
+    kinematic_gravity_ = a_.kinematic && (g[0] != Real(0) || g[1] != Real(0) || g[2] != Real(0));
+  }
 
   //! After the engine reorders its spheres (new[k] = old[order[k]]), reorder the records too.
   template <class Order>
@@ -177,7 +166,23 @@ class ContactResolver {
     const Change ci = change_[i], cj = change_[j];
     const Real w = std::min(ci.back, cj.back);
     const Real back = kernel::touched_back_time(dr, dv, sigma, w, overlap_only);
+    if (kinematic_gravity_ && (a_.kinematic[i] | a_.kinematic[j]))
+      return consider_kinematic(i, j, image, dr, sigma, back);
     if (back >= Real(0)) candidates_.push_back({i, j, image, std::min(back, w), ci.count, cj.count});
+  }
+  //! consider() for a free and a kinematic sphere under gravity: their relative motion is a
+  //! parabola, whose contact (kernel::kinematic_back_time()) orders the pair among the step's
+  //! contacts; the straight-line root `straight` (-1: none) is where it starts from.
+  void consider_kinematic(std::uint32_t i, std::uint32_t j, std::uint8_t image, Vec3<Real> dr, Real sigma,
+                          Real straight) {
+    if (a_.kinematic[i] & a_.kinematic[j]) return;
+    const auto& gravity = walls_.gravity();
+    const Real sign = a_.kinematic[j] ? Real(1) : Real(-1);  // dr's relative acceleration: g of the free one
+    const Vec3<Real> g{sign * gravity[0], sign * gravity[1], sign * gravity[2]};
+    if (!(straight >= Real(0)) && !(dot(dr, dr) < sigma * sigma)) return;
+    const Real w = std::min(change_[i].back, change_[j].back);
+    const Real back = kernel::kinematic_back_time(dr, a_.vel[i] - a_.vel[j], g, sigma, std::max(straight, Real(0)), w);
+    if (back >= Real(0)) candidates_.push_back({i, j, image, back, change_[i].count, change_[j].count});
   }
 
   //! Predicts every contact of sphere s with its list partners over its window.
@@ -341,10 +346,16 @@ class ContactResolver {
         next = start_run();
         continue;
       }
-      if (wall)
-        sweep_neighbours(c.i);
-      else
+      const std::uint32_t moved = wall ? c.i : free_of(c.i, c.j);
+      if (moved == kWall) {
         sweep_collided(c.i, c.j);
+      } else {  // a bounce, or a free sphere off a kinematic one: only it moved
+        const std::uint32_t skip[1] = {moved == c.i ? c.j : c.i};
+        if (a_.speed)
+          sweep_neighbours<true, 1>(&moved, skip);
+        else
+          sweep_neighbours<false, 1>(&moved, skip);
+      }
       if constexpr (Walls) {
         predict_walls(c.i);
         if (!wall) predict_walls(c.j);
@@ -490,6 +501,7 @@ class ContactResolver {
   template <bool Rough, class Hooks>
   bool collide(const Candidate& c, Hooks& hooks, ContactTally& tally) {
     const std::uint32_t i = c.i, j = c.j;
+    if (a_.kinematic && (a_.kinematic[i] | a_.kinematic[j])) return collide_kinematic<Rough>(c, hooks, tally);
     Vec3<Real> ri = a_.pos[i], rj = a_.pos[j], vi = a_.vel[i], vj = a_.vel[j];
     const Vec3<Real> shift = a_.image_shift[c.image];
     // A candidate that is not stale was predicted from this very state and these windows, so
@@ -514,6 +526,63 @@ class ContactResolver {
     if (!out.changed) return false;  // receding at the rewound contact: nothing to resolve
     if constexpr (Rough) a_.omega[i] = wi, a_.omega[j] = wj;
     return commit_collision(i, j, ri, rj, vi, vj, vi_before, contact, back, out.virial, hooks, tally);
+  }
+
+  //! The free sphere of a pair with a kinematic one; kWall for two free spheres (or two kinematic ones).
+  std::uint32_t free_of(std::uint32_t i, std::uint32_t j) const {
+    if (!a_.kinematic || a_.kinematic[i] == a_.kinematic[j]) return kWall;
+    return a_.kinematic[i] ? j : i;
+  }
+
+  //! A free sphere's contact with a kinematic one (kernel::collide_kinematic()), `c.back` before
+  //! the end of the step; two kinematic spheres never collide. Under gravity the pair's relative
+  //! motion is a parabola: its contact is found again from the straight-line estimate
+  //! (kernel::kinematic_back_time()). Only the free sphere changes; it is re-predicted as after a bounce.
+  template <bool Rough, class Hooks>
+  bool collide_kinematic(const Candidate& c, Hooks& hooks, ContactTally& tally) {
+    const std::uint32_t f = free_of(c.i, c.j);
+    if (f == kWall) return false;
+    const std::uint32_t k = f == c.i ? c.j : c.i;
+    const Vec3<Real> shift = f == c.i ? a_.image_shift[c.image] : -a_.image_shift[c.image];
+    const Vec3<Real> dr = a_.pos[f] - a_.pos[k] - shift, dv = a_.vel[f] - a_.vel[k];
+    const auto& gravity = walls_.gravity();
+    const Vec3<Real> g{gravity[0], gravity[1], gravity[2]};
+    const Real back = c.back;  // under gravity the parabola's (consider_kinematic())
+    const Vec3<Real> contact = dr - back * dv + (Real(0.5) * back * back) * g;
+    Vec3<Real> wf{}, wk{};
+    if constexpr (Rough) wf = a_.omega[f], wk = a_.omega[k];
+    const auto out = kernel::collide_kinematic<Rough>(law_, contact, a_.vel[f] - back * g, a_.vel[k], &wf, wk, mass(f),
+                                                      radius(f), radius(k), g, walls_.resting_time(dt_), back,
+                                                      [&] { return collided_recently(f, f, back); });
+    if (!out.contact.changed) return false;
+    if (law_.restitution != Real(1) && !out.rested) last_collision_[id_index(f)] = step_end_ - double(back);
+    if constexpr (Rough) {
+      a_.omega[f] = wf;
+      tally.dissipated_normal += out.contact.dissipated_normal;
+      tally.dissipated_tangential += out.contact.dissipated_tangential;
+    }
+    a_.vel[f] += out.dv;
+    a_.pos[f] += back * out.dv;
+    const Real speed = norm(a_.vel[f]);
+    speed_bound_ = std::max(speed_bound_, speed);
+    if (a_.speed) a_.speed[f] = speed;
+    tally.wall_dissipated_normal += out.contact.dissipated_normal;
+    tally.wall_dissipated_tangential += out.contact.dissipated_tangential;
+    tally.kinematic_work += out.work;
+    ++(out.rested ? tally.resting_contacts : tally.kinematic_collisions);
+    mark_changed(f, back);
+    hooks.after_collision(f, back);
+    if (g.x != Real(0) || g.y != Real(0) || g.z != Real(0)) {
+      // Gravity may bring it back onto the same sphere within the step, which the straight-line
+      // sweep (it skips the partner) cannot see: a pair overlapping at the step's end is queued again.
+      const Vec3<Real> end = a_.pos[f] - a_.pos[k] - shift;
+      if (dot(end, end) < sigma(f, k) * sigma(f, k)) {
+        const Real again = kernel::kinematic_back_time(end, a_.vel[f] - a_.vel[k], g, sigma(f, k), Real(0), back);
+        if (again >= Real(0) && again < back)
+          candidates_.push_back({c.i, c.j, c.image, again, change_[c.i].count, change_[c.j].count});
+      }
+    }
+    return true;
   }
 
   //! What every resolved pair collision records: the TC clock, the virial, the new positions and
@@ -577,6 +646,7 @@ class ContactResolver {
   std::vector<std::uint32_t> bucket_start_, bucket_fill_;  // order_by_time() scratch
   std::vector<std::uint32_t> near_;                        // sweep scratch: list entries that pass the distance test
   WallEvents<Real> walls_;
+  bool kinematic_gravity_ = false;  // kinematic spheres under gravity: consider_kinematic()
 };
 
 }  // namespace hardsphere

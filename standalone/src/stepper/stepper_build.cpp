@@ -167,6 +167,10 @@ void Stepper<Real, Mono>::load_spheres(const ParticleSystem& sys, const Physics&
     spins_.take(sys.omega, by_id);
   }
   if (n) sigma_ = Real(2) * r_[0];
+  if (sys.kinematic_count()) {
+    kin_rank_.resize(n), kin_vel_.resize(n);
+    for (std::size_t i = 0; i < n; ++i) kin_rank_[i] = sys.kinematic[by_id[i]] != 0, kin_vel_[i] = vel_[i];
+  }
 }
 
 template <class Real, bool Mono>
