@@ -39,6 +39,8 @@ void OtherFixes::scan(const Modify *modify, const Fix *self) {
     // fix gravity only adds forces (its acceleration acts through the stepper) and reads x for
     // its energy, which output steps write anyway.
     if (utils::strmatch(fix->style, "^gravity")) continue;
+    // fix freeze only zeroes forces: its atoms are the stepper's kinematic spheres.
+    if (std::string(fix->style) == "freeze") continue;
     // A dynamic group sets its members from x (region, variable, 'within') every nevery steps,
     // called outside the fix lists since LAMMPS 2025 (mask 0): it reads, never changes, atoms.
     if (std::string(fix->style) == "GROUP") {
