@@ -27,18 +27,13 @@ import numpy as np
 from scipy.spatial import cKDTree
 
 from compare import harness
+from compare import soft_spheres as soft
 from compare.lammps_files import loop_times, read_data, thermo_blocks
 
 ROOT = harness.ROOT
 EXAMPLES = Path("/usr/share/lammps/examples")
 OVERLAP_MAX = 1e-9
 SLAB = (1.0, 4.0)
-
-
-def hooke_restitution(kn, gamma_n, m_eff):
-    """Restitution and contact duration of LAMMPS's damped Hooke contact (gran/hooke*)."""
-    w = math.sqrt(kn / m_eff - gamma_n ** 2 / 4)
-    return math.exp(-math.pi * gamma_n / 2 / w), math.pi / w
 
 
 def soft_pour_input(out):
@@ -117,8 +112,9 @@ def measure(name, run, data_file, area):
 
 
 def pour(tools, work, log):
-    e_pair, t_contact = hooke_restitution(2000.0, 50.0, math.pi / 12)
-    e_wall, _ = hooke_restitution(2000.0, 50.0, math.pi / 6)
+    m = math.pi / 6  # fix pour's spheres: diameter 1, density 1
+    e_pair, t_contact = soft.hooke_restitution(50.0, 2000.0, m / 2), soft.hooke_contact_time(50.0, 2000.0, m / 2)
+    e_wall = soft.hooke_restitution(50.0, 2000.0, m)
     scene = {"name": "pour", "e_pair": e_pair, "e_wall": e_wall, "t_contact": t_contact, "rows": []}
     d = work / "pour"
     d.mkdir(exist_ok=True)
