@@ -126,10 +126,12 @@ class GhostPath : public StepPath, protected Pointers {
   hardsphere::Physics physics_;
   bool stale_ = true, epoch_ = true, refresh_v_ = false, reneighbor_ = false, check_start_ = true;
   bool unsure_ghosts_ = false;
-  double overlap_slack_ = 0;       //!< overlaps up to this are the stepper's rounding (check_owned_atoms)
-  bool moved_ = false;             //!< see atoms_moved()
-  std::string moved_source_;       //!< the fix that moved them, for an error message
-  double *virial_rows_ = nullptr;  //!< this step's per-atom virial rows (see step())
+  bigint atoms_built_ = -1;              //!< atom->natoms when the steppers were last made
+  const char *check_hint_ = kStartHint;  //!< what the start checks tell the user (a run's start, an insertion)
+  double overlap_slack_ = 0;             //!< overlaps up to this are the stepper's rounding (check_owned_atoms)
+  bool moved_ = false;                   //!< see atoms_moved()
+  std::string moved_source_;             //!< the fix that moved them, for an error message
+  double *virial_rows_ = nullptr;        //!< this step's per-atom virial rows (see step())
   double virial_scale_ = 1.0;
   std::vector<double> setup_layout_;       //!< box_layout() at the last run's setup
   bigint end_atoms_[2] = {-1, -1};         //!< owned atoms and the sum of their tags when the last run ended

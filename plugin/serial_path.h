@@ -74,6 +74,7 @@ class SerialPath : public StepPath, protected Pointers {
   bool lammps_moved_ = false;                           //!< LAMMPS re-neighboured since the last step
   bool state_written_ = true;                           //!< LAMMPS's x and v hold the stepper's current state
   int kinematic_bits_ = 0;
+  std::string atoms_changed_by_;  //!< non-empty: a fix inserted or deleted atoms after the last step
 };
 
 }  // namespace LAMMPS_NS
