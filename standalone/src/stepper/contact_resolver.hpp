@@ -160,6 +160,9 @@ class ContactResolver {
 
   //! Queues (i, j), i < j, if the pair touched while approaching within its common
   //! straight-line window; `overlap_only` is the seed's test (the pair overlaps now).
+  //! Walls: kinematic spheres may be under gravity (gravity needs a wall axis), whose pairs
+  //! consider_kinematic() takes; without walls the test costs nothing.
+  template <bool Walls = true>
   HS_ALWAYS_INLINE void consider(std::uint32_t i, std::uint32_t j, std::uint8_t image, Vec3<Real> dr, Real sigma,
                                  bool overlap_only) {
     const Vec3<Real> dv = a_.vel[i] - a_.vel[j];
@@ -184,12 +187,13 @@ class ContactResolver {
   }
   //! The same for both spheres of a collision, except with each other: they recede on straight
   //! lines for their whole windows (the test would only reject them, at a consider() each).
+  template <bool Walls = true>
   void sweep_collided(std::uint32_t i, std::uint32_t j) {
     const std::uint32_t s[2] = {i, j}, skip[2] = {j, i};
     if (a_.speed)
-      sweep_neighbours<true, 2>(s, skip);
+      sweep_neighbours<true, 2, Walls>(s, skip);
     else
-      sweep_neighbours<false, 2>(s, skip);
+      sweep_neighbours<false, 2, Walls>(s, skip);
   }
 
   //! A partner can have touched s within s's window w only if their gap is below the closing
@@ -198,7 +202,7 @@ class ContactResolver {
   //! cheaply (the 1.001 absorbs rounding; the bound is loose by far more). It runs branch-free
   //! over the whole lists of all `Count` spheres first (a rejected partner costs no mispredicted
   //! branch, and the loads of both lists overlap); only the survivors go to consider().
-  template <bool Speeds, int Count>
+  template <bool Speeds, int Count, bool Walls = true>
   void sweep_neighbours(const std::uint32_t* sphere, const std::uint32_t* skip) {
     const std::uint32_t* __restrict adj = a_.adj;
     const Vec3<Real>* __restrict pos = a_.pos;
@@ -249,9 +253,9 @@ class ContactResolver {
         const Vec3<Real> dr = ps - pos[q] - shift[img];
         // Candidates keep the lower index first so their order matches a full scan.
         if (s < q)
-          consider(s, q, img, dr, sigma(s, q), false);
+          consider<Walls>(s, q, img, dr, sigma(s, q), false);
         else
-          consider(q, s, std::uint8_t(26 - img), -dr, sigma(s, q), false);
+          consider<Walls>(q, s, std::uint8_t(26 - img), -dr, sigma(s, q), false);
       }
     }
   }
@@ -337,13 +341,13 @@ class ContactResolver {
       }
       const std::uint32_t moved = wall ? c.i : free_of(c.i, c.j);
       if (moved == kWall) {
-        sweep_collided(c.i, c.j);
+        sweep_collided<Walls>(c.i, c.j);
       } else {  // a bounce, or a free sphere off a kinematic one: only it moved
         const std::uint32_t skip[1] = {moved == c.i ? c.j : c.i};
         if (a_.speed)
-          sweep_neighbours<true, 1>(&moved, skip);
+          sweep_neighbours<true, 1, Walls>(&moved, skip);
         else
-          sweep_neighbours<false, 1>(&moved, skip);
+          sweep_neighbours<false, 1, Walls>(&moved, skip);
       }
       if constexpr (Walls) {
         predict_walls(c.i);

@@ -172,7 +172,7 @@ class Stepper final : public StepperBase, public StateExchange {
       if (!s.windows_fit_skin()) return false;
       s.rebuild();
       s.cover_windows(true);
-      s.template scan_pair_list<true>();
+      s.template scan_pair_list<true, true>();
       return true;
     }
   };
@@ -294,7 +294,7 @@ class Stepper final : public StepperBase, public StateExchange {
   }
   template <bool Speeds>
   void drift_impl();
-  template <bool Sweep>
+  template <bool Sweep, bool Walls>
   void scan_pair_list();
   void rebuild();
   void bind_resolver();

@@ -55,7 +55,7 @@ void Stepper<Real, Mono>::drift_impl() {
 }
 
 template <class Real, bool Mono>
-template <bool Sweep>
+template <bool Sweep, bool Walls>
 void Stepper<Real, Mono>::scan_pair_list() {
   resolver_.clear_candidates();
   const V3<Real>* __restrict pos = pos_.data();
@@ -70,7 +70,7 @@ void Stepper<Real, Mono>::scan_pair_list() {
   auto test = [&](std::uint32_t i, std::uint32_t j, std::uint8_t image, V3<Real> d) {
     const Real sg = Mono ? sigma_ : r_[i] + r_[j];
     const Real lim = Sweep ? sg + reach : sg;
-    if (dot(d, d) < lim * lim) resolver_.consider(i, j, image, d, sg, !Sweep);
+    if (dot(d, d) < lim * lim) resolver_.template consider<Walls>(i, j, image, d, sg, !Sweep);
   };
   // Branch-free distance filter over a chunk of the list, then test() (exact) for the few
   // hits: a rejected pair costs no branch and the position loads of a chunk overlap.
@@ -166,7 +166,7 @@ Real Stepper<Real, Mono>::substep() {
     rebuild();
     cover_windows(false);
   }
-  scan_pair_list<Sweep>();
+  scan_pair_list<Sweep, !AllPeriodic>();  // gravity, and kinematic spheres under it, need a wall
   if constexpr (!AllPeriodic) resolver_.predict_all_walls();
   resolver_.set_step_end(clock_ + double(h_));
   Real cut = ContactResolver<Real, Mono>::kWholeStep;
