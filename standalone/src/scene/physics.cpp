@@ -174,10 +174,20 @@ std::string unbounded_flow(const Physics& p, const std::array<bool, 3>& periodic
 
 std::string collapse_advice(const Physics& p, const PhysicsNames& names) {
   if (p.elastic()) return "";
-  return "; with " + names.restitution + " " + format_number(p.restitution) +
-         " it may also be an inelastic collapse (spheres settling onto each other), which a longer " +
-         names.contact_time + " (now " + format_number(p.contact_time) +
-         ") lets through: the TC model makes a sphere's collisions elastic within that time of its last one";
+  // Name the inelastic law as given: the pairs', or the walls' when only those are inelastic.
+  std::string law = names.restitution + " " + format_number(p.restitution);
+  if (p.restitution == 1)
+    for (int f = 0; f < 6; ++f)
+      if (p.walls[std::size_t(f)].restitution != 1) {
+        law = names.face_value(names.wall_restitution, f, p.walls[std::size_t(f)].restitution);
+        break;
+      }
+  return "; with " + law +
+         " it may also be an inelastic collapse (spheres settling onto each other, their collisions ever closer "
+         "in time), which a longer " +
+         names.contact_time + " lets through: give e.g. " + names.contact_time + " " +
+         format_number(10 * p.contact_time) + " (now " + format_number(p.contact_time) +
+         "; the TC model makes a sphere's collisions elastic within that time of its last one)";
 }
 
 }  // namespace hardsphere
