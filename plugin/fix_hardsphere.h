@@ -60,6 +60,7 @@ class FixHardSphere : public Fix {
  private:
   void check_other_fix(class Fix *f, int mask);  //!< one other fix, by its style and mask
   void check_setup();
+  void check_contact_distances();  //!< pair_coeff against the atoms and those fixes insert
   void check_timestep() const;
   //! The last step's collision virial, as LAMMPS's virial (energy units) when it asks, global
   //! and per atom.

@@ -58,8 +58,10 @@ struct GravityStyle : FixGravity {
 
 bool is_style(const Fix *f, const char *name) { return std::string(f->style) == name; }
 
-bool inserts_or_deletes_atoms(const Fix *f) {
-  for (const char *s : {"pour", "deposit", "evaporate", "gcmc", "charge/regulation"})
+//! Monte Carlo insertions and deletions weigh them by the pair energy, which hard spheres do not
+//! have (pour, deposit and evaporate are followed: OtherFixes).
+bool exchanges_atoms_by_energy(const Fix *f) {
+  for (const char *s : {"gcmc", "charge/regulation"})
     if (is_style(f, s)) return true;
   return false;
 }
@@ -161,10 +163,14 @@ void FixHardSphere::check_input() {
                "fix hardsphere: 'neigh_modify exclude' is not supported (every pair of hard spheres collides); "
                "use 'neigh_modify exclude none'");
   check_other_fixes();
-  // After the other fixes: one that would fill the box during the run (fix pour) is the cause.
-  if (atom->natoms == 0)
+  // A box may start empty when a fix inserts atoms during the run (fix pour, fix deposit).
+  bool inserting = false;
+  for (int i = 0; i < modify->nfix; i++)
+    inserting |= OtherFixes::is_atom_changer(modify->fix[i]) && !is_style(modify->fix[i], "evaporate");
+  if (atom->natoms == 0 && !inserting)
     error->all(FLERR,
-               "fix hardsphere: the box has no atoms; create or read them (create_atoms, read_data) before 'run'");
+               "fix hardsphere: the box has no atoms; create or read them (create_atoms, read_data) before 'run', "
+               "or insert them during it (fix pour, fix deposit)");
   apply_neighbor_settings();
 }
 
@@ -179,8 +185,7 @@ void FixHardSphere::check_other_fixes() {
   // re-neighbouring or only in minimisations are allowed, as are 'setforce NULL NULL NULL'
   // (sets nothing), store/force (records the zero forces), balance (load balancing), dynamic
   // groups and heat/flow with add/heat (per-atom temperatures).
-  // Most specific first: another integrator, then fixes that insert or delete atoms (fix pour
-  // needs fix gravity, which would otherwise be named first).
+  // Most specific first: another integrator, then fixes that insert or delete atoms by energy.
   for (int i = 0; i < modify->nfix; i++) {
     Fix *f = modify->fix[i];
     if (f != this && f->time_integrate)
@@ -191,17 +196,19 @@ void FixHardSphere::check_other_fixes() {
               ": remove " + fix_name(f));
   }
   for (int i = 0; i < modify->nfix; i++)
-    if (inserts_or_deletes_atoms(modify->fix[i]))
+    if (exchanges_atoms_by_energy(modify->fix[i]))
       error->all(FLERR, "fix hardsphere: " + fix_name(modify->fix[i]) +
-                            " inserts or deletes atoms during a run, but fix hardsphere follows one set of atoms "
-                            "through a run: remove it and add or delete atoms between runs (create_atoms, "
-                            "delete_atoms)");
+                            " exchanges atoms by Monte Carlo moves weighed by a pair energy, which hard spheres do "
+                            "not have: remove it (fix pour, fix deposit and fix evaporate are followed)");
   for (int i = 0; i < modify->nfix; i++)
     if (modify->fix[i] != this) check_other_fix(modify->fix[i], modify->fmask[i]);
 }
 
 void FixHardSphere::check_other_fix(Fix *f, int mask) {
   if (is_style(f, "store/force") || is_style(f, "balance")) return;
+  // fix pour, deposit and evaporate change the atoms in their pre_exchange on the steps they
+  // schedule; both paths write LAMMPS's rows before and take the new atoms up after (OtherFixes).
+  if (OtherFixes::is_atom_changer(f)) return;
   // A dynamic group's fix (post_integrate in LAMMPS 2021) only reads positions to set its
   // members; both paths write them on its steps (OtherFixes::reads).
   if (is_style(f, "GROUP")) return;

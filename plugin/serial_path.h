@@ -75,6 +75,7 @@ class SerialPath : public StepPath, protected Pointers {
   bool slots_dirty_ = true;                             //!< the slot map needs map()
   bool lammps_moved_ = false;                           //!< LAMMPS re-neighboured since the last step
   bool state_written_ = true;                           //!< LAMMPS's x and v hold the stepper's current state
+  std::string atoms_changed_by_;  //!< non-empty: a fix inserted or deleted atoms after the last step
 };
 
 }  // namespace LAMMPS_NS

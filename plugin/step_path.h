@@ -16,6 +16,9 @@ namespace LAMMPS_NS {
 //! another fix moved atoms at the end of a step.
 inline constexpr char kStartHint[] = "start from a valid non-overlapping state";
 inline constexpr char kMovedAtomsHint[] = "a fix that moves atoms must leave them apart (and inside fixed walls)";
+inline constexpr char kInsertedAtomsHint[] =
+    "a fix that inserts atoms must place them apart from the others and inside fixed walls (fix deposit: 'near' at "
+    "least the largest contact distance)";
 
 //! What one step did on this rank (weighted by ownership on the owned + ghost path, so the sums
 //! over ranks are the totals).
