@@ -90,11 +90,11 @@ def chute(ctx, case):
     rolling, _ = incline(ctx, 0.2, "tangential_restitution 0.0 friction 0.1")
     turning, _ = incline(ctx, "v_turn")
     turned = 0.01 * sum(math.sin(0.4 * math.sin(0.01 * k)) for k in range(1000))
-    return {"smooth v_x": smooth["v_vx"], "smooth x": smooth["v_xu"],
+    return {"smooth v_x": smooth["v_vx"], "smooth x": smooth["v_x"],
             "smooth warning": out.text,
             "sliding v_x": rough["v_vx"], "rolling v_x": rolling["v_vx"],
             "turning v_x": turning["v_vx"]}, \
-        {"free": 10 * math.sin(0.5), "free_x": 2 + 50 * math.sin(0.5),
+        {"free": 10 * math.sin(0.5), "free_x": (2 + 50 * math.sin(0.5)) % 10,  # wrapped into the box
          "sliding": 10 * (math.sin(0.5) - 0.1 * math.cos(0.5)), "rolling": 10 * math.sin(0.2) / 1.4,
          "turning": turned}
 
