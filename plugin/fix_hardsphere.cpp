@@ -293,11 +293,8 @@ void FixHardSphere::initial_integrate(int vflag) {
     dt = update->dt;
     check_timestep();
     path->configure(stepper_config(), physics);
-  } else if (!gravity_fixes.empty() && gravity_changed()) {
-    error->all(FLERR,
-               "fix hardsphere: fix gravity changed its acceleration during the run (a variable magnitude "
-               "or direction); hard-sphere flights need a constant one");
   }
+  if (!gravity_fixes.empty()) take_gravity();
   // Another fix may have moved atoms at the end of the last step (x was kept at post_force).
   const bool moved = positions_kept && positions_moved();
   positions_kept = false;

@@ -266,9 +266,6 @@ void FixHardSphere::check_other_fix(Fix *f, int mask) {
     if (f->igroup != 0)
       error->all(FLERR, "fix hardsphere: " + fix_name(f) + " acts on group '" + group->names[f->igroup] +
                             "', but every atom is a hard sphere: use group all");
-    if (!GravityStyle::constant(f))
-      error->all(FLERR, "fix hardsphere: " + fix_name(f) +
-                            " has a variable magnitude or direction; hard-sphere flights need a constant one");
     gravity_fixes.push_back(f);
     return;
   }
@@ -366,49 +363,72 @@ void FixHardSphere::skip_reverse_comm() {
 void FixHardSphere::check_fixes_unchanged() {
   // A run without setup ('pre no'): the other fixes were checked (and LAMMPS listed them) at
   // the last init, so none may have come or gone, and fix gravity (found again: a replaced one
-  // leaves a stale pointer) must be as it was.
+  // leaves a stale pointer) is read again before the first step (take_gravity).
   bool same = int(fixes_at_init.size()) == modify->nfix;
   for (int i = 0; same && i < modify->nfix; i++) same = fixes_at_init[std::size_t(i)] == modify->fix[i]->id;
   gravity_fixes.clear();
   for (int i = 0; i < modify->nfix; i++)
     if (is_style(modify->fix[i], "gravity")) gravity_fixes.push_back(modify->fix[i]);
-  if (!same || gravity_changed())
+  if (!same)
     error->all(FLERR,
                "fix hardsphere: fixes were added, removed or replaced since the last run's setup, which 'run ... "
                "pre no' skips: start this run with its setup ('run N' without 'pre no')");
 }
 
-void FixHardSphere::read_gravity() {
-  // The acceleration of every fix gravity (LAMMPS has set it in the fixes' init); flights are
-  // parabolas along wall axes, and a periodic axis would accelerate the atoms without end.
+std::array<double, 3> FixHardSphere::gravity_now(bool settled) const {
+  // fix gravity's vector is a force per mass (m g is added to f); as an acceleration it takes
+  // ftm2v, as in LAMMPS's integrators (1 in lj, si and cgs units).
   std::array<double, 3> gravity{0.0, 0.0, 0.0};
+  const int self = modify->find_fix(id);
   for (Fix *f : gravity_fixes) {
+    // A fix gravity with variables sets its vector in its setup (post_force), which runs after
+    // this fix's when it was defined later: the first step takes it up (take_gravity).
+    if (settled && !GravityStyle::constant(f) && modify->find_fix(f->id) > self) continue;
     int dim = 0;
     const auto *g = static_cast<const double *>(f->extract("gvec", dim));
     if (!g) error->all(FLERR, "fix hardsphere: cannot read the acceleration of fix " + std::string(f->id));
-    // fix gravity's vector is a force per mass (m g is added to f); as an acceleration it takes
-    // ftm2v, as in LAMMPS's integrators (1 in lj, si and cgs units).
     for (int d = 0; d < 3; d++) gravity[std::size_t(d)] += g[d] * force->ftm2v;
   }
-  physics.gravity = gravity;
+  return gravity;
+}
+
+void FixHardSphere::read_gravity() {
+  // The acceleration of every fix gravity (LAMMPS has set it in the fixes' init or setup);
+  // flights are parabolas, along any axis (a chute: periodic along the flow).
+  physics.gravity = gravity_now(true);
+  const std::array<bool, 3> periodic{domain->periodicity[0] != 0, domain->periodicity[1] != 0,
+                                     domain->periodicity[2] != 0};
   try {
-    physics = hardsphere::validated(
-        physics, {domain->periodicity[0] != 0, domain->periodicity[1] != 0, domain->periodicity[2] != 0},
-        physics_names(), given);
+    physics = hardsphere::validated(physics, periodic, physics_names(), given);
   } catch (const std::exception &e) {
     error->all(FLERR, std::string("fix hardsphere: ") + e.what());
   }
+  flow_warned = false;
+  warn_unbounded_flow();
 }
 
-bool FixHardSphere::gravity_changed() const {
-  // fix gravity with a variable magnitude or direction changes its vector during a run.
-  std::array<double, 3> now{0.0, 0.0, 0.0};
-  for (Fix *f : gravity_fixes) {
-    int dim = 0;
-    const auto *g = static_cast<const double *>(f->extract("gvec", dim));
-    for (int d = 0; d < 3; d++) now[std::size_t(d)] += g[d] * force->ftm2v;
+void FixHardSphere::warn_unbounded_flow() {
+  // A chute that cannot settle runs, and says why: once a run (a turning gravity changes the text).
+  if (flow_warned) return;
+  const std::string flow = hardsphere::unbounded_flow(
+      physics, {domain->periodicity[0] != 0, domain->periodicity[1] != 0, domain->periodicity[2] != 0},
+      physics_names());
+  if (flow.empty()) return;
+  flow_warned = true;
+  if (comm->me == 0) error->warning(FLERR, "fix hardsphere: " + flow);
+}
+
+void FixHardSphere::take_gravity() {
+  std::array<double, 3> g{};
+  try {
+    g = hardsphere::validated_gravity(gravity_now(false), physics_names());
+  } catch (const std::exception &e) {
+    error->all(FLERR, std::string("fix hardsphere: at step ") + std::to_string(update->ntimestep) + ": " + e.what());
   }
-  return hardsphere::without_rounding(now) != physics.gravity;  // as validated() reads it
+  if (g == physics.gravity) return;
+  physics.gravity = g;
+  path->set_gravity(g);
+  warn_unbounded_flow();
 }
 
 void FixHardSphere::check_ghost_cutoff(double shell) const {

@@ -38,6 +38,10 @@ class GhostPath : public StepPath, protected Pointers {
   //! meets must see all its own partners (two contact distances), and the skin twice over plus
   //! one more contact distance is what atoms may move before LAMMPS re-neighbours.
   static double ghost_cutoff(double contact, double skin) { return 3.0 * contact + 2.0 * skin; }
+  void set_gravity(const std::array<double, 3> &g) override {
+    physics_.gravity = g;
+    if (stepper_) stepper_->set_gravity(g);
+  }
   //! New ghosts, atoms may have changed ranks: the stepper is made again before the next step.
   void neighbours_changed() override { stale_ = epoch_ = true; }
   //! The stepper is made now (outside the run's loop, as the serial path's is) from LAMMPS's

@@ -28,6 +28,10 @@ class SerialPath : public StepPath, protected Pointers {
     config_ = config;
     physics_ = physics;
   }
+  void set_gravity(const std::array<double, 3> &g) override {
+    physics_.gravity = g;
+    if (stepper_) stepper_->set_gravity(g);
+  }
   void neighbours_changed() override { lammps_moved_ = true; }
   void run_starts() override { make("fix hardsphere", kStartHint); }
   //! The group bits of fix freeze groups: their atoms are kinematic spheres.

@@ -39,6 +39,9 @@ class StepPath {
   virtual ~StepPath() = default;
   //! The settings of every stepper the path makes from now on.
   virtual void configure(const hardsphere::StepperConfig &config, const hardsphere::Physics &physics) = 0;
+  //! Gravity from the next step on (a fix gravity with variables, validated): the stepper in use
+  //! and every one the path makes later.
+  virtual void set_gravity(const std::array<double, 3> &g) = 0;
   //! LAMMPS re-neighboured (or a run's setup does): it may have wrapped, sorted or migrated atoms.
   virtual void neighbours_changed() = 0;
   //! A run's setup: the path starts from LAMMPS's atoms, checked as a run's start.

@@ -30,9 +30,14 @@ def test_largest_overlap_across_the_periodic_face():
     assert dem_scenes.largest_overlap(d) == pytest.approx(0.05, rel=1e-9)
 
 
-def test_soft_pour_input_settles_instead_of_the_chute(tmp_path):
+def test_soft_pour_input_settles_before_the_chute():
     if not (dem_scenes.EXAMPLES / "pour" / "in.pour").is_file():
         pytest.skip("lammps-examples not installed")
-    text = dem_scenes.soft_pour_input("end.data")
-    assert "gravity 1.0 chute" not in text and text.count("unfix\t\tins") == 1
-    assert text.rstrip().endswith("write_data\tend.data") and "c_zm" in text
+    text = dem_scenes.soft_pour_input("bed.data")
+    assert text.count("unfix\t\tins") == 1 and text.count("run\t\t25000") == 3
+    assert text.index("write_data\tbed.data") < text.index("gravity 1.0 chute 26.0") and "c_zm c_vx" in text
+
+
+def test_flow_rate_of_a_steady_acceleration():
+    rows = [{"Step": s, "c_vx": 0.5 * s * 0.001} for s in range(0, 25001, 1000)]  # dv/dt 0.5
+    assert dem_scenes.flow(rows) == (pytest.approx(12.5), pytest.approx(0.5))

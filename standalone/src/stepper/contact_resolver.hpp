@@ -99,7 +99,10 @@ class ContactResolver {
     walls_.set_walls(periodic, lo, hi);
   }
   void set_resting_time(Real t) { walls_.set_resting_time(t); }
-  void set_gravity(const std::array<Real, 3>& g) { walls_.set_gravity(g); }
+  void set_gravity(const std::array<Real, 3>& g) {
+    walls_.set_gravity(g);
+    kinematic_gravity_ = a_.kinematic && (g[0] != Real(0) || g[1] != Real(0) || g[2] != Real(0));
+  }
   static constexpr std::uint32_t kWall = 0xffffffffu;
   //! An upper bound of every sphere's speed in this step (the resolver raises it after each
   //! collision). It lets neighbour sweeps reject distant partners early; +inf (the default)
@@ -160,8 +163,8 @@ class ContactResolver {
 
   //! Queues (i, j), i < j, if the pair touched while approaching within its common
   //! straight-line window; `overlap_only` is the seed's test (the pair overlaps now).
-  //! Walls: kinematic spheres may be under gravity (gravity needs a wall axis), whose pairs
-  //! consider_kinematic() takes; without walls the test costs nothing.
+  //! Walls: the general loops, where kinematic spheres under gravity may be (their pairs go to
+  //! consider_kinematic()); the all-periodic scan and the loop without walls never test for them.
   template <bool Walls = true>
   HS_ALWAYS_INLINE void consider(std::uint32_t i, std::uint32_t j, std::uint8_t image, Vec3<Real> dr, Real sigma,
                                  bool overlap_only) {
@@ -278,9 +281,10 @@ class ContactResolver {
   Real resolve(Hooks& hooks, ContactTally& tally) {
     // Periodic scenes skip every wall test; smooth ones every rough test (their loop is the one
     // they had before rough spheres).
-    if (a_.omega)
-      return walls_.any() ? resolve_impl<true, true>(hooks, tally) : resolve_impl<false, true>(hooks, tally);
-    if (walls_.any()) return resolve_impl<true, false>(hooks, tally);
+    // Kinematic spheres under gravity take the walls' loop, whose sweeps test their pairs (consider()).
+    const bool walls = walls_.any() || kinematic_gravity_;
+    if (a_.omega) return walls ? resolve_impl<true, true>(hooks, tally) : resolve_impl<false, true>(hooks, tally);
+    if (walls) return resolve_impl<true, false>(hooks, tally);
     return resolve_impl<false, false>(hooks, tally);
   }
 

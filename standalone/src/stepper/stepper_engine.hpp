@@ -49,6 +49,8 @@ class Stepper final : public StepperBase, public StateExchange {
       throw JammedSpheres(e.what() + collapse_advice_);
     }
   }
+  void set_gravity(const std::array<double, 3>& g) override;
+  std::array<double, 3> gravity() const override { return gravity_in_; }
   //! Runs the steps in stretches of one specialised kernel (stepper_step.cpp).
   void run_steps(std::int64_t steps);
   ParticleSystem state() const override;
@@ -396,8 +398,10 @@ class Stepper final : public StepperBase, public StateExchange {
   std::vector<std::uint8_t> kin_rank_, kin_;
   std::vector<V3<Real>> kin_vel_;
   std::vector<std::uint32_t> kin_at_;
-  std::string collapse_advice_;  // added to a jam refusal (inelastic collisions)
-  double inertia_ = 0.4;         // q of I = q m r^2
+  std::string collapse_advice_;         // added to a jam refusal (inelastic collisions)
+  PhysicsNames names_;                  // the adapter's names, for set_gravity's refusals
+  std::array<double, 3> gravity_in_{};  // gravity as validated (gravity_ is it in Real)
+  double inertia_ = 0.4;                // q of I = q m r^2
 };
 
 }  // namespace hardsphere::detail

@@ -166,7 +166,7 @@ Real Stepper<Real, Mono>::substep() {
     rebuild();
     cover_windows(false);
   }
-  scan_pair_list<Sweep, !AllPeriodic>();  // gravity, and kinematic spheres under it, need a wall
+  scan_pair_list<Sweep, !AllPeriodic>();  // kinematic spheres never take the all-periodic kernel
   if constexpr (!AllPeriodic) resolver_.predict_all_walls();
   resolver_.set_step_end(clock_ + double(h_));
   Real cut = ContactResolver<Real, Mono>::kWholeStep;
