@@ -173,6 +173,7 @@ void FixHardSphere::init() {
     else
       path = std::make_unique<GhostPath>(lmp, this, timing);
   }
+  if (serial) static_cast<SerialPath &>(*path).set_kinematic_bits(kinematic_bits);
   const double shell = serial ? 0.0 : GhostPath::ghost_cutoff(force->pair->cutforce, neighbor->skin);
   check_ghost_cutoff(ghost_auto ? shell : 0.0);
   if (serial) return;  // the stepper needs no ghost shell and no LAMMPS neighbour list

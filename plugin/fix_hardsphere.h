@@ -136,6 +136,7 @@ class FixHardSphere : public Fix {
   std::unique_ptr<StepPath> path;    //!< made at the first init(): serial on one rank, else owned + ghost
   OtherFixes others;                 //!< when other fixes read or change x and v (init)
   std::vector<Fix *> gravity_fixes;  //!< fix gravity commands, acting through the stepper
+  int kinematic_bits = 0;            //!< group bits of fix freeze groups: kinematic spheres (serial path)
   std::vector<double> x_kept;        //!< owned x before other fixes' step-end hooks, if they may move atoms
   bool positions_kept = false;       //!< x_kept was taken in the last step (on every rank alike)
 

@@ -14,6 +14,7 @@
 #include "error.h"
 #include "fix_gravity.h"
 #include "fix_hardsphere.h"
+#include "fix_move.h"
 #include "fix_setforce.h"
 #include "force.h"
 #include "group.h"
@@ -55,6 +56,23 @@ struct GravityStyle : FixGravity {
   //! CONSTANT (0 in LAMMPS's fix_gravity.cpp) and the vector is set in its constructor.
   static bool constant(Fix *fix) { return static_cast<FixGravity *>(fix)->*(&GravityStyle::varflag) == 0; }
 };
+
+//! FixMove keeps its style private. An explicit instantiation may name a private member, and
+//! hands its pointer out here (the one standard way to read it without changing LAMMPS).
+int FixMove::*move_style_member();
+template <int FixMove::*M>
+struct MoveStyleMember {
+  friend int FixMove::*move_style_member() { return M; }
+};
+template struct MoveStyleMember<&FixMove::mstyle>;
+
+//! fix move's style by name: LINEAR, WIGGLE, ROTATE, VARIABLE (and TRANSROT since 2023), in
+//! LAMMPS's fix_move.cpp order.
+std::string move_style(Fix *fix) {
+  static const char *const names[] = {"linear", "wiggle", "rotate", "variable", "transrot"};
+  const int s = static_cast<FixMove *>(fix)->*move_style_member();
+  return s >= 0 && s < 5 ? names[s] : "style " + std::to_string(s);
+}
 
 bool is_style(const Fix *f, const char *name) { return std::string(f->style) == name; }
 
@@ -178,6 +196,23 @@ void FixHardSphere::check_other_fixes() {
   gravity_fixes.clear();
   fixes_at_init.clear();
   for (int i = 0; i < modify->nfix; i++) fixes_at_init.emplace_back(modify->fix[i]->id);
+  kinematic_bits = 0;
+  // fix move integrates its group itself; the stepper follows only straight, constant motion, which
+  // a fix freeze group with its velocity set gives (its atoms keep their velocity under fix hardsphere).
+  for (int i = 0; i < modify->nfix; i++) {
+    Fix *f = modify->fix[i];
+    if (!is_style(f, "move")) continue;
+    const std::string style = move_style(f);
+    if (style == "linear")
+      error->all(FLERR, "fix hardsphere: " + fix_name(f) +
+                            " linear moves its group itself; for a piston of infinite mass on a straight line use "
+                            "'fix ID " +
+                            group->names[f->igroup] + " freeze' and 'velocity " + group->names[f->igroup] +
+                            " set VX VY VZ' instead (under fix hardsphere a fix freeze group keeps its velocity)");
+    error->all(FLERR, "fix hardsphere: " + fix_name(f) + " " + style +
+                          " is not followed: hard-sphere obstacles move on straight lines at constant velocity "
+                          "(a fix freeze group with its velocity set, 'velocity GROUP set VX VY VZ'); remove it");
+  }
   // Refused by what each fix tells LAMMPS it does (its mask): acting on forces (pre_force,
   // pre_reverse, post_force, with their rRESPA variants), moving atoms inside the step
   // (initial/post/final_integrate), or changing the atoms between steps (pre_exchange). Fixes
@@ -206,6 +241,16 @@ void FixHardSphere::check_other_fixes() {
 
 void FixHardSphere::check_other_fix(Fix *f, int mask) {
   if (is_style(f, "store/force") || is_style(f, "balance")) return;
+  // Its atoms are kinematic spheres: infinite mass, moving on at the velocity they have (LAMMPS's
+  // fix freeze zeroes forces only, so an atom moving at the start moves on), no gravity.
+  if (is_style(f, "freeze")) {
+    if (!serial)
+      error->all(FLERR, "fix hardsphere: " + fix_name(f) +
+                            " (kinematic spheres) runs on one rank only for now: run on one rank without 'path "
+                            "ghosts', or remove it");
+    kinematic_bits |= f->groupbit;
+    return;
+  }
   // fix pour, deposit and evaporate change the atoms in their pre_exchange on the steps they
   // schedule; both paths write LAMMPS's rows before and take the new atoms up after (OtherFixes).
   if (OtherFixes::is_atom_changer(f)) return;

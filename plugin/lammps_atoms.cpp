@@ -28,6 +28,10 @@ hardsphere::ParticleSystem LAMMPS_NS::atoms_to_system(const Atom *atom, const ha
     if (rows.place && !rows.place(i, sys, p, id)) continue;
     const Vec3d w = rows.rough ? Vec3d{atom->omega[i][0], atom->omega[i][1], atom->omega[i][2]} : Vec3d{0, 0, 0};
     sys.push_back(id, atom->type[i], atom->radius[i], atom->rmass[i], p, {v[i][0], v[i][1], v[i][2]}, {0, 0, 0}, w);
+    if (rows.kinematic_bits) {
+      sys.kinematic.resize(sys.size());
+      sys.kinematic.back() = (atom->mask[i] & rows.kinematic_bits) != 0;
+    }
   }
   return sys;
 }

@@ -18,6 +18,8 @@ hardsphere::Box lammps_box(const Domain *domain);
 struct AtomRows {
   bool ghosts = false;  //!< owned rows only, or owned rows then ghost rows
   bool rough = false;   //!< omega read (rough spheres); zero otherwise
+  //! Group bits of the atoms that are kinematic spheres (fix freeze groups); 0: none.
+  int kinematic_bits = 0;
   //! Optional, for row i: whether it is held, and its position and id (given x and the tag;
   //! `so_far` holds the rows taken before). Without it every row is held at x with its tag.
   std::function<bool(int i, const hardsphere::ParticleSystem &so_far, hardsphere::Vec3d &pos, std::int64_t &id)> place;

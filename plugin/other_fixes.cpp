@@ -41,6 +41,8 @@ void OtherFixes::scan(const Modify *modify, const Fix *self) {
     // fix gravity only adds forces (its acceleration acts through the stepper) and reads x for
     // its energy, which output steps write anyway.
     if (utils::strmatch(fix->style, "^gravity")) continue;
+    // fix freeze only zeroes forces: its atoms are the stepper's kinematic spheres.
+    if (std::string(fix->style) == "freeze") continue;
     // Insertions and deletions happen on the steps the fix schedules, not every step: the paths
     // write LAMMPS's rows before them and read the new set of atoms after.
     if (is_atom_changer(fix)) {

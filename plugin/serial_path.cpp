@@ -34,6 +34,7 @@ void SerialPath::make(const std::string &source, const std::string &hint) {
   // changed anything between runs.
   AtomRows rows;
   rows.rough = physics_.rough();  // the fix checked that the atom style has omega
+  rows.kinematic_bits = kinematic_bits_;
   hardsphere::ParticleSystem sys = atoms_to_system(atom, lammps_box(domain), rows);
   try {
     // Overlaps, out-of-box atoms; overlaps the stepper's own rounding leaves (a state it

@@ -34,6 +34,8 @@ class SerialPath : public StepPath, protected Pointers {
   }
   void neighbours_changed() override { lammps_moved_ = true; }
   void run_starts() override { make("fix hardsphere", kStartHint); }
+  //! The group bits of fix freeze groups: their atoms are kinematic spheres.
+  void set_kinematic_bits(int bits) { kinematic_bits_ = bits; }
   bool before_step(const StepStart &start) override;
   StepTotals step(double *virial_rows, double scale) override;
   double owned_mv2() const override { return hardsphere::state_exchange(*stepper_).mv2_sum(); }
@@ -75,6 +77,7 @@ class SerialPath : public StepPath, protected Pointers {
   bool slots_dirty_ = true;                             //!< the slot map needs map()
   bool lammps_moved_ = false;                           //!< LAMMPS re-neighboured since the last step
   bool state_written_ = true;                           //!< LAMMPS's x and v hold the stepper's current state
+  int kinematic_bits_ = 0;
   std::string atoms_changed_by_;  //!< non-empty: a fix inserted or deleted atoms after the last step
 };
 

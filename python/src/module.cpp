@@ -195,12 +195,14 @@ void bind_system(py::module_& m) {
       "System.random(..., method='dense'): an amorphous quench and compression (--init dense), up to phi 0.64.");
   sys.def_static(
       "from_data",
-      [](py::object path, py::object boundary, py::object precision) {
-        return from_data(path_arg(path, "from_data"), text_arg(boundary, "boundary"), text_arg(precision, "precision"));
+      [](py::object path, py::object boundary, py::object precision, py::object kinematic_types) {
+        return from_data(path_arg(path, "from_data"), text_arg(boundary, "boundary"), text_arg(precision, "precision"),
+                         kinematic_types);
       },
-      "path"_a, "boundary"_a = "p", "precision"_a = "double",
+      "path"_a, "boundary"_a = "p", "precision"_a = "double", "kinematic_types"_a = py::none(),
       "Reads a LAMMPS data file (atom_style sphere) as --read-data does; overlaps up to the rounding of "
-      "an engine of this precision are accepted. OSError if unreadable, ValueError (file:line) if "
+      "an engine of this precision are accepted; kinematic_types=[2, ...] makes those types' spheres "
+      "kinematic (--kinematic-types; Stepper only). OSError if unreadable, ValueError (file:line) if "
       "malformed or invalid.");
   add_arrays(
       sys, [](py::object self, Field f) { return view(self.cast<SystemData&>().sys, f, self); },

@@ -6,6 +6,7 @@
 #include <pybind11/numpy.h>
 #include <pybind11/stl.h>
 
+#include <algorithm>
 #include <climits>
 #include <cmath>
 #include <filesystem>
@@ -15,6 +16,7 @@
 
 #include "hardsphere/format.hpp"
 #include "hardsphere/lammps_io.hpp"
+#include "hardsphere/simulation.hpp"
 #include "hardsphere/stepper.hpp"
 #include "values.hpp"
 
@@ -127,7 +129,18 @@ std::shared_ptr<SystemData> generate(InitMethod method, std::int64_t n, std::opt
 }
 
 std::shared_ptr<SystemData> from_data(const std::string& path, const std::string& boundary,
-                                      const std::string& precision) {
+                                      const std::string& precision, const py::object& kinematic_types) {
+  std::vector<int> types;
+  if (!kinematic_types.is_none()) {
+    if (py::isinstance<py::str>(kinematic_types) || !py::isinstance<py::sequence>(kinematic_types))
+      throw InputError("kinematic_types takes a sequence of atom types, e.g. [2, 3]");
+    for (const py::handle t : kinematic_types) {
+      const int v = int(whole_arg(t, "kinematic_types", 1, INT_MAX));
+      if (std::find(types.begin(), types.end(), v) != types.end())
+        throw InputError("kinematic_types: type " + std::to_string(v) + " is given twice");
+      types.push_back(v);
+    }
+  }
   const double eps = rounding_epsilon(parse_precision(precision));
   const auto periodic = parse_boundary(boundary);
   auto data = std::make_shared<SystemData>();
@@ -135,7 +148,11 @@ std::shared_ptr<SystemData> from_data(const std::string& path, const std::string
   // A file that cannot be opened (or is a directory): read_data's refusal, as an OSError.
   if (!std::ifstream(path) || std::filesystem::is_directory(path))
     file_call([&] { return read_data(path, periodic, eps); });
-  data->sys = read_data(path, periodic, eps);
+  data->sys = read_data(path, periodic, eps, nullptr, types.empty());
+  if (!types.empty()) {  // kinematic spheres may overlap each other: the pairs checked once they are marked
+    set_kinematic_types(data->sys, types, "kinematic_types", path);
+    validate_and_wrap(data->sys, path, &data->sys.source_line, eps);
+  }
   return data;
 }
 

@@ -54,9 +54,10 @@ std::shared_ptr<SystemData> generate(InitMethod method, std::int64_t n, std::opt
                                      const std::string& boundary, std::optional<double> rotational_temperature,
                                      std::optional<double> inertia);
 
-//! A data file as --read-data reads it; FileError if it cannot be opened.
+//! A data file as --read-data reads it; FileError if it cannot be opened. `kinematic_types`
+//! (None or a sequence of atom types): those atoms' spheres are kinematic, as --kinematic-types.
 std::shared_ptr<SystemData> from_data(const std::string& path, const std::string& boundary,
-                                      const std::string& precision);
+                                      const std::string& precision, const pybind11::object& kinematic_types);
 
 //! The keywords' names of the physics settings, for the library's messages.
 const PhysicsNames& physics_names();

@@ -136,11 +136,11 @@ struct RunOptions {
   std::string boundary_s = "p", cells_s = "auto", precision_s = "double", init_s = "auto", json_s, detect_s = "auto";
   std::string read_data_s, write_data_s, dump_s, seed_s = "1", engine_s = "stepper", time_s, etime_s, blocks_s;
   std::string dump_every_s, bins_s, restitution_s, contact_time_s, resting_time_s, gravity_s, track_s, track_every_s,
-      track_file_s, beta_s, friction_s, inertia_s, t_rot_s, wall_e_s, wall_beta_s, wall_mu_s;
+      track_file_s, beta_s, friction_s, inertia_s, t_rot_s, wall_e_s, wall_beta_s, wall_mu_s, kinematic_s;
   CLI::Option *o_beta, *o_bins, *o_blocks, *o_box, *o_contact_time, *o_detect, *o_dt, *o_dump, *o_dump_every, *o_equil,
       *o_etime, *o_friction, *o_gravity, *o_inertia, *o_init, *o_json, *o_mass, *o_n, *o_phi, *o_radius, *o_read,
       *o_resting_time, *o_restitution, *o_seed, *o_speed, *o_steps, *o_t, *o_t_rot, *o_time, *o_track, *o_track_every,
-      *o_track_file, *o_write, *o_wall_e, *o_wall_beta, *o_wall_mu;
+      *o_track_file, *o_write, *o_wall_e, *o_wall_beta, *o_wall_mu, *o_kinematic;
 };
 
 // The options, declared in the order the help lists them: the initial state, the stepping, the
@@ -234,6 +234,11 @@ void add_output_options(CLI::App* app, RunOptions& o, bool& quiet) {
   o.o_blocks = app->add_option("--blocks", o.blocks_s, "event engine: block averages for the error bars (default 20)")
                    ->type_name("INT");
   o.o_read = app->add_option("--read-data", o.read_data_s, "start from a LAMMPS data file (atom_style sphere)");
+  o.o_kinematic = app->add_option("--kinematic-types", o.kinematic_s,
+                                  "atom types of the data file whose spheres are kinematic: infinite mass, moving "
+                                  "on at their own constant velocity (0: frozen), no gravity (stepper only)")
+                      ->type_name("TYPE,...")
+                      ->needs(o.o_read);
   o.o_write = app->add_option("--write-data", o.write_data_s, "write the final state as a LAMMPS data file");
   o.o_dump = app->add_option("--dump", o.dump_s, "write a LAMMPS text dump");
   o.o_dump_every = app->add_option("--dump-every", o.dump_every_s, "steps between dump frames (default 100)")
@@ -355,6 +360,22 @@ void take_run_length(const RunOptions& o, RunSpec& spec) {
 }
 
 //! The output files (and the tracker), checked before anything is read, run or created.
+//! --kinematic-types: atom types separated by commas, each once.
+std::vector<int> kinematic_types(const std::string& list) {
+  std::vector<int> types;
+  std::size_t at = 0;
+  while (true) {
+    const std::size_t comma = list.find(',', at);
+    const std::string item = list.substr(at, comma == std::string::npos ? std::string::npos : comma - at);
+    const int t = int(whole("--kinematic-types", item, 1, INT_MAX));
+    if (std::find(types.begin(), types.end(), t) != types.end())
+      throw InputError("--kinematic-types: type " + item + " is given twice");
+    types.push_back(t);
+    if (comma == std::string::npos) return types;
+    at = comma + 1;
+  }
+}
+
 void take_outputs(const RunOptions& o, RunSpec& spec) {
   // Outputs: an empty name is refused (not silently "no output"), and two outputs may not be
   // the same file under any spelling; checked before anything is read, run or created.
@@ -449,6 +470,7 @@ CommandLine parse_command_line(int argc, const char* const* argv) {
   if (o.o_read->count()) {
     if (o.read_data_s.empty()) throw InputError("--read-data: empty file name");
     spec.read_data = o.read_data_s;
+    if (o.o_kinematic->count()) spec.kinematic_types = kinematic_types(o.kinematic_s);
     return cmd;
   }
   take_initial_state(o, spec);

@@ -64,6 +64,44 @@ inline T touched_back_time(Vec3<T> dr, Vec3<T> dv, T sigma, T window, bool overl
   return detail::rewind_from(a, b, c);
 }
 
+//! Back time s of the contact of a sphere falling under acceleration g with a kinematic one (which
+//! no gravity acts on): the root of |dr - dv s + g s^2 / 2| = sigma (dr, dv: the pair now, the
+//! falling sphere first) near `guess` (the straight-line root, touched_back_time()), by Newton's
+//! method, which from there converges in a few steps (their relative motion is no longer straight:
+//! the straight root is off by about g s^2 / 2). Where Newton's root is not an approaching one in
+//! [0, window], the entry is bracketed instead: a pair that overlapped and approached at the
+//! window's start collides there (as touched_back_time() clamps), one that entered within the
+//! window at its entry (bisection), one that overlaps and approaches only now, now. -1: no contact.
+template <class T>
+inline T kinematic_back_time(Vec3<T> dr, Vec3<T> dv, Vec3<T> g, T sigma, T guess, T window) {
+  auto sep = [&](T s) { return dr - s * dv + (T(0.5) * s * s) * g; };
+  auto gap = [&](T s) {
+    const Vec3<T> d = sep(s);
+    return dot(d, d) - sigma * sigma;
+  };
+  auto approaching = [&](T s) { return dot(sep(s), dv - s * g) < T(0); };
+  T s = std::min(std::max(guess, T(0)), window);
+  for (int it = 0; it < 32; ++it) {
+    const T fp = T(2) * dot(sep(s), s * g - dv);
+    if (!(fp != T(0))) break;
+    const T ds = gap(s) / fp;
+    s -= ds;
+    if (!(std::abs(ds) > T(4) * std::numeric_limits<T>::epsilon() * std::abs(s))) break;
+  }
+  if (s >= T(0) && s <= window && approaching(s)) return s;
+  if (gap(window) < T(0)) {
+    if (approaching(window)) return window;
+  } else if (gap(T(0)) < T(0)) {
+    T in = 0, out = window;  // overlapping now, apart at the window's start: the entry between
+    for (int it = 0; it < 200 && out - in > T(4) * std::numeric_limits<T>::epsilon() * out; ++it) {
+      const T mid = T(0.5) * (in + out);
+      (gap(mid) < T(0) ? in : out) = mid;
+    }
+    if (approaching(in)) return in;
+  }
+  return gap(T(0)) < T(0) && approaching(T(0)) ? T(0) : T(-1);
+}
+
 //! Time t >= 0 until a pair touches, or +inf if it never does (receding, or missing).
 //! Same stable form as rewind_time; an overlapping approaching pair collides now (t = 0).
 template <class T>

@@ -21,6 +21,8 @@ struct BasicCollisionTotals {
   std::array<double, 3> wall_impulse{0, 0, 0};                        //!< momentum given to the walls of each axis
   double dissipated_normal = 0, dissipated_tangential = 0;            //!< rough spheres: energy taken by channel
   double wall_dissipated_normal = 0, wall_dissipated_tangential = 0;  //!< what the walls took, any spheres
+  Count kinematic_collisions = 0;  //!< free spheres' bounces off kinematic ones (their dissipation: the walls')
+  double kinematic_work = 0;       //!< the work kinematic spheres did on free ones
 
   BasicCollisionTotals& operator+=(const BasicCollisionTotals& o) {
     collisions += o.collisions, wall_collisions += o.wall_collisions, resting_contacts += o.resting_contacts;
@@ -29,6 +31,7 @@ struct BasicCollisionTotals {
     for (std::size_t k = 0; k < 3; k++) wall_impulse[k] += o.wall_impulse[k];
     dissipated_normal += o.dissipated_normal, dissipated_tangential += o.dissipated_tangential;
     wall_dissipated_normal += o.wall_dissipated_normal, wall_dissipated_tangential += o.wall_dissipated_tangential;
+    kinematic_collisions += o.kinematic_collisions, kinematic_work += o.kinematic_work;
     return *this;
   }
   //! What was added since `o` (counters read at two times).
@@ -40,6 +43,7 @@ struct BasicCollisionTotals {
     a.dissipated_normal -= o.dissipated_normal, a.dissipated_tangential -= o.dissipated_tangential;
     a.wall_dissipated_normal -= o.wall_dissipated_normal;
     a.wall_dissipated_tangential -= o.wall_dissipated_tangential;
+    a.kinematic_collisions -= o.kinematic_collisions, a.kinematic_work -= o.kinematic_work;
     return a;
   }
 };
@@ -66,6 +70,7 @@ BasicCollisionTotals<Count> collision_totals(const Counters& c) {
   t.wall_impulse = c.wall_impulse;
   t.dissipated_normal = c.dissipated_normal, t.dissipated_tangential = c.dissipated_tangential;
   t.wall_dissipated_normal = c.wall_dissipated_normal, t.wall_dissipated_tangential = c.wall_dissipated_tangential;
+  t.kinematic_collisions = Count(c.kinematic_collisions), t.kinematic_work = c.kinematic_work;
   return t;
 }
 

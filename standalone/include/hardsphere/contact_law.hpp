@@ -195,6 +195,64 @@ inline WallOutcome<T> collide_wall(const WallLaw<T>& law, int d, int side, Vec3<
   return out;
 }
 
+//! What a free sphere's contact with a kinematic sphere does: the free sphere's velocity change
+//! (the kinematic one has infinite mass and never changes), whether it rested, and the work the
+//! kinematic sphere's surface did on it (m dv . s, s the surface velocity at the contact point:
+//! zero for a frozen one), so a run's energy budget closes with it.
+template <class T>
+struct KinematicOutcome {
+  bool rested = false;
+  Vec3<T> dv{};
+  double work = 0;
+  ContactOutcome contact;  //!< changed: the pair approached; dissipation as a wall's
+};
+
+//! The pair law with one infinite mass: a free sphere (mass m, radius a, velocity v, angular
+//! velocity *w for Rough) at contact separation dr = r - r_k from a kinematic sphere (radius a_k,
+//! velocity u, angular velocity w_k) takes the whole impulse, as from a wall whose normal is the
+//! centre line n = dr / |dr| and whose surface moves at s = u + w_k x (a_k n): the relative normal
+//! velocity (v - u).n is reversed with restitution e (the TC rule of pair_rule()), rough spheres
+//! take Walton's tangential impulse for the relative surface velocity (wall_tangential()). Under
+//! gravity g a contact with g.n < 0 (gravity pulls it onto the kinematic sphere) arriving no faster
+//! than |g.n| resting_time rests as on a wall (resting_contact()): it leaves at -g.n hop / 2 along
+//! n, back at the tangent plane after hop. Receding pairs are left alone (contact.changed false).
+template <bool Rough, class T, class Recent>
+inline KinematicOutcome<T> collide_kinematic(const PairLaw<T>& law, Vec3<T> dr, Vec3<T> v, Vec3<T> u,
+                                             typename detail::NoDeduce<Vec3<T>*>::type w, Vec3<T> w_k, T m, T a, T a_k,
+                                             Vec3<T> g, T resting_time, T hop, Recent&& collided_recently) {
+  KinematicOutcome<T> out;
+  (void)a;  // the tangential law's only
+  const Vec3<T> n = (T(1) / std::sqrt(dot(dr, dr))) * dr;
+  const T vn = dot(v - u, n);
+  if (!(vn < T(0))) return out;
+  out.contact.changed = true;
+  const T gn = dot(g, n);
+  out.rested = resting_contact(vn, gn, -1, resting_time);
+  T leave = -vn;
+  bool full = true;
+  if (out.rested) {
+    leave = -(T(0.5) * gn * hop);
+  } else {
+    const PairRule rule = pair_rule(law, collided_recently);
+    if (rule.restituted) leave = -law.restitution * vn;
+    full = rule.full;
+  }
+  out.contact.dissipated_normal = 0.5 * double(m) * (double(vn) * double(vn) - double(leave) * double(leave));
+  const T jn = leave - vn;
+  out.dv = jn * n;
+  const Vec3<T> surface = u + a_k * cross(w_k, n);
+  if constexpr (Rough) {
+    if (full) {
+      T dissipated = T(0);
+      out.dv += wall_tangential(n, v - surface, *w, m, a, jn, law.roughness, dissipated, out.contact.sliding);
+      out.contact.dissipated_tangential = double(dissipated);
+    }
+  }
+  out.contact.virial = double(m) * double(dot(dr, out.dv));
+  out.work = double(m) * double(dot(out.dv, surface));
+  return out;
+}
+
 //! A coordinate that touched the contact plane `plane` a time s before the end of the window
 //! under acceleration g along it (0: straight flight) and left it at normal velocity u: its
 //! coordinate and velocity at the end of the window.

@@ -85,6 +85,8 @@ struct EventCounters {
   //! Kinetic energy the collisions took, by channel; rough scenes only (as StepCounters').
   double dissipated_normal = 0, dissipated_tangential = 0;
   double wall_dissipated_normal = 0, wall_dissipated_tangential = 0;  //!< as StepCounters'
+  std::int64_t kinematic_collisions = 0;  //!< always 0: the event engine refuses kinematic spheres
+  double kinematic_work = 0;
 };
 
 class EventEngine {

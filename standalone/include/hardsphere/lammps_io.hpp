@@ -27,13 +27,14 @@ namespace hardsphere {
 //! outside int32, spheres outside a wall, a triclinic box), then validates the whole state
 //! (validate_and_wrap, overlaps up to the rounding of an engine with machine epsilon
 //! `rounding_eps` accepted). The state records the file and each sphere's lines
-//! (ParticleSystem::source).
+//! (ParticleSystem::source). `check_pairs` false leaves the overlap check to a caller that marks
+//! kinematic spheres first (they may overlap each other).
 ParticleSystem read_data(const std::string& path, std::array<bool, 3> periodic, double rounding_eps = 0,
-                         std::vector<std::string>* notes = nullptr);
+                         std::vector<std::string>* notes = nullptr, bool check_pairs = true);
 
 //! The same from a stream; `name` stands for the file in messages.
 ParticleSystem read_data(std::istream& in, const std::string& name, std::array<bool, 3> periodic,
-                         double rounding_eps = 0, std::vector<std::string>* notes = nullptr);
+                         double rounding_eps = 0, std::vector<std::string>* notes = nullptr, bool check_pairs = true);
 
 //! Writes a LAMMPS data file (atom_style sphere) with full double precision (17 digits, so
 //! read_data gives back the same state bit for bit), angular velocities included.

@@ -33,6 +33,11 @@ struct ParticleSystem {
   //! Angular velocities, same size as pos: rough spheres' change in collisions, smooth spheres
   //! keep theirs.
   std::vector<Vec3d> omega;
+  //! Kinematic spheres (1; empty: none): infinite mass and moment of inertia, each moving on its
+  //! straight line at its own constant velocity (zero: frozen) and spinning at its constant omega;
+  //! no gravity acts on them and collisions never change them. Two kinematic spheres never collide
+  //! (they may overlap: a base built on a lattice may touch).
+  std::vector<std::uint8_t> kinematic;
   //! Where the spheres were read from, so that every later refusal (an engine's range checks, a
   //! run's work estimate) names "file:line": the file, each sphere's Atoms line and its
   //! Velocities line (0: none), set by read_data; ignored unless there is one line per sphere.
@@ -45,6 +50,8 @@ struct ParticleSystem {
   void push_back(std::int64_t id, int type, double radius, double mass, Vec3d pos, Vec3d vel,
                  std::array<std::int32_t, 3> image = {0, 0, 0}, Vec3d omega = {0, 0, 0});
 
+  bool is_kinematic(std::size_t i) const { return i < kinematic.size() && kinematic[i]; }
+  std::size_t kinematic_count() const;
   bool monodisperse() const;  //!< all radii and all masses equal
   double max_radius() const;
   double packing_fraction() const;  //!< sum of sphere volumes / box volume
@@ -66,7 +73,8 @@ struct SphereSample {
 //! Full consistency check; throws InputError naming the particle id, the value and `source`:
 //! non-positive or non-finite radius/mass, NaN/inf positions, velocities or angular velocities
 //! (an omega array shorter than the spheres is filled with zeros), particles outside
-//! a wall axis, duplicate ids, periodic box too short for the largest pair, overlapping pairs.
+//! a wall axis, duplicate ids, periodic box too short for the largest pair, overlapping pairs
+//! (two kinematic spheres may overlap; a `kinematic` array of another length is refused).
 //! Periodic coordinates are wrapped into the box first (as LAMMPS read_data does).
 //! `atom_lines` (optional): the line each atom came from, so messages name "source:line".
 //! `rounding_eps` > 0 accepts overlaps, and spheres past a wall, up to overlap_tolerance(sys,
@@ -97,7 +105,7 @@ struct Overlap {
   std::size_t i = 0, j = 0;  //!< indices into the system
   double distance = 0, contact = 0;
 };
-//! The first overlapping pair a cell pass meets, if any.
+//! The first overlapping pair a cell pass meets, if any (pairs of kinematic spheres are not overlaps).
 std::optional<Overlap> find_overlap(const ParticleSystem& sys, double slack = 0);
 
 //! Wraps periodic coordinates into [lo, hi) and counts the box lengths taken off in `image`

@@ -27,6 +27,8 @@ struct RunSpec {
   InitSpec init;
   std::optional<std::string> read_data;
   std::array<bool, 3> periodic{true, true, true};  //!< boundaries (data files carry none)
+  //! Atom types whose spheres are kinematic (ParticleSystem::kinematic): a data file's only.
+  std::vector<int> kinematic_types;
 
   //! Collision law and gravity, for either engine.
   Physics physics;
@@ -70,6 +72,11 @@ nlohmann::json run_simulation(const RunSpec& spec);
 
 //! Refuses (InputError) output paths that collide or cannot be written (see check_output_paths).
 void check_outputs(const RunSpec& spec);
+
+//! Marks the spheres of `types` kinematic (ParticleSystem::kinematic); refuses a type no sphere
+//! has, naming `option` and `source`.
+void set_kinematic_types(ParticleSystem& sys, const std::vector<int>& types, const std::string& option,
+                         const std::string& source);
 
 //! The initial state a RunSpec describes (generated or read), validated; what read_data skipped
 //! of the data file goes to `notes` (the summary's warnings).

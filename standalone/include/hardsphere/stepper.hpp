@@ -105,6 +105,10 @@ struct StepCounters {
   double dissipated_normal = 0, dissipated_tangential = 0;
   //! What the walls took: restitution and resting contacts' net (normal), friction (tangential).
   double wall_dissipated_normal = 0, wall_dissipated_tangential = 0;
+  //! Free spheres' bounces off kinematic spheres (resting ones are resting_contacts) and the work
+  //! the kinematic spheres did on them (ParticleSystem::kinematic).
+  std::int64_t kinematic_collisions = 0;
+  double kinematic_work = 0;
 };
 
 //! Type-erased engine interface, so precision and scene specialisations are chosen at run time.

@@ -54,6 +54,11 @@ ParticleSystem validated_spheres(const ParticleSystem& sys_in, const EventConfig
   if (sys_in.radius.size() != sys_in.size() || sys_in.mass.size() != sys_in.size() ||
       sys_in.vel.size() != sys_in.size() || sys_in.id.size() != sys_in.size() || sys_in.type.size() != sys_in.size())
     throw InputError("event engine: inconsistent particle arrays");
+  // Kinematic spheres need contact times with one sphere falling and the other not (a quartic) in
+  // every prediction; the stepper finds them at each contact instead.
+  if (sys_in.kinematic_count())
+    throw InputError("event engine: kinematic spheres (" + std::to_string(sys_in.kinematic_count()) +
+                     ") are followed by the stepper only; run them with the stepper");
   ParticleSystem sys = sorted_by_id(sys_in);
   const std::size_t n = sys.size();
   if (n > std::size_t(kMaxAdjIndex) + 1)  // indices 0 .. kMaxAdjIndex fit a list entry

@@ -281,7 +281,7 @@ class DataFile {
 }  // namespace
 
 ParticleSystem read_data(std::istream& in, const std::string& name, std::array<bool, 3> periodic, double rounding_eps,
-                         std::vector<std::string>* notes) {
+                         std::vector<std::string>* notes, bool check_pairs) {
   LineReader r(in, name);
   std::string line;
   if (!r.next(line)) throw InputError(name + ": empty file (a LAMMPS data file starts with a title line)");
@@ -334,18 +334,18 @@ ParticleSystem read_data(std::istream& in, const std::string& name, std::array<b
   sys.source = name;  // later refusals (engines, work estimates) name the atom's line too
   sys.source_line = data.atom_lines();
   sys.velocity_line = data.velocity_lines();
-  validate_and_wrap(sys, name, &sys.source_line, rounding_eps);
+  validate_and_wrap(sys, name, &sys.source_line, rounding_eps, check_pairs);
   return sys;
 }
 
 ParticleSystem read_data(const std::string& path, std::array<bool, 3> periodic, double rounding_eps,
-                         std::vector<std::string>* notes) {
+                         std::vector<std::string>* notes, bool check_pairs) {
   struct stat st {};
   if (::stat(path.c_str(), &st) == 0 && S_ISDIR(st.st_mode))
     throw InputError("data file '" + path + "' is a directory");
   std::ifstream in(path, std::ios::binary);
   if (!in) throw InputError("cannot open data file '" + path + "': " + std::strerror(errno));
-  return read_data(in, path, periodic, rounding_eps, notes);
+  return read_data(in, path, periodic, rounding_eps, notes, check_pairs);
 }
 
 }  // namespace hardsphere

@@ -27,9 +27,33 @@ double process_cpu_seconds() {
   return double(ts.tv_sec) + 1e-9 * double(ts.tv_nsec);
 }
 
+void set_kinematic_types(ParticleSystem& sys, const std::vector<int>& types, const std::string& option,
+                         const std::string& source) {
+  if (types.empty()) return;
+  sys.kinematic.assign(sys.size(), 0);
+  for (const int t : types) {
+    bool found = false;
+    for (std::size_t i = 0; i < sys.size(); ++i)
+      if (sys.type[i] == t) sys.kinematic[i] = 1, found = true;
+    if (!found)
+      throw InputError(option + " " + std::to_string(t) + ": no atom of type " + std::to_string(t) + " in " + source);
+  }
+}
+
 ParticleSystem initial_state(const RunSpec& spec, std::vector<std::string>* notes) {
   // A state this program wrote may overlap by the rounding of the engine that made it.
-  if (spec.read_data) return read_data(*spec.read_data, spec.periodic, rounding_epsilon(spec.precision), notes);
+  if (spec.read_data) {
+    if (spec.kinematic_types.empty())
+      return read_data(*spec.read_data, spec.periodic, rounding_epsilon(spec.precision), notes);
+    // Kinematic spheres of a lattice base may overlap: the file is read without the pair check,
+    // which set_kinematic_types() makes knowing which pairs may.
+    ParticleSystem sys = read_data(*spec.read_data, spec.periodic, rounding_epsilon(spec.precision), notes, false);
+    set_kinematic_types(sys, spec.kinematic_types, "--kinematic-types", *spec.read_data);
+    validate_and_wrap(sys, *spec.read_data, &sys.source_line, rounding_epsilon(spec.precision));
+    return sys;
+  }
+  if (!spec.kinematic_types.empty())
+    throw InputError("--kinematic-types needs --read-data: a generated state has atoms of type 1 only");
   InitSpec init = spec.init;
   if (spec.physics.rough()) {  // rotation at the translational temperature unless given
     init.inertia = spec.physics.inertia;

@@ -53,6 +53,11 @@ nlohmann::json run_summary(const ParticleSystem& initial, const ParticleSystem& 
                      potential_energy(fin, physics.gravity), physics);
   add_rough_summary(j, initial, fin, totals, physics);
   add_wall_summary(j, fin.box, totals, physics);
+  if (const std::size_t k = fin.kinematic_count()) {  // only then, so other summaries keep their keys
+    j["kinematic_spheres"] = k;
+    j["kinematic_collisions"] = totals.kinematic_collisions;
+    j["kinematic_work"] = totals.kinematic_work;
+  }
   j["loop_cpu_seconds"] = loop_cpu;
   return j;
 }

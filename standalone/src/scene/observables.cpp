@@ -21,7 +21,7 @@ double potential_energy(const ParticleSystem& sys, const std::array<double, 3>& 
   // Along a periodic axis the height is the unwrapped coordinate (a chute's spheres keep falling).
   double u = 0;
   for (std::size_t i = 0; i < sys.size(); ++i)
-    for (int d = 0; d < 3; ++d) {
+    for (int d = 0; d < 3 && !sys.is_kinematic(i); ++d) {
       const std::size_t a = std::size_t(d);
       double x = sys.pos[i][d] - sys.box.lo[a];
       if (sys.box.periodic[a] && g[a] != 0 && i < sys.image.size()) x += double(sys.image[i][a]) * sys.box.length(d);

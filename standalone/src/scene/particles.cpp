@@ -23,6 +23,7 @@ void ParticleSystem::resize(std::size_t n) {
   vel.resize(n);
   image.resize(n, {0, 0, 0});
   omega.resize(n);
+  if (!kinematic.empty()) kinematic.resize(n, 0);
 }
 
 void ParticleSystem::reserve(std::size_t n) {
@@ -46,6 +47,13 @@ void ParticleSystem::push_back(std::int64_t i, int t, double r, double m, Vec3d 
   vel.push_back(v);
   image.push_back(img);
   omega.push_back(w);
+  if (!kinematic.empty()) kinematic.push_back(0);
+}
+
+std::size_t ParticleSystem::kinematic_count() const {
+  std::size_t k = 0;
+  for (const std::uint8_t f : kinematic) k += f != 0;
+  return k;
 }
 
 bool ParticleSystem::monodisperse() const {
@@ -142,6 +150,7 @@ bool finite(Vec3d v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::i
 double max_overlap(const ParticleSystem& sys) {
   double worst = 0;
   for_each_close_pair(sys, [&](std::size_t i, std::size_t j, Vec3d dr) {
+    if (sys.is_kinematic(i) && sys.is_kinematic(j)) return;
     worst = std::max(worst, sys.radius[i] + sys.radius[j] - norm(dr));
   });
   return worst;
@@ -150,6 +159,7 @@ double max_overlap(const ParticleSystem& sys) {
 std::optional<Overlap> find_overlap(const ParticleSystem& sys, double slack) {
   std::optional<Overlap> found;
   for_each_close_pair(sys, [&](std::size_t i, std::size_t j, Vec3d dr) {
+    if (sys.is_kinematic(i) && sys.is_kinematic(j)) return;
     const double dist = norm(dr), contact = sys.radius[i] + sys.radius[j];
     if (!found && dist < contact - slack) found = Overlap{i, j, dist, contact};
   });
@@ -194,6 +204,9 @@ void validate_and_wrap(ParticleSystem& sys, const std::string& source, const std
                        double rounding_eps, bool check_pairs) {
   validate_box(sys.box, source);
   if (sys.omega.size() < sys.size()) sys.omega.resize(sys.size());
+  if (!sys.kinematic.empty() && sys.kinematic.size() != sys.size())
+    throw InputError(source + ": " + std::to_string(sys.kinematic.size()) + " kinematic flags for " +
+                     std::to_string(sys.size()) + " spheres");
   static const char* axis = "xyz";
   std::unordered_set<std::int64_t> seen;
   for (std::size_t i = 0; i < sys.size(); ++i) {

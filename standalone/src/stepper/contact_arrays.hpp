@@ -38,6 +38,8 @@ struct ContactArrays {
   //! Rough spheres (set_roughness): angular velocities, indexed like pos. nullptr: smooth, and
   //! collisions run the smooth kernel.
   Vec3<Real>* omega = nullptr;
+  //! Kinematic spheres (1), indexed like pos; nullptr: none, and no collision asks.
+  const std::uint8_t* kinematic = nullptr;
 };
 
 }  // namespace hardsphere

@@ -31,26 +31,11 @@
 #include "hardsphere/vec3.hpp"
 #include "stepper/contact_arrays.hpp"
 #include "stepper/contact_queue.hpp"
+#include "stepper/contact_tally.hpp"
 #include "stepper/distance_filter.hpp"
 #include "stepper/wall_events.hpp"
 
 namespace hardsphere {
-
-//! Totals of resolved contacts.
-struct ContactTally {
-  std::int64_t collisions = 0;
-  std::int64_t unresolved_steps = 0;  //!< steps that hit the event limit with contacts left
-  std::int64_t resting_contacts = 0;  //!< wall contacts too slow to bounce (see bounce())
-  std::int64_t wall_collisions = 0;
-  std::array<double, 3> wall_impulse{0, 0, 0};  //!< sum of |m dv| of wall bounces, per axis
-  double virial = 0;                            //!< sum over collisions of r_ij . dp_i at contact
-  //! The same sum as a tensor, r_ij (x) dp_i: xx, yy, zz, xy, xz, yz (LAMMPS's virial order).
-  std::array<double, 6> virial_tensor{0, 0, 0, 0, 0, 0};
-  //! Kinetic energy the collisions took, by channel (rough spheres only).
-  double dissipated_normal = 0, dissipated_tangential = 0;
-  //! What the walls took (restitution and resting contacts; friction), any spheres.
-  double wall_dissipated_normal = 0, wall_dissipated_tangential = 0;
-};
 
 //! Mono: every sphere has the diameter `sigma` and mass `mass` given to set_uniform().
 template <class Real, bool Mono>
@@ -114,14 +99,21 @@ class ContactResolver {
     walls_.set_walls(periodic, lo, hi);
   }
   void set_resting_time(Real t) { walls_.set_resting_time(t); }
-  void set_gravity(const std::array<Real, 3>& g) { walls_.set_gravity(g); }
+  void set_gravity(const std::array<Real, 3>& g) {
+    walls_.set_gravity(g);
+    kinematic_gravity_ = a_.kinematic && (g[0] != Real(0) || g[1] != Real(0) || g[2] != Real(0));
+  }
   static constexpr std::uint32_t kWall = 0xffffffffu;
   //! An upper bound of every sphere's speed in this step (the resolver raises it after each
   //! collision). It lets neighbour sweeps reject distant partners early; +inf (the default)
   //! disables that, which is always correct.
   void set_speed_bound(Real v_max) { speed_bound_ = v_max; }
   Real speed_bound() const { return speed_bound_; }
-  void bind(const ContactArrays<Real>& a) { a_ = a; }
+  void bind(const ContactArrays<Real>& a) {
+    a_ = a;
+    const auto& g = walls_.gravity();
+    kinematic_gravity_ = a_.kinematic && (g[0] != Real(0) || g[1] != Real(0) || g[2] != Real(0));
+  }
 
   //! After the engine reorders its spheres (new[k] = old[order[k]]), reorder the records too.
   template <class Order>
@@ -171,14 +163,22 @@ class ContactResolver {
 
   //! Queues (i, j), i < j, if the pair touched while approaching within its common
   //! straight-line window; `overlap_only` is the seed's test (the pair overlaps now).
+  //! Walls: the general loops, where kinematic spheres under gravity may be (their pairs go to
+  //! consider_kinematic()); the all-periodic scan and the loop without walls never test for them.
+  template <bool Walls = true>
   HS_ALWAYS_INLINE void consider(std::uint32_t i, std::uint32_t j, std::uint8_t image, Vec3<Real> dr, Real sigma,
                                  bool overlap_only) {
     const Vec3<Real> dv = a_.vel[i] - a_.vel[j];
     const Change ci = change_[i], cj = change_[j];
     const Real w = std::min(ci.back, cj.back);
     const Real back = kernel::touched_back_time(dr, dv, sigma, w, overlap_only);
+    if (kinematic_gravity_ && (a_.kinematic[i] | a_.kinematic[j]))
+      return consider_kinematic(i, j, image, dr, sigma, back);
     if (back >= Real(0)) candidates_.push_back({i, j, image, std::min(back, w), ci.count, cj.count});
   }
+  //! consider() for a free and a kinematic sphere under gravity (kinematic_contacts.hpp).
+  void consider_kinematic(std::uint32_t i, std::uint32_t j, std::uint8_t image, Vec3<Real> dr, Real sigma,
+                          Real straight);
 
   //! Predicts every contact of sphere s with its list partners over its window.
   void sweep_neighbours(std::uint32_t s) {
@@ -190,12 +190,13 @@ class ContactResolver {
   }
   //! The same for both spheres of a collision, except with each other: they recede on straight
   //! lines for their whole windows (the test would only reject them, at a consider() each).
+  template <bool Walls = true>
   void sweep_collided(std::uint32_t i, std::uint32_t j) {
     const std::uint32_t s[2] = {i, j}, skip[2] = {j, i};
     if (a_.speed)
-      sweep_neighbours<true, 2>(s, skip);
+      sweep_neighbours<true, 2, Walls>(s, skip);
     else
-      sweep_neighbours<false, 2>(s, skip);
+      sweep_neighbours<false, 2, Walls>(s, skip);
   }
 
   //! A partner can have touched s within s's window w only if their gap is below the closing
@@ -204,7 +205,7 @@ class ContactResolver {
   //! cheaply (the 1.001 absorbs rounding; the bound is loose by far more). It runs branch-free
   //! over the whole lists of all `Count` spheres first (a rejected partner costs no mispredicted
   //! branch, and the loads of both lists overlap); only the survivors go to consider().
-  template <bool Speeds, int Count>
+  template <bool Speeds, int Count, bool Walls = true>
   void sweep_neighbours(const std::uint32_t* sphere, const std::uint32_t* skip) {
     const std::uint32_t* __restrict adj = a_.adj;
     const Vec3<Real>* __restrict pos = a_.pos;
@@ -255,9 +256,9 @@ class ContactResolver {
         const Vec3<Real> dr = ps - pos[q] - shift[img];
         // Candidates keep the lower index first so their order matches a full scan.
         if (s < q)
-          consider(s, q, img, dr, sigma(s, q), false);
+          consider<Walls>(s, q, img, dr, sigma(s, q), false);
         else
-          consider(q, s, std::uint8_t(26 - img), -dr, sigma(s, q), false);
+          consider<Walls>(q, s, std::uint8_t(26 - img), -dr, sigma(s, q), false);
       }
     }
   }
@@ -280,9 +281,10 @@ class ContactResolver {
   Real resolve(Hooks& hooks, ContactTally& tally) {
     // Periodic scenes skip every wall test; smooth ones every rough test (their loop is the one
     // they had before rough spheres).
-    if (a_.omega)
-      return walls_.any() ? resolve_impl<true, true>(hooks, tally) : resolve_impl<false, true>(hooks, tally);
-    if (walls_.any()) return resolve_impl<true, false>(hooks, tally);
+    // Kinematic spheres under gravity take the walls' loop, whose sweeps test their pairs (consider()).
+    const bool walls = walls_.any() || kinematic_gravity_;
+    if (a_.omega) return walls ? resolve_impl<true, true>(hooks, tally) : resolve_impl<false, true>(hooks, tally);
+    if (walls) return resolve_impl<true, false>(hooks, tally);
     return resolve_impl<false, false>(hooks, tally);
   }
 
@@ -341,10 +343,16 @@ class ContactResolver {
         next = start_run();
         continue;
       }
-      if (wall)
-        sweep_neighbours(c.i);
-      else
-        sweep_collided(c.i, c.j);
+      const std::uint32_t moved = wall ? c.i : free_of(c.i, c.j);
+      if (moved == kWall) {
+        sweep_collided<Walls>(c.i, c.j);
+      } else {  // a bounce, or a free sphere off a kinematic one: only it moved
+        const std::uint32_t skip[1] = {moved == c.i ? c.j : c.i};
+        if (a_.speed)
+          sweep_neighbours<true, 1, Walls>(&moved, skip);
+        else
+          sweep_neighbours<false, 1, Walls>(&moved, skip);
+      }
       if constexpr (Walls) {
         predict_walls(c.i);
         if (!wall) predict_walls(c.j);
@@ -490,6 +498,7 @@ class ContactResolver {
   template <bool Rough, class Hooks>
   bool collide(const Candidate& c, Hooks& hooks, ContactTally& tally) {
     const std::uint32_t i = c.i, j = c.j;
+    if (a_.kinematic && (a_.kinematic[i] | a_.kinematic[j])) return collide_kinematic<Rough>(c, hooks, tally);
     Vec3<Real> ri = a_.pos[i], rj = a_.pos[j], vi = a_.vel[i], vj = a_.vel[j];
     const Vec3<Real> shift = a_.image_shift[c.image];
     // A candidate that is not stale was predicted from this very state and these windows, so
@@ -515,6 +524,16 @@ class ContactResolver {
     if constexpr (Rough) a_.omega[i] = wi, a_.omega[j] = wj;
     return commit_collision(i, j, ri, rj, vi, vj, vi_before, contact, back, out.virial, hooks, tally);
   }
+
+  //! The free sphere of a pair with a kinematic one; kWall for two free spheres (or two kinematic ones).
+  std::uint32_t free_of(std::uint32_t i, std::uint32_t j) const {
+    if (!a_.kinematic || a_.kinematic[i] == a_.kinematic[j]) return kWall;
+    return a_.kinematic[i] ? j : i;
+  }
+
+  //! A free sphere's contact with a kinematic one (kinematic_contacts.hpp).
+  template <bool Rough, class Hooks>
+  bool collide_kinematic(const Candidate& c, Hooks& hooks, ContactTally& tally);
 
   //! What every resolved pair collision records: the TC clock, the virial, the new positions and
   //! velocities at the end of the step, the speed bound, counts, observers and re-predictions.
@@ -577,6 +596,9 @@ class ContactResolver {
   std::vector<std::uint32_t> bucket_start_, bucket_fill_;  // order_by_time() scratch
   std::vector<std::uint32_t> near_;                        // sweep scratch: list entries that pass the distance test
   WallEvents<Real> walls_;
+  bool kinematic_gravity_ = false;  // kinematic spheres under gravity: consider_kinematic()
 };
 
 }  // namespace hardsphere
+
+#include "stepper/kinematic_contacts.hpp"  // NOLINT: the kinematic members, defined after the class

@@ -52,7 +52,9 @@ Stepper<Real, Mono>::Stepper(const ParticleSystem& sys, const Physics& physics, 
     : box_(relative_box(sys.box)),
       user_box_(sys.box),
       origin_(sys.box.lo),
-      all_periodic_(cfg.specialise && sys.box.all_periodic()),
+      // Kinematic spheres take the general kernel: under gravity (along any axis) their pairs need
+      // consider_kinematic(), which the all-periodic kernel leaves out.
+      all_periodic_(cfg.specialise && sys.box.all_periodic() && !sys.kinematic_count()),
       sweep_(detects_by_sweep(cfg.detect, sys, cfg.dt)),
       dt_(Real(cfg.dt)) {
   check_config(sys, physics, cfg);
@@ -167,6 +169,10 @@ void Stepper<Real, Mono>::load_spheres(const ParticleSystem& sys, const Physics&
     spins_.take(sys.omega, by_id);
   }
   if (n) sigma_ = Real(2) * r_[0];
+  if (sys.kinematic_count()) {
+    kin_rank_.resize(n), kin_vel_.resize(n);
+    for (std::size_t i = 0; i < n; ++i) kin_rank_[i] = sys.kinematic[by_id[i]] != 0, kin_vel_[i] = vel_[i];
+  }
 }
 
 template <class Real, bool Mono>

@@ -41,6 +41,7 @@ class Stepper final : public StepperBase, public StateExchange {
   Stepper(const ParticleSystem& sys, const Physics& physics, const StepperConfig& cfg);
 
   void run(std::int64_t steps) override {
+    if (!kin_at_.empty()) check_kinematic_reach(steps);
     try {
       run_steps(steps);
     } catch (const JammedSpheres& e) {  // completed in the face's words
@@ -65,6 +66,8 @@ class Stepper final : public StepperBase, public StateExchange {
     counters_.dissipated_tangential = tally_.dissipated_tangential;
     counters_.wall_dissipated_normal = tally_.wall_dissipated_normal;
     counters_.wall_dissipated_tangential = tally_.wall_dissipated_tangential;
+    counters_.kinematic_collisions = tally_.kinematic_collisions;
+    counters_.kinematic_work = tally_.kinematic_work;
     return counters_;
   }
   void reset_counters() override {
@@ -171,7 +174,7 @@ class Stepper final : public StepperBase, public StateExchange {
       if (!s.windows_fit_skin()) return false;
       s.rebuild();
       s.cover_windows(true);
-      s.template scan_pair_list<true>();
+      s.template scan_pair_list<true, true>();
       return true;
     }
   };
@@ -241,6 +244,12 @@ class Stepper final : public StepperBase, public StateExchange {
     }
     for (auto& v : vel_) v += dv;
   }
+  //! Gravity does not act on kinematic spheres: their velocities are put back after each kick.
+  void keep_kinematic() {
+    for (const std::uint32_t k : kin_at_) vel_[k] = kin_vel_[slot_[k]];
+  }
+  void check_kinematic_reach(std::int64_t steps) const;
+  void index_kinematic();
   //! Velocities set from outside: what earlier kicks' rounding lost is not theirs.
   void clear_kick_residual() { std::fill(kick_residual_.begin(), kick_residual_.end(), V3<Real>{}); }
   //! Whether every sphere's path over its window (back to its last velocity change in the
@@ -287,7 +296,7 @@ class Stepper final : public StepperBase, public StateExchange {
   }
   template <bool Speeds>
   void drift_impl();
-  template <bool Sweep>
+  template <bool Sweep, bool Walls>
   void scan_pair_list();
   void rebuild();
   void bind_resolver();
@@ -384,10 +393,15 @@ class Stepper final : public StepperBase, public StateExchange {
   std::vector<V3<Real>> kick_residual_;  // cell order, float under gravity only: see kick_compensated()
   std::vector<V3<Real>> omega_;          // angular velocities in cell order, rough scenes only (else empty)
   detail::SmoothSpins spins_;            // smooth scenes: the spins given, unchanged, by id rank
-  std::string collapse_advice_;          // added to a jam refusal (inelastic collisions)
-  PhysicsNames names_;                   // the adapter's names, for set_gravity's refusals
-  std::array<double, 3> gravity_in_{};   // gravity as validated (gravity_ is it in Real)
-  double inertia_ = 0.4;                 // q of I = q m r^2
+  // Kinematic spheres (ParticleSystem::kinematic; all empty when none): flags and constant
+  // velocities by id rank, flags in cell order (bound in the resolver) and their cell positions.
+  std::vector<std::uint8_t> kin_rank_, kin_;
+  std::vector<V3<Real>> kin_vel_;
+  std::vector<std::uint32_t> kin_at_;
+  std::string collapse_advice_;         // added to a jam refusal (inelastic collisions)
+  PhysicsNames names_;                  // the adapter's names, for set_gravity's refusals
+  std::array<double, 3> gravity_in_{};  // gravity as validated (gravity_ is it in Real)
+  double inertia_ = 0.4;                // q of I = q m r^2
 };
 
 }  // namespace hardsphere::detail

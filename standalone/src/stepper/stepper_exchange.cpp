@@ -102,6 +102,7 @@ void Stepper<Real, Mono>::gather(SphereField field, const std::uint32_t* src, co
 template <class Real, bool Mono>
 void Stepper<Real, Mono>::field_written(SphereField field, const std::uint32_t* slots, std::size_t count) {
   if (field != SphereField::Velocity) return;
+  for (const std::uint32_t k : kin_at_) kin_vel_[slot_[k]] = vel_[k];  // a kinematic sphere moves on as set
   if (!slots && count == vel_.size()) {
     refresh_speed_bound();
     return;
@@ -172,6 +173,7 @@ ParticleSystem Stepper<Real, Mono>::state() const {
     out.push_back(id_[s], type_[s], double(r_[k]), double(m_[k]), p,
                   {double(vel_[k].x), double(vel_[k].y), double(vel_[k].z)}, image, w);
   }
+  if (!kin_rank_.empty()) out.kinematic = kin_rank_;
   wrap_periodic(out);
   return out;
 }

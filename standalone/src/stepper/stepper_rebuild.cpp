@@ -71,6 +71,7 @@ void Stepper<Real, Mono>::rebuild() {
   if (observer_) observer_->reordered(order_.data(), n);
   resolver_.permute(order_);
   guard_.reset(n);
+  index_kinematic();
 
   // Candidate list: every pair that could touch before the next rebuild.
   pairs_.build(pos_.data(), r_.data(), cell_start_.data(), n, big_.empty() ? std::uint32_t(n) : big_begin_);
@@ -89,7 +90,7 @@ void Stepper<Real, Mono>::bind_resolver() {
                   pairs_.adj(), image_shift_, speeds_ ? speed_.data() : nullptr, pairs_.adj_plain_end(),
                   pair_collisions_.empty() ? nullptr : pair_collisions_.data(),
                   sphere_virial_.empty() ? nullptr : sphere_virial_.data(), observer_,
-                  omega_.empty() ? nullptr : omega_.data()});
+                  omega_.empty() ? nullptr : omega_.data(), kin_.empty() ? nullptr : kin_.data()});
 }
 
 template void Stepper<float, true>::rebuild();

@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstddef>
+#include <sstream>
 #include <string>
 
 #include "stepper/close_pairs_row.hpp"
@@ -54,7 +55,7 @@ void Stepper<Real, Mono>::drift_impl() {
 }
 
 template <class Real, bool Mono>
-template <bool Sweep>
+template <bool Sweep, bool Walls>
 void Stepper<Real, Mono>::scan_pair_list() {
   resolver_.clear_candidates();
   const V3<Real>* __restrict pos = pos_.data();
@@ -69,7 +70,7 @@ void Stepper<Real, Mono>::scan_pair_list() {
   auto test = [&](std::uint32_t i, std::uint32_t j, std::uint8_t image, V3<Real> d) {
     const Real sg = Mono ? sigma_ : r_[i] + r_[j];
     const Real lim = Sweep ? sg + reach : sg;
-    if (dot(d, d) < lim * lim) resolver_.consider(i, j, image, d, sg, !Sweep);
+    if (dot(d, d) < lim * lim) resolver_.template consider<Walls>(i, j, image, d, sg, !Sweep);
   };
   // Branch-free distance filter over a chunk of the list, then test() (exact) for the few
   // hits: a rejected pair costs no branch and the position loads of a chunk overlap.
@@ -150,10 +151,10 @@ template <bool AllPeriodic, bool Sweep>
 Real Stepper<Real, Mono>::substep() {
   // Under gravity the drift is a kick-drift-kick: x += (v + g h/2) h, v += g h, exact for a
   // uniform acceleration; the displacement guard sees the true positions.
-  if (has_gravity_) kick(Real(0.5) * h_);
+  if (has_gravity_) kick(Real(0.5) * h_), keep_kinematic();
   drift();
   if (has_gravity_) {
-    kick(Real(0.5) * h_);
+    kick(Real(0.5) * h_), keep_kinematic();
     refresh_speed_bound();
   }
   bool rebuild_due = list_expired();
@@ -165,7 +166,7 @@ Real Stepper<Real, Mono>::substep() {
     rebuild();
     cover_windows(false);
   }
-  scan_pair_list<Sweep>();
+  scan_pair_list<Sweep, !AllPeriodic>();  // kinematic spheres never take the all-periodic kernel
   if constexpr (!AllPeriodic) resolver_.predict_all_walls();
   resolver_.set_step_end(clock_ + double(h_));
   Real cut = ContactResolver<Real, Mono>::kWholeStep;
@@ -182,6 +183,8 @@ Real Stepper<Real, Mono>::substep() {
         pos_[k] += (Real(0.5) * cut * cut) * g;
         vel_[k] -= cut * g;
       }
+      for (const std::uint32_t k : kin_at_) pos_[k] -= (Real(0.5) * cut * cut) * g;  // on straight lines
+      keep_kinematic();
     }
     ++counters_.step_cuts;
   }
@@ -196,6 +199,45 @@ Real Stepper<Real, Mono>::substep() {
   return covered;
 }
 
+template <class Real, bool Mono>
+void Stepper<Real, Mono>::check_kinematic_reach(std::int64_t steps) const {
+  // A kinematic sphere is not stopped by a wall (it has infinite mass): a run that would carry one
+  // into a wall is refused before it starts, so nothing passes through a wall unseen.
+  const double t = double(steps) * double(dt_);
+  for (const std::uint32_t k : kin_at_)
+    for (int d = 0; d < 3; ++d) {
+      if (box_.periodic[d] || vel_[k][d] == Real(0)) continue;
+      const double x = double(pos_[k][d]) + double(vel_[k][d]) * t, r = double(r_[k]);
+      if (x - r >= box_.lo[d] && x + r <= box_.hi[d]) continue;
+      const double wall = vel_[k][d] > Real(0) ? box_.hi[d] - r : box_.lo[d] + r;
+      std::ostringstream m;
+      m << "kinematic atom " << id_[slot_[k]] << " moving at " << double(vel_[k][d]) << " along "
+        << "xyz"[d] << " reaches the wall after " << (wall - double(pos_[k][d])) / double(vel_[k][d])
+        << " time units, within this run of " << steps << " steps (" << t
+        << "): kinematic spheres pass through nothing, so shorten the run or stop the sphere before the wall";
+      throw InputError(m.str());
+    }
+}
+
+template <class Real, bool Mono>
+void Stepper<Real, Mono>::index_kinematic() {
+  kin_at_.clear();
+  if (kin_rank_.empty()) return;
+  kin_.resize(pos_.size());
+  for (std::uint32_t k = 0; k < pos_.size(); ++k) {
+    kin_[k] = kin_rank_[slot_[k]];
+    if (kin_[k]) kin_at_.push_back(k);
+  }
+}
+
+template void Stepper<float, true>::check_kinematic_reach(std::int64_t) const;
+template void Stepper<float, true>::index_kinematic();
+template void Stepper<float, false>::check_kinematic_reach(std::int64_t) const;
+template void Stepper<float, false>::index_kinematic();
+template void Stepper<double, true>::check_kinematic_reach(std::int64_t) const;
+template void Stepper<double, true>::index_kinematic();
+template void Stepper<double, false>::check_kinematic_reach(std::int64_t) const;
+template void Stepper<double, false>::index_kinematic();
 template void Stepper<float, true>::run_steps(std::int64_t);
 template void Stepper<float, false>::run_steps(std::int64_t);
 template void Stepper<double, true>::run_steps(std::int64_t);
