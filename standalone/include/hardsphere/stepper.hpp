@@ -105,6 +105,10 @@ struct StepCounters {
   double dissipated_normal = 0, dissipated_tangential = 0;
   //! What the walls took: restitution and resting contacts' net (normal), friction (tangential).
   double wall_dissipated_normal = 0, wall_dissipated_tangential = 0;
+  //! The work moving shaped walls did on the spheres (Physics::shapes; 0 for walls at rest).
+  double wall_work = 0;
+  //! Each shaped wall's collisions, resting contacts and work (Physics::shapes order).
+  std::vector<WallShapeTotals> shapes;
 };
 
 //! Type-erased engine interface, so precision and scene specialisations are chosen at run time.

@@ -32,6 +32,7 @@
 #include "stepper/contact_arrays.hpp"
 #include "stepper/contact_queue.hpp"
 #include "stepper/distance_filter.hpp"
+#include "stepper/shape_events.hpp"
 #include "stepper/wall_events.hpp"
 
 namespace hardsphere {
@@ -50,13 +51,15 @@ struct ContactTally {
   double dissipated_normal = 0, dissipated_tangential = 0;
   //! What the walls took (restitution and resting contacts; friction), any spheres.
   double wall_dissipated_normal = 0, wall_dissipated_tangential = 0;
+  double wall_work = 0;  //!< the work moving walls did on the spheres
 };
 
 //! Mono: every sphere has the diameter `sigma` and mass `mass` given to set_uniform().
 template <class Real, bool Mono>
 class ContactResolver {
  public:
-  //! A pair contact (i < j), or a wall bounce of sphere i (j == kWall, image = the axis).
+  //! A pair contact (i < j), or a wall bounce of sphere i (j == kWall, image = the axis, or
+  //! kShape + k for shaped wall k).
   struct Candidate {
     std::uint32_t i, j;              // i < j
     std::uint8_t image;              // of r_i - r_j
@@ -116,6 +119,15 @@ class ContactResolver {
   void set_resting_time(Real t) { walls_.set_resting_time(t); }
   void set_gravity(const std::array<Real, 3>& g) { walls_.set_gravity(g); }
   static constexpr std::uint32_t kWall = 0xffffffffu;
+  static constexpr int kShape = 3;
+  //! Shaped walls (shape_events.hpp), in the engine's coordinates (origin: its box's lower corner).
+  void set_shapes(const Physics& p, const std::array<double, 3>& origin, double extent) {
+    shapes_.set_shapes(p, origin, extent);
+  }
+  const std::vector<WallShapeTotals>& shape_totals() const { return shapes_.totals(); }
+  void reset_shape_totals() {
+    for (WallShapeTotals& t : shapes_.totals()) t = WallShapeTotals{};
+  }
   //! An upper bound of every sphere's speed in this step (the resolver raises it after each
   //! collision). It lets neighbour sweeps reject distant partners early; +inf (the default)
   //! disables that, which is always correct.
@@ -162,10 +174,14 @@ class ContactResolver {
     walls_.predict(a_.pos[s], a_.vel[s], radius(s), cs.back, [&](int d, Real back) {
       candidates_.push_back({s, kWall, std::uint8_t(d), back, cs.count, 0});
     });
+    if (shapes_.any())
+      shapes_.predict(a_.pos[s], a_.vel[s], radius(s), cs.back, [&](std::size_t k, Real back) {
+        candidates_.push_back({s, kWall, std::uint8_t(kShape + k), back, cs.count, 0});
+      });
   }
   //! predict_walls() for every sphere (after a scan).
   void predict_all_walls() {
-    if (!walls_.any()) return;
+    if (!walls_.any() && !shapes_.any()) return;
     for (std::uint32_t s = 0; s < change_.size(); ++s) predict_walls(s);
   }
 
@@ -281,8 +297,9 @@ class ContactResolver {
     // Periodic scenes skip every wall test; smooth ones every rough test (their loop is the one
     // they had before rough spheres).
     if (a_.omega)
-      return walls_.any() ? resolve_impl<true, true>(hooks, tally) : resolve_impl<false, true>(hooks, tally);
-    if (walls_.any()) return resolve_impl<true, false>(hooks, tally);
+      return walls_.any() || shapes_.any() ? resolve_impl<true, true>(hooks, tally)
+                                           : resolve_impl<false, true>(hooks, tally);
+    if (walls_.any() || shapes_.any()) return resolve_impl<true, false>(hooks, tally);
     return resolve_impl<false, false>(hooks, tally);
   }
 
@@ -325,10 +342,7 @@ class ContactResolver {
         break;
       }
       if constexpr (Walls) {
-        if (wall)
-          bounce<Rough>(c, hooks, tally);
-        else if (!collide<Rough>(c, hooks, tally))
-          continue;
+        if (wall ? !bounce<Rough>(c, hooks, tally) : !collide<Rough>(c, hooks, tally)) continue;
       } else if (!collide<Rough>(c, hooks, tally)) {
         continue;
       }
@@ -427,7 +441,8 @@ class ContactResolver {
   //! Sphere c.i's bounce off the wall of axis c.image, `c.back` before the end of the step: the
   //! wall law at the contact (kernel::collide_wall()), then its end-of-step position and velocity.
   template <bool Rough, class Hooks>
-  void bounce(const Candidate& c, Hooks& hooks, ContactTally& tally) {
+  bool bounce(const Candidate& c, Hooks& hooks, ContactTally& tally) {
+    if (c.image >= kShape) return bounce_shape<Rough>(c, hooks, tally);
     const std::uint32_t i = c.i;
     const int d = c.image;
     const Real back = c.back;
@@ -463,6 +478,72 @@ class ContactResolver {
     tally.wall_impulse[std::size_t(d)] += double(Mono ? mass_ : a_.mass[i]) * out.impulse;
     mark_changed(i, back);
     hooks.after_bounce(i);
+    return true;
+  }
+
+  //! Sphere c.i's contact with shaped wall c.image - kShape, `c.back` before the end of the step:
+  //! back along its path (a parabola under gravity) to the contact, the wall law there
+  //! (kernel::collide_surface() with the surface's velocity), on along the new path. In double.
+  //! The work the wall did: the spheres' kinetic energy gained plus what the contact took.
+  template <bool Rough, class Hooks>
+  bool bounce_shape(const Candidate& c, Hooks& hooks, ContactTally& tally) {
+    const std::uint32_t i = c.i;
+    const std::size_t k = std::size_t(c.image - kShape);
+    const double t = double(c.back), a = double(radius(i)), m = double(mass(i));
+    const Vec3<double> g = shapes_.gravity();
+    const Vec3<double> xe{double(a_.pos[i].x), double(a_.pos[i].y), double(a_.pos[i].z)};
+    const Vec3<double> ve{double(a_.vel[i].x), double(a_.vel[i].y), double(a_.vel[i].z)};
+    Vec3<double> xc = xe - t * ve + (0.5 * t * t) * g;
+    const Vec3<double> vc = ve - t * g;
+    const auto wall = shapes_.contact(k, xc, a);
+    // A contact at the window's start may be inside the wall (a resting hop along a curved wall
+    // ends ~v_t^2 dt^2 / 2R inside it; rounding): the sphere goes back onto the surface along
+    // the normal, and the potential energy that takes counts as the wall's work.
+    const double gap = shapes_.gap(k, xc, a);
+    double work = 0;
+    if (gap < 0) {
+      xc -= gap * wall.n;
+      work = m * gap * dot(g, wall.n);
+    }
+    Vec3<double> w{}, w0{};
+    if constexpr (Rough) w = w0 = {double(a_.omega[i].x), double(a_.omega[i].y), double(a_.omega[i].z)};
+    const kernel::WallLaw<double>& law = shapes_.law(k);
+    const auto out =
+        kernel::collide_surface<Rough>(law, wall.n, wall.u, vc, g, double(walls_.resting_time(dt_)), t,
+                                       Rough ? &w : nullptr, m, a, [&] { return collided_recently(i, i, c.back); });
+    if (!out.wall.contact.changed) return false;  // receding at the contact
+    if (law.restitution != 1 && !out.wall.rested) last_collision_[id_index(i)] = step_end_ - t;
+    const Vec3<double> v1 = vc + out.dv;
+    const Vec3<double> x1 = xc + t * v1 + (0.5 * t * t) * g, v_end = v1 + t * g;
+    a_.pos[i] = {Real(x1.x), Real(x1.y), Real(x1.z)};
+    a_.vel[i] = {Real(v_end.x), Real(v_end.y), Real(v_end.z)};
+    work += 0.5 * m * (dot(v1, v1) - dot(vc, vc)) + out.wall.contact.dissipated_normal +
+            out.wall.contact.dissipated_tangential;
+    if constexpr (Rough) {
+      a_.omega[i] = {Real(w.x), Real(w.y), Real(w.z)};
+      work += 0.5 * law.roughness.q * m * a * a * (dot(w, w) - dot(w0, w0));
+      tally.dissipated_normal += out.wall.contact.dissipated_normal;
+      tally.dissipated_tangential += out.wall.contact.dissipated_tangential;
+    }
+    tally.wall_dissipated_normal += out.wall.contact.dissipated_normal;
+    tally.wall_dissipated_tangential += out.wall.contact.dissipated_tangential;
+    WallShapeTotals& total = shapes_.totals()[k];
+    total.work += work;
+    tally.wall_work += work;
+    const Real speed = norm(a_.vel[i]);
+    speed_bound_ = std::max(speed_bound_, speed);
+    if (a_.speed) a_.speed[i] = speed;
+    if (out.wall.rested) {
+      ++tally.resting_contacts;
+      ++total.resting_contacts;
+    } else {
+      ++tally.wall_collisions;
+      ++total.collisions;
+      if (a_.observer) a_.observer->bounce(i);
+    }
+    mark_changed(i, c.back);
+    hooks.after_bounce(i);
+    return true;
   }
 
   //! When the event limit stops a step, spheres may still be beyond a wall: mirror them (their
@@ -577,6 +658,7 @@ class ContactResolver {
   std::vector<std::uint32_t> bucket_start_, bucket_fill_;  // order_by_time() scratch
   std::vector<std::uint32_t> near_;                        // sweep scratch: list entries that pass the distance test
   WallEvents<Real> walls_;
+  ShapeEvents<Real> shapes_;
 };
 
 }  // namespace hardsphere

@@ -52,7 +52,7 @@ Stepper<Real, Mono>::Stepper(const ParticleSystem& sys, const Physics& physics, 
     : box_(relative_box(sys.box)),
       user_box_(sys.box),
       origin_(sys.box.lo),
-      all_periodic_(cfg.specialise && sys.box.all_periodic()),
+      all_periodic_(cfg.specialise && sys.box.all_periodic() && physics.shapes.empty()),
       sweep_(detects_by_sweep(cfg.detect, sys, cfg.dt)),
       dt_(Real(cfg.dt)) {
   check_config(sys, physics, cfg);
@@ -78,6 +78,7 @@ void Stepper<Real, Mono>::check_config(const ParticleSystem& sys, const Physics&
   }
   if (cfg.max_events_per_step < 1) throw InputError("max events per step must be >= 1");
   check_scene_numbers(sys, "stepper");
+  check_clear_of_shapes(sys, physics.shapes);
   const double g_norm = std::sqrt(physics.gravity[0] * physics.gravity[0] + physics.gravity[1] * physics.gravity[1] +
                                   physics.gravity[2] * physics.gravity[2]);
   check_engine_numbers<Real>(sys, cfg.dt, sizeof(Real) == sizeof(float) ? "stepper in single precision" : "stepper",
@@ -204,6 +205,8 @@ void Stepper<Real, Mono>::configure_resolver(const Physics& physics, const Stepp
   if (sizeof(Real) == sizeof(float) && has_gravity_) kick_residual_.assign(n, V3<Real>{});
   resolver_.set_gravity(gravity_);
   resolver_.set_resting_time(Real(physics.resting_time));
+  const double extent = std::max({box_.length(0), box_.length(1), box_.length(2)});
+  if (!physics.shapes.empty()) resolver_.set_shapes(physics, origin_, extent);
 }
 
 template <class Real, bool Mono>
