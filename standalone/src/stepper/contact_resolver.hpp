@@ -517,11 +517,12 @@ class ContactResolver {
     const Vec3<double> x1 = xc + t * v1 + (0.5 * t * t) * g, v_end = v1 + t * g;
     a_.pos[i] = {Real(x1.x), Real(x1.y), Real(x1.z)};
     a_.vel[i] = {Real(v_end.x), Real(v_end.y), Real(v_end.z)};
-    work += 0.5 * m * (dot(v1, v1) - dot(vc, vc)) + out.wall.contact.dissipated_normal +
-            out.wall.contact.dissipated_tangential;
+    if (shapes_.moving(k))  // a wall at rest does none: its sum would be rounding
+      work += 0.5 * m * (dot(v1, v1) - dot(vc, vc)) + out.wall.contact.dissipated_normal +
+              out.wall.contact.dissipated_tangential;
     if constexpr (Rough) {
       a_.omega[i] = {Real(w.x), Real(w.y), Real(w.z)};
-      work += 0.5 * law.roughness.q * m * a * a * (dot(w, w) - dot(w0, w0));
+      if (shapes_.moving(k)) work += 0.5 * law.roughness.q * m * a * a * (dot(w, w) - dot(w0, w0));
       tally.dissipated_normal += out.wall.contact.dissipated_normal;
       tally.dissipated_tangential += out.wall.contact.dissipated_tangential;
     }

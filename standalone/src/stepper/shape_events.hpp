@@ -55,6 +55,7 @@ class ShapeEvents {
   std::size_t size() const { return shapes_.size(); }
   const kernel::WallLaw<double>& law(std::size_t k) const { return laws_[k]; }
   const Vec3<double>& gravity() const { return g_; }
+  bool moving(std::size_t k) const { return shapes_[k].moving(); }
   std::vector<WallShapeTotals>& totals() { return totals_; }
   const std::vector<WallShapeTotals>& totals() const { return totals_; }
 
