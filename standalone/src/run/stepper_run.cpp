@@ -96,19 +96,7 @@ double StepperRun::measure(const RunOutputs& out) {
 
 void StepperRun::add_summary(nlohmann::json& j, const ParticleSystem& fin, double cpu) const {
   add_stepper_summary(j, *engine_, spec_.stepper, spec_.precision, fin, spec_.equilibrate, cpu);
-  // Shaped walls: each as its words, with its contacts and the work it did on the spheres.
-  const StepCounters& c = engine_->counters();
-  if (spec_.physics.shapes.empty()) return;
-  nlohmann::json walls = nlohmann::json::array();
-  for (std::size_t k = 0; k < spec_.physics.shapes.size(); ++k) {
-    const WallShapeTotals t = k < c.shapes.size() ? c.shapes[k] : WallShapeTotals{};
-    walls.push_back({{"wall", describe(spec_.physics.shapes[k])},
-                     {"collisions", t.collisions},
-                     {"resting_contacts", t.resting_contacts},
-                     {"work", t.work}});
-  }
-  j["shaped_walls"] = walls;
-  j["wall_work"] = c.wall_work;
+  add_shape_summary(j, spec_.physics, engine_->counters());
 }
 
 }  // namespace
