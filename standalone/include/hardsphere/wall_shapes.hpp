@@ -86,7 +86,8 @@ std::string describe(const WallShape& w);
 WallShape validated_shape(WallShape w, const std::array<bool, 3>& periodic);
 
 //! The signed gap between a sphere of radius a at x and the wall (negative: overlapping), or
-//! +infinity where the wall has no surface near it (beyond an open tube's or a cone's ends).
+//! +infinity where the wall has no surface near it (beyond an open tube's or a cone's ends, or on
+//! the far side of their thin shells: a centre more than a beyond the surface).
 inline double shape_gap(const WallShape& w, Vec3<double> x, double a) {
   const Vec3<double> r = x - w.point;
   switch (w.kind) {
@@ -102,7 +103,10 @@ inline double shape_gap(const WallShape& w, Vec3<double> x, double a) {
       Vec3<double> rho = r;
       rho[w.axis] = 0;
       const double d = norm(rho);
-      return w.inside ? w.radius - a - d : d - w.radius - a;
+      const double gap = w.inside ? w.radius - a - d : d - w.radius - a;
+      // An open tube is a thin shell: a centre beyond it by more than a is on its other side.
+      if (gap < -2 * a && (std::isfinite(w.lo) || std::isfinite(w.hi))) return std::numeric_limits<double>::infinity();
+      return gap;
     }
     case ShapeKind::Cone: {
       Vec3<double> rho = r;
@@ -112,7 +116,9 @@ inline double shape_gap(const WallShape& w, Vec3<double> x, double a) {
       const double surface = w.radius_lo + dr * (s - w.lo) / len;
       const double d = (surface - rad) * len / l;  // distance to the cone's line in the meridian plane
       const double foot = s - d * dr / l;          // the contact point's axial coordinate
-      if (!(foot >= w.lo && foot <= w.hi)) return std::numeric_limits<double>::infinity();
+      // Beyond the open ends, or outside the funnel (a thin shell: the centre beyond it by more
+      // than a), there is no wall.
+      if (!(foot >= w.lo && foot <= w.hi) || d < -a) return std::numeric_limits<double>::infinity();
       return d - a;
     }
   }

@@ -158,7 +158,11 @@ void place_random(ParticleSystem& sys, std::int64_t n, double radius, double mas
       Vec3d p;
       for (int d = 0; d < 3; ++d) p[d] = lower(box, d, radius) + rng.uniform() * span(box, d, radius);
       ok = true;
-      for (const WallShape& w : walls) ok = ok && shape_gap(w, p, radius) >= 0;
+      // A funnel's spheres start inside it (its outside is not a wall).
+      for (const WallShape& w : walls) {
+        const double gap = shape_gap(w, p, radius);
+        ok = ok && gap >= 0 && (w.kind != ShapeKind::Cone || std::isfinite(gap));
+      }
       if (!ok) continue;
       const int cell = grid.cell_of(p.x, p.y, p.z);
       grid.for_each_neighbour(cell, [&](int nb) {

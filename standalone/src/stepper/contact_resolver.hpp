@@ -31,28 +31,12 @@
 #include "hardsphere/vec3.hpp"
 #include "stepper/contact_arrays.hpp"
 #include "stepper/contact_queue.hpp"
+#include "stepper/contact_tally.hpp"
 #include "stepper/distance_filter.hpp"
 #include "stepper/shape_events.hpp"
 #include "stepper/wall_events.hpp"
 
 namespace hardsphere {
-
-//! Totals of resolved contacts.
-struct ContactTally {
-  std::int64_t collisions = 0;
-  std::int64_t unresolved_steps = 0;  //!< steps that hit the event limit with contacts left
-  std::int64_t resting_contacts = 0;  //!< wall contacts too slow to bounce (see bounce())
-  std::int64_t wall_collisions = 0;
-  std::array<double, 3> wall_impulse{0, 0, 0};  //!< sum of |m dv| of wall bounces, per axis
-  double virial = 0;                            //!< sum over collisions of r_ij . dp_i at contact
-  //! The same sum as a tensor, r_ij (x) dp_i: xx, yy, zz, xy, xz, yz (LAMMPS's virial order).
-  std::array<double, 6> virial_tensor{0, 0, 0, 0, 0, 0};
-  //! Kinetic energy the collisions took, by channel (rough spheres only).
-  double dissipated_normal = 0, dissipated_tangential = 0;
-  //! What the walls took (restitution and resting contacts; friction), any spheres.
-  double wall_dissipated_normal = 0, wall_dissipated_tangential = 0;
-  double wall_work = 0;  //!< the work moving walls did on the spheres
-};
 
 //! Mono: every sphere has the diameter `sigma` and mass `mass` given to set_uniform().
 template <class Real, bool Mono>
@@ -481,65 +465,31 @@ class ContactResolver {
     return true;
   }
 
-  //! Sphere c.i's contact with shaped wall c.image - kShape, `c.back` before the end of the step:
-  //! back along its path (a parabola under gravity) to the contact, the wall law there
-  //! (kernel::collide_surface() with the surface's velocity), on along the new path. In double.
-  //! The work the wall did: the spheres' kinetic energy gained plus what the contact took.
+  //! Sphere c.i's contact with shaped wall c.image - kShape, `c.back` before the end of the step
+  //! (ShapeEvents::collide()), then the tallies and re-predictions as for a face.
   template <bool Rough, class Hooks>
   bool bounce_shape(const Candidate& c, Hooks& hooks, ContactTally& tally) {
     const std::uint32_t i = c.i;
     const std::size_t k = std::size_t(c.image - kShape);
-    const double t = double(c.back), a = double(radius(i)), m = double(mass(i));
-    const Vec3<double> g = shapes_.gravity();
-    const Vec3<double> xe{double(a_.pos[i].x), double(a_.pos[i].y), double(a_.pos[i].z)};
-    const Vec3<double> ve{double(a_.vel[i].x), double(a_.vel[i].y), double(a_.vel[i].z)};
-    Vec3<double> xc = xe - t * ve + (0.5 * t * t) * g;
-    const Vec3<double> vc = ve - t * g;
-    const auto wall = shapes_.contact(k, xc, a);
-    // A contact at the window's start may be inside the wall (a resting hop along a curved wall
-    // ends ~v_t^2 dt^2 / 2R inside it; rounding): the sphere goes back onto the surface along
-    // the normal, and the potential energy that takes counts as the wall's work.
-    const double gap = shapes_.gap(k, xc, a);
-    double work = 0;
-    if (gap < 0) {
-      xc -= gap * wall.n;
-      work = m * gap * dot(g, wall.n);
-    }
-    Vec3<double> w{}, w0{};
-    if constexpr (Rough) w = w0 = {double(a_.omega[i].x), double(a_.omega[i].y), double(a_.omega[i].z)};
-    const kernel::WallLaw<double>& law = shapes_.law(k);
-    const auto out =
-        kernel::collide_surface<Rough>(law, wall.n, wall.u, vc, g, double(walls_.resting_time(dt_)), t,
-                                       Rough ? &w : nullptr, m, a, [&] { return collided_recently(i, i, c.back); });
-    if (!out.wall.contact.changed) return false;  // receding at the contact
-    if (law.restitution != 1 && !out.wall.rested) last_collision_[id_index(i)] = step_end_ - t;
-    const Vec3<double> v1 = vc + out.dv;
-    const Vec3<double> x1 = xc + t * v1 + (0.5 * t * t) * g, v_end = v1 + t * g;
-    a_.pos[i] = {Real(x1.x), Real(x1.y), Real(x1.z)};
-    a_.vel[i] = {Real(v_end.x), Real(v_end.y), Real(v_end.z)};
-    if (shapes_.moving(k))  // a wall at rest does none: its sum would be rounding
-      work += 0.5 * m * (dot(v1, v1) - dot(vc, vc)) + out.wall.contact.dissipated_normal +
-              out.wall.contact.dissipated_tangential;
+    const auto out = shapes_.template collide<Rough>(k, a_.pos[i], a_.vel[i], Rough ? a_.omega + i : nullptr, radius(i),
+                                                     mass(i), c.back, walls_.resting_time(dt_),
+                                                     [&] { return collided_recently(i, i, c.back); });
+    if (!out.changed) return false;  // receding at the contact
+    if (shapes_.law(k).restitution != 1 && !out.rested) last_collision_[id_index(i)] = step_end_ - double(c.back);
     if constexpr (Rough) {
-      a_.omega[i] = {Real(w.x), Real(w.y), Real(w.z)};
-      if (shapes_.moving(k)) work += 0.5 * law.roughness.q * m * a * a * (dot(w, w) - dot(w0, w0));
-      tally.dissipated_normal += out.wall.contact.dissipated_normal;
-      tally.dissipated_tangential += out.wall.contact.dissipated_tangential;
+      tally.dissipated_normal += out.dissipated_normal;
+      tally.dissipated_tangential += out.dissipated_tangential;
     }
-    tally.wall_dissipated_normal += out.wall.contact.dissipated_normal;
-    tally.wall_dissipated_tangential += out.wall.contact.dissipated_tangential;
-    WallShapeTotals& total = shapes_.totals()[k];
-    total.work += work;
-    tally.wall_work += work;
+    tally.wall_dissipated_normal += out.dissipated_normal;
+    tally.wall_dissipated_tangential += out.dissipated_tangential;
+    tally.wall_work += out.work;
     const Real speed = norm(a_.vel[i]);
     speed_bound_ = std::max(speed_bound_, speed);
     if (a_.speed) a_.speed[i] = speed;
-    if (out.wall.rested) {
+    if (out.rested) {
       ++tally.resting_contacts;
-      ++total.resting_contacts;
     } else {
       ++tally.wall_collisions;
-      ++total.collisions;
       if (a_.observer) a_.observer->bounce(i);
     }
     mark_changed(i, c.back);

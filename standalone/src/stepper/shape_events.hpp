@@ -88,6 +88,55 @@ class ShapeEvents {
   //! The gap of a sphere of radius a at x from wall k.
   double gap(std::size_t k, Vec3<double> x, double a) const { return shape_gap(shapes_[k], x, a); }
 
+  //! What a contact did: whether it changed the sphere, rested, the energy it took and the work
+  //! the wall did (the spheres' energy gained plus what the contact took; walls at rest: none).
+  struct Outcome {
+    bool changed = false, rested = false;
+    double dissipated_normal = 0, dissipated_tangential = 0, work = 0;
+  };
+  //! Sphere (x, v, w at the end of the step; radius a, mass m) met wall k `back` before the end:
+  //! back along its path (a parabola under gravity) to the contact, the wall law there
+  //! (kernel::collide_surface() with the surface's velocity), on along the new path; in double.
+  template <bool Rough, class Recent>
+  Outcome collide(std::size_t k, Vec3<Real>& x, Vec3<Real>& v, Vec3<Real>* omega, Real a_in, Real m_in, Real back,
+                  Real resting_time, Recent&& recent) {
+    const double t = double(back), a = double(a_in), m = double(m_in);
+    const Vec3<double> xe{double(x.x), double(x.y), double(x.z)}, ve{double(v.x), double(v.y), double(v.z)};
+    Vec3<double> xc = xe - t * ve + (0.5 * t * t) * g_;
+    const Vec3<double> vc = ve - t * g_;
+    const Contact wall = contact(k, xc, a);
+    Outcome r;
+    // A contact at the window's start may be inside the wall (a resting hop along a curved wall
+    // ends ~v_t^2 dt^2 / 2R inside it; rounding): the sphere goes back onto the surface along
+    // the normal, and the potential energy that takes counts as the wall's work.
+    const double gap = shape_gap(shapes_[k], xc, a);
+    Vec3<double> w{}, w0{};
+    if constexpr (Rough) w = w0 = {double(omega->x), double(omega->y), double(omega->z)};
+    const auto out = kernel::collide_surface<Rough>(laws_[k], wall.n, wall.u, vc, g_, double(resting_time), t,
+                                                    Rough ? &w : nullptr, m, a, recent);
+    if (!out.wall.contact.changed) return r;
+    if (gap < 0) {
+      xc -= gap * wall.n;
+      r.work = m * gap * dot(g_, wall.n);
+    }
+    const Vec3<double> v1 = vc + out.dv;
+    const Vec3<double> x1 = xc + t * v1 + (0.5 * t * t) * g_, v_end = v1 + t * g_;
+    x = {Real(x1.x), Real(x1.y), Real(x1.z)};
+    v = {Real(v_end.x), Real(v_end.y), Real(v_end.z)};
+    r.changed = true, r.rested = out.wall.rested;
+    r.dissipated_normal = out.wall.contact.dissipated_normal;
+    r.dissipated_tangential = out.wall.contact.dissipated_tangential;
+    if (shapes_[k].moving()) {  // a wall at rest does none: its sum would be rounding
+      r.work += 0.5 * m * (dot(v1, v1) - dot(vc, vc)) + r.dissipated_normal + r.dissipated_tangential;
+      if constexpr (Rough) r.work += 0.5 * laws_[k].roughness.q * m * a * a * (dot(w, w) - dot(w0, w0));
+    }
+    if constexpr (Rough) *omega = {Real(w.x), Real(w.y), Real(w.z)};
+    WallShapeTotals& total = totals_[k];
+    total.work += r.work;
+    ++(r.rested ? total.resting_contacts : total.collisions);
+    return r;
+  }
+
  private:
   Vec3<double> at(Vec3<double> xe, Vec3<double> v, double t) const { return xe - t * v + (0.5 * t * t) * g_; }
 
