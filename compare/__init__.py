@@ -14,6 +14,8 @@ Validations (each writes a report and exits 1 when a check fails):
   cooling             a granular gas against Haff's law in every engine (docs/reports/validation/cooling.md)
   cross_validate      the same states through every engine (docs/reports/validation/cross_validation.md)
   granular_figures    gravity, walls and inelastic collisions (docs/reports/validation/granular.md)
+  dem_scenes          LAMMPS's granular examples, soft and converted to hard spheres
+                      (docs/reports/validation/dem_scenes.md)
   hcs                 the homogeneous cooling state's a2 (docs/reports/validation/hcs.md)
   rough_hcs           rough spheres' homogeneous cooling against kinetic theory (.../rough_hcs.md)
   rough_cooling_soft  a rough gas against LAMMPS and LIGGGHTS frictional soft spheres

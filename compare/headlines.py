@@ -104,6 +104,20 @@ def granular(d):
             f"without collapse, max overlap {overlap:.1g}; " + ("all checks pass" if d["pass"] else "CHECKS FAIL"))
 
 
+def dem_scenes(d):
+    parts = []
+    for s in d["scenes"]:
+        soft = s["rows"][0]
+        for r in s["rows"][1:]:
+            if r["error"]:
+                parts.append(f"{s['name']} {r['run']}: stopped at step {r.get('step', '?')}")
+            else:
+                parts.append(f"{s['name']} {r['run']}: CPU {r['cpu'] / soft['cpu']:.2f}x "
+                             f"soft, bed phi {r['bed_fraction']:.3f} (soft {soft['bed_fraction']:.3f}), final KE "
+                             f"{r['ke'] / soft['ke']:.2g}x soft")
+    return "; ".join(parts)
+
+
 def brownian(d):
     e = d["engines"]
     rate = [r["Gamma12"] / r["Gamma12_enskog"] - 1 for r in e.values()]
@@ -225,6 +239,8 @@ INDEX = [
      rough_cooling_soft),
     ("Validation", "validation/granular", "gravity and walls: barometric gas, resting bed, strong dissipation",
      "python3 -m compare.granular_figures --out docs/reports/validation", granular),
+    ("Validation", "validation/dem_scenes", "LAMMPS's granular examples run soft and converted to hard spheres",
+     "python3 -m compare.dem_scenes --out docs/reports/validation", dem_scenes),
     ("Validation", "validation/brownian", "a heavy sphere's collision rate, temperature and diffusion against Enskog",
      "python3 -m compare.brownian --out docs/reports/validation", brownian),
     ("Validation", "event_engine/eos", "the event engine's equation of state and collision rate",

@@ -240,20 +240,7 @@ void FixHardSphere::check_setup() {
   }
   MPI_Allreduce(MPI_IN_PLACE, &v2max, 1, MPI_DOUBLE, MPI_MAX, world);
 
-  // The pair style's contact distance per type pair must cover the per-atom diameters.
-  auto *pair = dynamic_cast<PairHardSphere *>(force->pair_match("hardsphere", 1));
-  const int nt = atom->ntypes;
-  std::vector<double> rmax(nt + 1, 0.0), grmax(nt + 1, 0.0);
-  for (int i = 0; i < nlocal; i++) rmax[atom->type[i]] = std::max(rmax[atom->type[i]], radius[i]);
-  MPI_Allreduce(rmax.data(), grmax.data(), nt + 1, MPI_DOUBLE, MPI_MAX, world);
-  for (int a = 1; a <= nt; a++)
-    for (int b = a; b <= nt; b++)
-      if (grmax[a] > 0 && grmax[b] > 0 && grmax[a] + grmax[b] > pair->contact(a, b) * (1 + 1e-12))
-        error->all(FLERR, "fix hardsphere: atoms of types " + std::to_string(a) + " and " + std::to_string(b) +
-                              " reach contact at " + format_number(grmax[a] + grmax[b]) + " but pair_coeff gives " +
-                              format_number(pair->contact(a, b)) +
-                              "; raise that pair_coeff diameter or use 'pair_coeff * *'");
-
+  check_contact_distances();
   check_timestep();
   // Time step against the skin: within one step an atom moves at most ~2 v_max dt.
   const double vmax = std::sqrt(v2max);
@@ -264,6 +251,30 @@ void FixHardSphere::check_setup() {
 
   if (!serial) check_big_spheres_mpi();
   // Overlapping pairs at the start are refused where the atoms are handed to a stepper.
+}
+
+void FixHardSphere::check_contact_distances() {
+  // The pair style's contact distance per type pair must cover the per-atom diameters, of the
+  // atoms there are and of those a fix will insert (fix pour, fix deposit: extract("radius")).
+  auto *pair = dynamic_cast<PairHardSphere *>(force->pair_match("hardsphere", 1));
+  const int nt = atom->ntypes;
+  double *radius = atom->radius;
+  std::vector<double> rmax(nt + 1, 0.0), grmax(nt + 1, 0.0);
+  for (int i = 0; i < atom->nlocal; i++) rmax[atom->type[i]] = std::max(rmax[atom->type[i]], radius[i]);
+  for (int f = 0; f < modify->nfix; f++)
+    if (OtherFixes::is_atom_changer(modify->fix[f]))
+      for (int t = 1; t <= nt; t++) {
+        int type = t;
+        if (auto *r = static_cast<double *>(modify->fix[f]->extract("radius", type))) rmax[t] = std::max(rmax[t], *r);
+      }
+  MPI_Allreduce(rmax.data(), grmax.data(), nt + 1, MPI_DOUBLE, MPI_MAX, world);
+  for (int a = 1; a <= nt; a++)
+    for (int b = a; b <= nt; b++)
+      if (grmax[a] > 0 && grmax[b] > 0 && grmax[a] + grmax[b] > pair->contact(a, b) * (1 + 1e-12))
+        error->all(FLERR, "fix hardsphere: atoms of types " + std::to_string(a) + " and " + std::to_string(b) +
+                              " reach contact at " + format_number(grmax[a] + grmax[b]) + " but pair_coeff gives " +
+                              format_number(pair->contact(a, b)) +
+                              "; raise that pair_coeff diameter or use 'pair_coeff * *'");
 }
 
 void FixHardSphere::initial_integrate(int vflag) {
@@ -281,11 +292,8 @@ void FixHardSphere::initial_integrate(int vflag) {
     dt = update->dt;
     check_timestep();
     path->configure(stepper_config(), physics);
-  } else if (!gravity_fixes.empty() && gravity_changed()) {
-    error->all(FLERR,
-               "fix hardsphere: fix gravity changed its acceleration during the run (a variable magnitude "
-               "or direction); hard-sphere flights need a constant one");
   }
+  if (!gravity_fixes.empty()) take_gravity();
   // Another fix may have moved atoms at the end of the last step (x was kept at post_force).
   const bool moved = positions_kept && positions_moved();
   positions_kept = false;

@@ -60,6 +60,7 @@ class FixHardSphere : public Fix {
  private:
   void check_other_fix(class Fix *f, int mask);  //!< one other fix, by its style and mask
   void check_setup();
+  void check_contact_distances();  //!< pair_coeff against the atoms and those fixes insert
   void check_timestep() const;
   //! The last step's collision virial, as LAMMPS's virial (energy units) when it asks, global
   //! and per atom.
@@ -81,7 +82,15 @@ class FixHardSphere : public Fix {
   void skip_reverse_comm();
   //! The summed acceleration of the fix gravity commands (refused along periodic axes).
   void read_gravity();
-  bool gravity_changed() const;
+  //! The summed acceleration of the fix gravity commands as they are now (`settled`: only those
+  //! whose vector is set, see read_gravity()).
+  std::array<double, 3> gravity_now(bool settled) const;
+  //! Before each step: a fix gravity with variables evaluated them at the end of the last step
+  //! (post_force); the step's flights take that acceleration, constant within the step.
+  void take_gravity();
+  //! The warning of a chute that cannot reach a steady state (hardsphere::unbounded_flow), once a run.
+  void warn_unbounded_flow();
+  bool flow_warned = false;
   //! A wall keyword at arg[a]: 'KEY value' (every wall) or 'KEY face value'; returns the
   //! arguments it took.
   int wall_keyword(int a, int narg, char **arg);

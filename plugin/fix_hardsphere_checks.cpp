@@ -58,8 +58,10 @@ struct GravityStyle : FixGravity {
 
 bool is_style(const Fix *f, const char *name) { return std::string(f->style) == name; }
 
-bool inserts_or_deletes_atoms(const Fix *f) {
-  for (const char *s : {"pour", "deposit", "evaporate", "gcmc", "charge/regulation"})
+//! Monte Carlo insertions and deletions weigh them by the pair energy, which hard spheres do not
+//! have (pour, deposit and evaporate are followed: OtherFixes).
+bool exchanges_atoms_by_energy(const Fix *f) {
+  for (const char *s : {"gcmc", "charge/regulation"})
     if (is_style(f, s)) return true;
   return false;
 }
@@ -161,10 +163,14 @@ void FixHardSphere::check_input() {
                "fix hardsphere: 'neigh_modify exclude' is not supported (every pair of hard spheres collides); "
                "use 'neigh_modify exclude none'");
   check_other_fixes();
-  // After the other fixes: one that would fill the box during the run (fix pour) is the cause.
-  if (atom->natoms == 0)
+  // A box may start empty when a fix inserts atoms during the run (fix pour, fix deposit).
+  bool inserting = false;
+  for (int i = 0; i < modify->nfix; i++)
+    inserting |= OtherFixes::is_atom_changer(modify->fix[i]) && !is_style(modify->fix[i], "evaporate");
+  if (atom->natoms == 0 && !inserting)
     error->all(FLERR,
-               "fix hardsphere: the box has no atoms; create or read them (create_atoms, read_data) before 'run'");
+               "fix hardsphere: the box has no atoms; create or read them (create_atoms, read_data) before 'run', "
+               "or insert them during it (fix pour, fix deposit)");
   apply_neighbor_settings();
 }
 
@@ -179,8 +185,7 @@ void FixHardSphere::check_other_fixes() {
   // re-neighbouring or only in minimisations are allowed, as are 'setforce NULL NULL NULL'
   // (sets nothing), store/force (records the zero forces), balance (load balancing), dynamic
   // groups and heat/flow with add/heat (per-atom temperatures).
-  // Most specific first: another integrator, then fixes that insert or delete atoms (fix pour
-  // needs fix gravity, which would otherwise be named first).
+  // Most specific first: another integrator, then fixes that insert or delete atoms by energy.
   for (int i = 0; i < modify->nfix; i++) {
     Fix *f = modify->fix[i];
     if (f != this && f->time_integrate)
@@ -191,17 +196,19 @@ void FixHardSphere::check_other_fixes() {
               ": remove " + fix_name(f));
   }
   for (int i = 0; i < modify->nfix; i++)
-    if (inserts_or_deletes_atoms(modify->fix[i]))
+    if (exchanges_atoms_by_energy(modify->fix[i]))
       error->all(FLERR, "fix hardsphere: " + fix_name(modify->fix[i]) +
-                            " inserts or deletes atoms during a run, but fix hardsphere follows one set of atoms "
-                            "through a run: remove it and add or delete atoms between runs (create_atoms, "
-                            "delete_atoms)");
+                            " exchanges atoms by Monte Carlo moves weighed by a pair energy, which hard spheres do "
+                            "not have: remove it (fix pour, fix deposit and fix evaporate are followed)");
   for (int i = 0; i < modify->nfix; i++)
     if (modify->fix[i] != this) check_other_fix(modify->fix[i], modify->fmask[i]);
 }
 
 void FixHardSphere::check_other_fix(Fix *f, int mask) {
   if (is_style(f, "store/force") || is_style(f, "balance")) return;
+  // fix pour, deposit and evaporate change the atoms in their pre_exchange on the steps they
+  // schedule; both paths write LAMMPS's rows before and take the new atoms up after (OtherFixes).
+  if (OtherFixes::is_atom_changer(f)) return;
   // A dynamic group's fix (post_integrate in LAMMPS 2021) only reads positions to set its
   // members; both paths write them on its steps (OtherFixes::reads).
   if (is_style(f, "GROUP")) return;
@@ -214,9 +221,6 @@ void FixHardSphere::check_other_fix(Fix *f, int mask) {
     if (f->igroup != 0)
       error->all(FLERR, "fix hardsphere: " + fix_name(f) + " acts on group '" + group->names[f->igroup] +
                             "', but every atom is a hard sphere: use group all");
-    if (!GravityStyle::constant(f))
-      error->all(FLERR, "fix hardsphere: " + fix_name(f) +
-                            " has a variable magnitude or direction; hard-sphere flights need a constant one");
     gravity_fixes.push_back(f);
     return;
   }
@@ -314,49 +318,72 @@ void FixHardSphere::skip_reverse_comm() {
 void FixHardSphere::check_fixes_unchanged() {
   // A run without setup ('pre no'): the other fixes were checked (and LAMMPS listed them) at
   // the last init, so none may have come or gone, and fix gravity (found again: a replaced one
-  // leaves a stale pointer) must be as it was.
+  // leaves a stale pointer) is read again before the first step (take_gravity).
   bool same = int(fixes_at_init.size()) == modify->nfix;
   for (int i = 0; same && i < modify->nfix; i++) same = fixes_at_init[std::size_t(i)] == modify->fix[i]->id;
   gravity_fixes.clear();
   for (int i = 0; i < modify->nfix; i++)
     if (is_style(modify->fix[i], "gravity")) gravity_fixes.push_back(modify->fix[i]);
-  if (!same || gravity_changed())
+  if (!same)
     error->all(FLERR,
                "fix hardsphere: fixes were added, removed or replaced since the last run's setup, which 'run ... "
                "pre no' skips: start this run with its setup ('run N' without 'pre no')");
 }
 
-void FixHardSphere::read_gravity() {
-  // The acceleration of every fix gravity (LAMMPS has set it in the fixes' init); flights are
-  // parabolas along wall axes, and a periodic axis would accelerate the atoms without end.
+std::array<double, 3> FixHardSphere::gravity_now(bool settled) const {
+  // fix gravity's vector is a force per mass (m g is added to f); as an acceleration it takes
+  // ftm2v, as in LAMMPS's integrators (1 in lj, si and cgs units).
   std::array<double, 3> gravity{0.0, 0.0, 0.0};
+  const int self = modify->find_fix(id);
   for (Fix *f : gravity_fixes) {
+    // A fix gravity with variables sets its vector in its setup (post_force), which runs after
+    // this fix's when it was defined later: the first step takes it up (take_gravity).
+    if (settled && !GravityStyle::constant(f) && modify->find_fix(f->id) > self) continue;
     int dim = 0;
     const auto *g = static_cast<const double *>(f->extract("gvec", dim));
     if (!g) error->all(FLERR, "fix hardsphere: cannot read the acceleration of fix " + std::string(f->id));
-    // fix gravity's vector is a force per mass (m g is added to f); as an acceleration it takes
-    // ftm2v, as in LAMMPS's integrators (1 in lj, si and cgs units).
     for (int d = 0; d < 3; d++) gravity[std::size_t(d)] += g[d] * force->ftm2v;
   }
-  physics.gravity = gravity;
+  return gravity;
+}
+
+void FixHardSphere::read_gravity() {
+  // The acceleration of every fix gravity (LAMMPS has set it in the fixes' init or setup);
+  // flights are parabolas, along any axis (a chute: periodic along the flow).
+  physics.gravity = gravity_now(true);
+  const std::array<bool, 3> periodic{domain->periodicity[0] != 0, domain->periodicity[1] != 0,
+                                     domain->periodicity[2] != 0};
   try {
-    physics = hardsphere::validated(
-        physics, {domain->periodicity[0] != 0, domain->periodicity[1] != 0, domain->periodicity[2] != 0},
-        physics_names(), given);
+    physics = hardsphere::validated(physics, periodic, physics_names(), given);
   } catch (const std::exception &e) {
     error->all(FLERR, std::string("fix hardsphere: ") + e.what());
   }
+  flow_warned = false;
+  warn_unbounded_flow();
 }
 
-bool FixHardSphere::gravity_changed() const {
-  // fix gravity with a variable magnitude or direction changes its vector during a run.
-  std::array<double, 3> now{0.0, 0.0, 0.0};
-  for (Fix *f : gravity_fixes) {
-    int dim = 0;
-    const auto *g = static_cast<const double *>(f->extract("gvec", dim));
-    for (int d = 0; d < 3; d++) now[std::size_t(d)] += g[d] * force->ftm2v;
+void FixHardSphere::warn_unbounded_flow() {
+  // A chute that cannot settle runs, and says why: once a run (a turning gravity changes the text).
+  if (flow_warned) return;
+  const std::string flow = hardsphere::unbounded_flow(
+      physics, {domain->periodicity[0] != 0, domain->periodicity[1] != 0, domain->periodicity[2] != 0},
+      physics_names());
+  if (flow.empty()) return;
+  flow_warned = true;
+  if (comm->me == 0) error->warning(FLERR, "fix hardsphere: " + flow);
+}
+
+void FixHardSphere::take_gravity() {
+  std::array<double, 3> g{};
+  try {
+    g = hardsphere::validated_gravity(gravity_now(false), physics_names());
+  } catch (const std::exception &e) {
+    error->all(FLERR, std::string("fix hardsphere: at step ") + std::to_string(update->ntimestep) + ": " + e.what());
   }
-  return hardsphere::without_rounding(now) != physics.gravity;  // as validated() reads it
+  if (g == physics.gravity) return;
+  physics.gravity = g;
+  path->set_gravity(g);
+  warn_unbounded_flow();
 }
 
 void FixHardSphere::check_ghost_cutoff(double shell) const {

@@ -46,13 +46,20 @@ void GhostPath::check_owned_atoms() {
   try {
     hardsphere::validate_and_wrap(sys, "fix hardsphere", nullptr, eps, false);
   } catch (const std::exception &e) {
-    error->one(FLERR, std::string(e.what()) + "; " + kStartHint);
+    error->one(FLERR, std::string(e.what()) + "; " + check_hint_);
   }
   overlap_slack_ = hardsphere::overlap_tolerance(sys, eps);
   MPI_Allreduce(MPI_IN_PLACE, &overlap_slack_, 1, MPI_DOUBLE, MPI_MAX, world);
 }
 
 void GhostPath::build() {
+  // A fix inserted or deleted atoms (fix pour, deposit, evaporate): the new set is checked as a
+  // run's start is.
+  if (atoms_built_ >= 0 && atom->natoms != atoms_built_ && !check_start_) {
+    check_start_ = true;
+    check_hint_ = kInsertedAtomsHint;
+  }
+  atoms_built_ = atom->natoms;
   if (check_start_) check_owned_atoms();
   // Ghost velocities come from their owners; LAMMPS refreshed the ghost positions.
   forward_comm_learning_swaps();
@@ -76,6 +83,7 @@ void GhostPath::build() {
   if (check_start_) {
     check_held_overlaps(sys);
     check_start_ = false;
+    check_hint_ = kStartHint;
   }
   if (epoch_) start_epoch(shell, dmax);
 
@@ -175,7 +183,7 @@ void GhostPath::check_held_overlaps(const hardsphere::ParticleSystem &sys) {
     std::ostringstream m;
     m.precision(17);
     m << "fix hardsphere: atom " << atom->tag[input_local_[o->i]] << " overlaps atom " << atom->tag[input_local_[o->j]]
-      << ": distance " << o->distance << " < contact distance " << o->contact << "; " << kStartHint;
+      << ": distance " << o->distance << " < contact distance " << o->contact << "; " << check_hint_;
     error->one(FLERR, m.str());
   }
 }

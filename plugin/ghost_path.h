@@ -38,6 +38,10 @@ class GhostPath : public StepPath, protected Pointers {
   //! meets must see all its own partners (two contact distances), and the skin twice over plus
   //! one more contact distance is what atoms may move before LAMMPS re-neighbours.
   static double ghost_cutoff(double contact, double skin) { return 3.0 * contact + 2.0 * skin; }
+  void set_gravity(const std::array<double, 3> &g) override {
+    physics_.gravity = g;
+    if (stepper_) stepper_->set_gravity(g);
+  }
   //! New ghosts, atoms may have changed ranks: the stepper is made again before the next step.
   void neighbours_changed() override { stale_ = epoch_ = true; }
   //! The stepper is made now (outside the run's loop, as the serial path's is) from LAMMPS's
@@ -126,10 +130,12 @@ class GhostPath : public StepPath, protected Pointers {
   hardsphere::Physics physics_;
   bool stale_ = true, epoch_ = true, refresh_v_ = false, reneighbor_ = false, check_start_ = true;
   bool unsure_ghosts_ = false;
-  double overlap_slack_ = 0;       //!< overlaps up to this are the stepper's rounding (check_owned_atoms)
-  bool moved_ = false;             //!< see atoms_moved()
-  std::string moved_source_;       //!< the fix that moved them, for an error message
-  double *virial_rows_ = nullptr;  //!< this step's per-atom virial rows (see step())
+  bigint atoms_built_ = -1;              //!< atom->natoms when the steppers were last made
+  const char *check_hint_ = kStartHint;  //!< what the start checks tell the user (a run's start, an insertion)
+  double overlap_slack_ = 0;             //!< overlaps up to this are the stepper's rounding (check_owned_atoms)
+  bool moved_ = false;                   //!< see atoms_moved()
+  std::string moved_source_;             //!< the fix that moved them, for an error message
+  double *virial_rows_ = nullptr;        //!< this step's per-atom virial rows (see step())
   double virial_scale_ = 1.0;
   std::vector<double> setup_layout_;       //!< box_layout() at the last run's setup
   bigint end_atoms_[2] = {-1, -1};         //!< owned atoms and the sum of their tags when the last run ended

@@ -31,6 +31,8 @@ void OtherFixes::scan(const Modify *modify, const Fix *self) {
   every_.clear();
   readers_.clear();
   movers_.clear();
+  changers_.clear();
+  inserts_ = false;
   const int per_step = INITIAL_INTEGRATE | POST_INTEGRATE | PRE_EXCHANGE | PRE_NEIGHBOR | POST_NEIGHBOR | PRE_FORCE |
                        PRE_REVERSE | POST_FORCE | FINAL_INTEGRATE;
   for (int f = 0; f < modify->nfix; f++) {
@@ -39,6 +41,13 @@ void OtherFixes::scan(const Modify *modify, const Fix *self) {
     // fix gravity only adds forces (its acceleration acts through the stepper) and reads x for
     // its energy, which output steps write anyway.
     if (utils::strmatch(fix->style, "^gravity")) continue;
+    // Insertions and deletions happen on the steps the fix schedules, not every step: the paths
+    // write LAMMPS's rows before them and read the new set of atoms after.
+    if (is_atom_changer(fix)) {
+      changers_.push_back(fix);
+      inserts_ |= std::string(fix->style) != "evaporate";
+      continue;
+    }
     // A dynamic group sets its members from x (region, variable, 'within') every nevery steps,
     // called outside the fix lists since LAMMPS 2025 (mask 0): it reads, never changes, atoms.
     if (std::string(fix->style) == "GROUP") {
@@ -61,6 +70,26 @@ bool OtherFixes::acted(bigint step) const {
   for (const int every : every_)
     if (step % every == 0) return true;
   return false;
+}
+
+bool OtherFixes::is_atom_changer(const Fix *f) {
+  for (const char *style : {"pour", "deposit", "evaporate"})
+    if (std::string(f->style) == style) return true;
+  return false;
+}
+
+bool OtherFixes::changes_atoms(bigint step) const {
+  for (const Fix *f : changers_)
+    if (f->force_reneighbor && f->next_reneighbor == step) return true;
+  return false;
+}
+
+std::string OtherFixes::atom_changers(bigint step) const {
+  std::string out;
+  for (const Fix *f : changers_)
+    if (f->force_reneighbor && f->next_reneighbor == step)
+      out += (out.empty() ? "fix " : ", fix ") + std::string(f->id) + " (" + f->style + ")";
+  return out;
 }
 
 bool OtherFixes::reads(bigint step) const {

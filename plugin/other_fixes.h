@@ -4,7 +4,10 @@
 //! dynamic group's fix (style GROUP: post_integrate in LAMMPS 2021, a post_force list of its own
 //! with mask 0 in 2025 and 2026) reads positions every nevery steps. Both paths of fix hardsphere ask
 //! this before they read velocities again or write LAMMPS's rows, and the fix asks which of those
-//! fixes may also move atoms.
+//! fixes may also move atoms. Fixes that insert or delete atoms (pour, deposit, evaporate) act in
+//! the pre_exchange of the steps they schedule (next_reneighbor): LAMMPS's rows must hold the
+//! step's positions for their overlap checks and regions, and the paths take the new set of atoms
+//! up after them.
 #include <string>
 #include <vector>
 
@@ -29,12 +32,22 @@ class OtherFixes {
   bool may_move(bigint step) const { return !movers_.empty() && acted(step); }
   //! Those fixes, for messages: "fix ID (style), ...".
   const std::string &movers() const { return movers_; }
+  //! Whether a fix inserts or deletes atoms in `step` (its pre_exchange, after the step's moves).
+  bool changes_atoms(bigint step) const;
+  //! Whether any fix may insert atoms during a run (a run may then start with none).
+  bool inserts() const { return inserts_; }
+  //! The fixes that change the atoms in `step`, for messages: "fix ID (style), ...".
+  std::string atom_changers(bigint step) const;
+  //! fix hardsphere follows these styles' insertions and deletions.
+  static bool is_atom_changer(const Fix *f);
 
  private:
   bool every_step_ = false;   //!< a fix acts inside every step
   std::vector<int> every_;    //!< nevery of the fixes acting only at end_of_step
   std::vector<int> readers_;  //!< nevery of the dynamic groups' fixes
   std::string movers_;
+  std::vector<const Fix *> changers_;  //!< fixes that insert or delete atoms
+  bool inserts_ = false;
 };
 
 }  // namespace LAMMPS_NS

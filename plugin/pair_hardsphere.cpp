@@ -2,6 +2,7 @@
 
 #include <mpi.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <string>
@@ -17,6 +18,7 @@
 #include "lammps_compat.h"
 #include "memory.h"
 #include "modify.h"
+#include "other_fixes.h"
 #include "update.h"
 #include "utils.h"
 
@@ -114,16 +116,27 @@ bool LAMMPS_NS::hardsphere_rerun_in_progress(LAMMPS *lmp) {
 }
 
 double PairHardSphere::auto_cut() {
-  if (atom->natoms == 0) {
-    // LAMMPS initialises the pair style before the fixes: a fix hardsphere cannot follow (fix
-    // pour, which would fill the box during the run) is the cause to name first.
+  // Atoms a fix inserts during the run (fix pour, fix deposit) count as LAMMPS's granular pair
+  // styles count them: the largest radius the fix's extract("radius", type) gives.
+  double inserted = 0.0;
+  for (int i = 0; i < modify->nfix; i++) {
+    if (!OtherFixes::is_atom_changer(modify->fix[i])) continue;
+    for (int t = 1; t <= atom->ntypes; t++) {
+      int type = t;
+      if (auto *r = static_cast<double *>(modify->fix[i]->extract("radius", type))) inserted = std::max(inserted, *r);
+    }
+  }
+  if (atom->natoms == 0 && !(inserted > 0.0)) {
+    // LAMMPS initialises the pair style before the fixes: a fix hardsphere cannot follow is the
+    // cause to name first.
     for (int i = 0; i < modify->nfix; i++)
       if (auto *fix = dynamic_cast<FixHardSphere *>(modify->fix[i])) fix->check_other_fixes();
     error->all(FLERR,
                "pair_style hardsphere: the box has no atoms ('pair_coeff * *' takes the contact distance from "
-               "their diameters); create or read them (create_atoms, read_data) before 'run'");
+               "their diameters); create or read them (create_atoms, read_data) before 'run', or insert them "
+               "during it (fix pour, fix deposit)");
   }
-  double rmax = 0.0;
+  double rmax = inserted;
   for (int i = 0; i < atom->nlocal; i++)
     if (atom->radius[i] > rmax) rmax = atom->radius[i];
   double all = 0.0;

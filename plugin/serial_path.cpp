@@ -169,7 +169,7 @@ void SerialPath::keep_written() {
 
 bool SerialPath::must_write() const {
   const bigint t = update->ntimestep;
-  return t == output->next || t >= update->laststep || others_.acted(t) || others_.reads(t);
+  return t == output->next || t >= update->laststep || others_.acted(t) || others_.reads(t) || others_.changes_atoms(t);
 }
 
 bool SerialPath::before_step(const StepStart &start) {
@@ -181,6 +181,13 @@ bool SerialPath::before_step(const StepStart &start) {
   timer_.start();
   if (!start.moved_by.empty()) {  // made again from LAMMPS's atoms, checked as at a run's start
     make(start.moved_by, kMovedAtomsHint);
+    v_written_.clear();
+    w_written_.clear();
+    fresh = true;
+  }
+  if (!atoms_changed_by_.empty()) {  // a new set of atoms: made again from LAMMPS's rows
+    make(atoms_changed_by_, kInsertedAtomsHint);
+    atoms_changed_by_.clear();
     v_written_.clear();
     w_written_.clear();
     fresh = true;
@@ -231,6 +238,9 @@ StepTotals SerialPath::step(double *virial_rows, double scale) {
   }
   const hardsphere::StepCounters &after = stepper_->counters();
   state_written_ = false;
+  const bigint now = update->ntimestep;
+  if (others_.changes_atoms(now))  // in this step's pre_exchange, after the write below
+    atoms_changed_by_ = "fix hardsphere: after " + others_.atom_changers(now) + " at step " + std::to_string(now);
   if (must_write()) {
     write();
     keep_written();

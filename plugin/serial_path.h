@@ -28,6 +28,10 @@ class SerialPath : public StepPath, protected Pointers {
     config_ = config;
     physics_ = physics;
   }
+  void set_gravity(const std::array<double, 3> &g) override {
+    physics_.gravity = g;
+    if (stepper_) stepper_->set_gravity(g);
+  }
   void neighbours_changed() override { lammps_moved_ = true; }
   void run_starts() override { make("fix hardsphere", kStartHint); }
   bool before_step(const StepStart &start) override;
@@ -71,6 +75,7 @@ class SerialPath : public StepPath, protected Pointers {
   bool slots_dirty_ = true;                             //!< the slot map needs map()
   bool lammps_moved_ = false;                           //!< LAMMPS re-neighboured since the last step
   bool state_written_ = true;                           //!< LAMMPS's x and v hold the stepper's current state
+  std::string atoms_changed_by_;  //!< non-empty: a fix inserted or deleted atoms after the last step
 };
 
 }  // namespace LAMMPS_NS

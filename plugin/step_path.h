@@ -16,6 +16,9 @@ namespace LAMMPS_NS {
 //! another fix moved atoms at the end of a step.
 inline constexpr char kStartHint[] = "start from a valid non-overlapping state";
 inline constexpr char kMovedAtomsHint[] = "a fix that moves atoms must leave them apart (and inside fixed walls)";
+inline constexpr char kInsertedAtomsHint[] =
+    "a fix that inserts atoms must place them apart from the others and inside fixed walls (fix deposit: 'near' at "
+    "least the largest contact distance)";
 
 //! What one step did on this rank (weighted by ownership on the owned + ghost path, so the sums
 //! over ranks are the totals).
@@ -36,6 +39,9 @@ class StepPath {
   virtual ~StepPath() = default;
   //! The settings of every stepper the path makes from now on.
   virtual void configure(const hardsphere::StepperConfig &config, const hardsphere::Physics &physics) = 0;
+  //! Gravity from the next step on (a fix gravity with variables, validated): the stepper in use
+  //! and every one the path makes later.
+  virtual void set_gravity(const std::array<double, 3> &g) = 0;
   //! LAMMPS re-neighboured (or a run's setup does): it may have wrapped, sorted or migrated atoms.
   virtual void neighbours_changed() = 0;
   //! A run's setup: the path starts from LAMMPS's atoms, checked as a run's start.

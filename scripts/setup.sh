@@ -14,7 +14,7 @@ packages=(cmake g++ make libgtest-dev libgmock-dev libbenchmark-dev libcli11-dev
 # The test run checks that every C++ file is formatted (.clang-format).
 [ "$mode" = test ] && packages+=(clang-format)
 if [ "${HS_WITH_LAMMPS:-1}" = 1 ]; then
-  packages+=(lammps liblammps-dev openmpi-bin libopenmpi-dev liggghts python3-lammps dpkg-dev)
+  packages+=(lammps liblammps-dev lammps-examples openmpi-bin libopenmpi-dev liggghts python3-lammps dpkg-dev)
 fi
 bash "$root/scripts/apt_install_missing.sh" setup "${packages[@]}"
 

@@ -79,6 +79,16 @@ void add_simulation(py::class_<Sim>& c) {
   c.def_property_readonly(
       "box", [](Sim& s) { return s.state()->box; }, "the box (a copy)");
   c.def_property_readonly("sim_time", &Sim::sim_time, "simulated time since construction or reset_counters()");
+  c.def_property(
+      "gravity", [](const Sim& s) { return s.physics().gravity; },
+      [](Sim& s, const std::array<double, 3>& g) {
+        s.set_gravity(g);
+        // A chute that cannot settle runs, and says why (as at construction).
+        const std::string flow = unbounded_flow(s.physics(), s.origin().sys.box.periodic, physics_names());
+        if (!flow.empty() && PyErr_WarnEx(PyExc_UserWarning, flow.c_str(), 1) != 0) throw py::error_already_set();
+      },
+      "the uniform acceleration (gx, gy, gz); set it between runs to change it from then on (each step's or "
+      "event's flights stay exact parabolas)");
   c.def(
       "observables",
       [](Sim& s, py::object bins) {

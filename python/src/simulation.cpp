@@ -49,6 +49,7 @@ void Simulation::start_measurement() {
   momentum0_ = total_momentum(*s);
   start_ = s;
   cpu_ = 0;
+  gravity_changed_ = false;
 }
 
 void Simulation::reset_counters() {
@@ -68,7 +69,17 @@ nlohmann::json Simulation::observables(std::int64_t histogram_bins) const {
   nlohmann::json j = run_summary(*start_, fin, t, physics_, {origin_.com_removed, origin_.seed, int(histogram_bins)},
                                  name(), rounding_epsilon(), cpu_);
   add_summary(j);
+  // Potential energies are the current gravity's at both ends (docs/python.md).
+  if (gravity_changed_) j["gravity_changed"] = true;
   return j;
+}
+
+void Simulation::set_gravity(const std::array<double, 3>& g) {
+  check_not_in_run("gravity");
+  check_idle();
+  engine_set_gravity(g);
+  physics_.gravity = engine_gravity();
+  gravity_changed_ = true;
 }
 
 void Simulation::write_data(const std::string& path) const {

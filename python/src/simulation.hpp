@@ -59,6 +59,10 @@ class Simulation {
   virtual double sim_time() const = 0;
   const SystemData& origin() const { return origin_; }
   const Physics& physics() const { return physics_; }
+  //! Gravity from the next step or time on (the engine's set_gravity: InputError naming the
+  //! value). The summary's potential
+  //! energies are then those of the new gravity at both ends (gravity_changed in it).
+  void set_gravity(const std::array<double, 3>& g);
   //! Refuses (InputError) to touch an engine that another thread is running (its GIL is released).
   void check_idle() const;
   //! A run() in progress, from its checks to its return, callbacks and progress reports included.
@@ -99,8 +103,11 @@ class Simulation {
   virtual void add_summary(nlohmann::json& j) const = 0;
   virtual std::string title() const = 0;
   virtual std::int64_t dump_timestep() const = 0;
+  virtual void engine_set_gravity(const std::array<double, 3>& g) = 0;
+  virtual std::array<double, 3> engine_gravity() const = 0;
 
   Physics physics_;
+  bool gravity_changed_ = false;  // set_gravity() during the measurement
   SystemData origin_;
 
  private:
@@ -134,6 +141,8 @@ class StepperSim final : public Simulation {
   void add_summary(nlohmann::json& j) const override;
   std::string title() const override;
   std::int64_t dump_timestep() const override { return steps(); }
+  void engine_set_gravity(const std::array<double, 3>& g) override { engine_->set_gravity(g); }
+  std::array<double, 3> engine_gravity() const override { return engine_->gravity(); }
 
   StepperConfig cfg_;
   Precision precision_;
@@ -167,6 +176,8 @@ class EventSim final : public Simulation {
   void add_summary(nlohmann::json& j) const override;
   std::string title() const override;
   std::int64_t dump_timestep() const override { return events(); }
+  void engine_set_gravity(const std::array<double, 3>& g) override { engine_->set_gravity(g); }
+  std::array<double, 3> engine_gravity() const override { return engine_->gravity(); }
 
   EventConfig cfg_;
   std::unique_ptr<EventEngine> engine_;

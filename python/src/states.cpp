@@ -204,7 +204,11 @@ Physics physics_of(const Box& box, double restitution, std::optional<double> con
   // The library's option rules refuse a keyword given where it has no effect.
   given.contact_time = contact_time.has_value(), given.resting_time = resting_time.has_value();
   given.friction = friction.has_value(), given.inertia = inertia.has_value();
-  return validated(p, box.periodic, physics_names(), given);
+  p = validated(p, box.periodic, physics_names(), given);
+  // A scene that runs but cannot settle (a chute without wall friction) is said, not refused.
+  const std::string flow = unbounded_flow(p, box.periodic, physics_names());
+  if (!flow.empty() && PyErr_WarnEx(PyExc_UserWarning, flow.c_str(), 1) != 0) throw py::error_already_set();
+  return p;
 }
 
 const PhysicsNames& physics_names() {

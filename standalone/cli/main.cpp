@@ -124,6 +124,9 @@ int main(int argc, char** argv) {
     }
     // From here on a signal removes the temporaries of the outputs before the process dies.
     install_cleanup_signal_handlers();
+    // A scene that runs but cannot settle (a chute without wall friction) is said before the run.
+    const std::string flow = unbounded_flow(cmd.spec.physics, cmd.spec.periodic, cmd.spec.stepper.names);
+    if (!flow.empty()) std::cerr << "hardsphere: warning: " << flow << '\n';
     if (!cmd.quiet && isatty(STDERR_FILENO)) cmd.spec.progress = ProgressLine();
     // The summary goes out before the output files are committed: if standard output fails, the
     // run fails and leaves no file.

@@ -25,6 +25,12 @@ foreach(_entry ${HS_LAMMPS_PLUGINS})
                            ENVIRONMENT "${_env}")
     endif()
   endforeach()
+  # The reference inputs (the converted DEM scenes among them) on this release's stock lmp.
+  add_test(NAME lammps_v${_version}_reference_inputs
+           COMMAND ${Python3_EXECUTABLE} -m tests.lammps.run_reference_inputs --lmp ${_lmp} --plugin ${_plugin}
+                   --inputs ${PROJECT_SOURCE_DIR}/reference_inputs/lammps)
+  set_tests_properties(lammps_v${_version}_reference_inputs PROPERTIES LABELS lammps_versions TIMEOUT 300
+                       ENVIRONMENT "${_env}")
   # lmp_hs (Debian's LAMMPS) with this release's liblammps.so.0 first on LD_LIBRARY_PATH: refused
   # with a message naming both releases, on 1 and 2 ranks.
   if(TARGET lmp_hs)

@@ -29,4 +29,4 @@ def test_docs_examples_run(tmp_path):
     assert (tmp_path / "snapshot.png").read_bytes()[:4] == b"\x89PNG"
     for f in ("out.data", "out.dump", "pair.data"):
         assert (tmp_path / f).stat().st_size > 0
-    assert "gravity along periodic axis z" in p.stdout and "cannot open data file" in p.stdout
+    assert "restitution 1.5 must be in (0, 1]" in p.stdout and "cannot open data file" in p.stdout

@@ -148,15 +148,3 @@ TEST(Gravity, EventEngineGasKeepsItsEnergyAndItsBedLoadsTheFloor) {
   EXPECT_LT(max_overlap(e.state()), 1e-9);
   EXPECT_NEAR(force / 150.0, 1.0, 0.02);
 }
-
-TEST(Gravity, RefusedAlongPeriodicAxes) {
-  const ParticleSystem s = test::gas(100, 0.1, 1);
-  StepperConfig cfg;
-  Physics cfg_physics;
-  cfg_physics.gravity = {0, 0, -1};
-  EXPECT_THROW(make_stepper(s, cfg_physics, cfg), InputError);
-  EventConfig ecfg;
-  Physics ecfg_physics;
-  ecfg_physics.gravity = {0, 0, -1};
-  EXPECT_THROW(EventEngine(s, ecfg_physics, ecfg), InputError);
-}

@@ -85,14 +85,22 @@ TEST(JammedContacts, InelasticRefusalsNameTheContactTimeInTheFacesWords) {
     names.restitution = tc[0] == '-' ? "--restitution" : "restitution", names.contact_time = tc;
     const std::string advice = names.restitution +
                                " 0.2 it may also be an inelastic collapse (spheres settling "
-                               "onto each other), which a longer " +
-                               std::string(tc) + " (now 0.0001) lets through";
+                               "onto each other, their collisions ever closer in time), which a longer " +
+                               std::string(tc) + " lets through: give e.g. " + tc + " 0.001 (now 0.0001;";
     for (const std::string& m : {stepper_refusal(pressed_between_walls(), inelastic, names),
                                  event_refusal(pressed_between_walls(), inelastic, names)}) {
       EXPECT_NE(m.find("jammed spheres: atoms "), std::string::npos) << m;
       EXPECT_NE(m.find(advice), std::string::npos) << m;
     }
   }
+  // Inelastic walls only: the advice names the wall's restitution, not the pairs' 1.
+  Physics walls;
+  walls.contact_time = 1e-4, walls.walls[4].restitution = walls.walls[5].restitution = 0.5;
+  PhysicsNames cli;
+  cli.wall_restitution = "--wall-restitution", cli.contact_time = "--contact-time";
+  for (const std::string& m :
+       {stepper_refusal(pressed_between_walls(), walls, cli), event_refusal(pressed_between_walls(), walls, cli)})
+    EXPECT_NE(m.find("; with --wall-restitution zlo=0.5 it may also be an inelastic collapse"), std::string::npos) << m;
   // Elastic collisions cannot collapse: no such advice.
   EXPECT_EQ(stepper_refusal(pressed_between_walls()).find("inelastic collapse"), std::string::npos);
 }

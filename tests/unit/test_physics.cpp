@@ -38,19 +38,48 @@ TEST(Physics, RefusesRestitutionAndContactTimesNoRunCouldEnd) {
             std::string::npos);
 }
 
-TEST(Physics, GravityAlongPeriodicAxesIsRefusedButRoundingIsNot) {
+// Gravity along periodic axes (a chute) is taken; one that cannot settle is said (unbounded_flow).
+TEST(Physics, GravityAlongPeriodicAxesIsTakenAndRoundingIsZero) {
   const std::array<bool, 3> floor{true, true, false};
-  const std::string m = refusal({1, 0, {0, 0.5, -1}}, floor);
-  EXPECT_NE(m.find("gravity along periodic axis y (0.5)"), std::string::npos) << m;
+  EXPECT_EQ(refusal({1, 0, {0, 0.5, -1}}, floor), "");
   EXPECT_NE(refusal({1, 0, {0, 0, std::numeric_limits<double>::infinity()}}, floor).find("must be finite"),
             std::string::npos);
   // LAMMPS's 'spherical 0.0 -180.0' is -z with an x component of -1.2e-16: that is -z.
   const Physics down = validated({1, 0, {-1.2246467991473532e-16, 0, -1}}, floor);
   EXPECT_EQ(down.gravity[0], 0.0);
   EXPECT_EQ(down.gravity[2], -1.0);
-  // Huge magnitudes do not overflow the comparison; a real tilt is kept and refused.
+  // Huge magnitudes do not overflow the comparison; a real tilt is kept.
   EXPECT_EQ(validated({1, 0, {1e-290, 0, -1e300}}, floor).gravity[0], 0.0);
-  EXPECT_NE(refusal({1, 0, {1e-9, 0, -1}}, floor).find("periodic axis x"), std::string::npos);
+  EXPECT_EQ(validated({1, 0, {1e-9, 0, -1}}, floor).gravity[0], 1e-9);
+}
+
+TEST(Physics, UnboundedFlowNamesWhyAChuteCannotSettle) {
+  const std::array<bool, 3> floor{true, true, false}, none{true, true, true};
+  Physics p;
+  p.gravity = {0.5, 0, -1};
+  // Smooth walls take no momentum along x, whatever the restitution.
+  const std::string smooth = unbounded_flow(p, floor);
+  EXPECT_NE(smooth.find("gravity along periodic axis x (0.5) with no frictional wall"), std::string::npos) << smooth;
+  p.restitution = 0.5, p.contact_time = 1e-4;
+  EXPECT_NE(unbounded_flow(p, floor).find("no frictional wall"), std::string::npos);
+  // Rough spheres with friction: the floor brakes them, the inelastic pairs dissipate.
+  p.tangential_restitution = 0.0, p.friction = 0.5;
+  EXPECT_EQ(unbounded_flow(p, floor), "");
+  EXPECT_NE(unbounded_flow(p, none).find("no frictional wall"), std::string::npos);  // no walls at all
+  // A frictionless floor (mu_w 0) takes nothing either.
+  Physics q = p;
+  q.walls[4].friction = 0.0, q.walls[5].friction = 0.0;
+  EXPECT_NE(unbounded_flow(q, floor).find("no frictional wall"), std::string::npos);
+  // Perfectly rough, elastic, no sliding: nothing dissipates.
+  Physics r;
+  r.gravity = {0.5, 0, -1}, r.tangential_restitution = 1.0;
+  const std::string lossless = unbounded_flow(r, floor, {"--restitution"});
+  EXPECT_NE(lossless.find("every collision conserving energy"), std::string::npos) << lossless;
+  EXPECT_NE(lossless.find("give a --restitution"), std::string::npos) << lossless;
+  // Gravity along wall axes only: nothing to say.
+  Physics w;
+  w.gravity = {0, 0, -1};
+  EXPECT_EQ(unbounded_flow(w, floor), "");
 }
 
 // The option rules: a setting given where it has no effect is refused, one table for every face,

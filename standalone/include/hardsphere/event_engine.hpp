@@ -112,7 +112,13 @@ class EventEngine {
   //! up to twice counters().collisions.
   std::vector<std::int64_t> pair_collisions_per_sphere() const;
   void reset_counters();
-  double time() const;  //!< simulated time since construction
+  //! Changes gravity from the current time on (a rotating drum's): every sphere continues from
+  //! where it is on a parabola of the new acceleration and every event is predicted afresh, so
+  //! the run stays exact. Validated as validated_gravity() (InputError naming EventConfig::names'
+  //! gravity). A default resting time (Physics::resting_time 0) follows the new |g|.
+  void set_gravity(const std::array<double, 3>& g);
+  std::array<double, 3> gravity() const;  //!< the acceleration in use (as validated)
+  double time() const;                    //!< simulated time since construction
   std::array<int, 3> cells_per_dim() const;
   double shell() const;              //!< neighbour-list shell in use (length units, after any shrinking)
   std::string scene_kernel() const;  //!< e.g. "periodic,mono"

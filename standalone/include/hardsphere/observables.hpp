@@ -19,7 +19,8 @@ double translational_temperature(const ParticleSystem& sys);
 double rotational_temperature(const ParticleSystem& sys, double inertia);
 //! Total angular momentum about the origin, sum m r x v + I w (positions as stored).
 Vec3d angular_momentum(const ParticleSystem& sys, double inertia);
-//! Potential energy in a uniform acceleration g: -sum m g.(x - lo), zero at the lower box corner.
+//! Potential energy in a uniform acceleration g: -sum m g.(x - lo), zero at the lower box corner,
+//! x unwrapped (pos + image L) along periodic axes.
 double potential_energy(const ParticleSystem& sys, const std::array<double, 3>& g);
 
 //! Z = PV/(NkT) from the collision virial: 1 + sum(r_ij . dp_i) / (3 N T t).

@@ -35,8 +35,9 @@ struct Physics {
   //! either sphere's previous collision is elastic, so no finite time holds infinitely many.
   //! Must be > 0 when the restitution is below 1.
   double contact_time = 0.0;
-  //! Uniform acceleration, allowed along wall axes only: flights are parabolas, relative motion
-  //! of pairs stays straight. Potential energy -m g.(x - lo).
+  //! Uniform acceleration, along any axis: flights are parabolas, relative motion of pairs stays
+  //! straight. Potential energy -m g.(x - lo), with x unwrapped (pos + image L) along periodic
+  //! axes (a chute: gravity along a periodic axis; unbounded_flow() says when it cannot settle).
   std::array<double, 3> gravity{0, 0, 0};
   //! Resting contacts under gravity: a wall contact slower than |g_d| resting_time along an axis
   //! whose gravity pulls into that wall does not bounce but rests (a sphere at rest on a floor
@@ -88,7 +89,7 @@ struct PhysicsNames {
   std::string restitution = "restitution";
   std::string contact_time = "contact time";
   std::string gravity = "gravity";
-  std::string walls = "walls on that axis";  //!< the remedy for gravity along a periodic axis
+  std::string walls = "walls on that axis";  //!< how the face puts walls on an axis (no message uses it now)
   std::string resting_time = "resting time";
   std::string tangential_restitution = "tangential restitution";
   std::string friction = "friction";
@@ -120,7 +121,7 @@ struct PhysicsGiven {
 //! `p` checked against boxes with these periodic axes, with gravity components at rounding level
 //! (kGravityRounding) set to zero. Throws InputError naming the value: a restitution outside
 //! (0, 1], a contact time that is negative, not finite or 0 with a restitution below 1, a gravity
-//! that is not finite or has a component along a periodic axis, a tangential restitution outside
+//! that is not finite, a tangential restitution outside
 //! [-1, 1], a friction below 0 or NaN, or finite without a tangential restitution above -1, an
 //! inertia outside (0, 2/3], a wall law's value outside these ranges, or a wall tangential law for
 //! smooth spheres (a frictional wall turns spheres: they need spins, which only rough scenes
@@ -128,6 +129,10 @@ struct PhysicsGiven {
 //! faces are reset to the default (a setting for every wall sets the faces that have walls).
 Physics validated(Physics p, const std::array<bool, 3>& periodic, const PhysicsNames& names = {},
                   const PhysicsGiven& given = {});
+
+//! A gravity as validated() takes it (also for a change on a live engine): every component
+//! finite (InputError naming it otherwise), those at rounding level set to zero.
+std::array<double, 3> validated_gravity(const std::array<double, 3>& g, const PhysicsNames& names = {});
 
 //! The wall laws' settings, as every face names them (PhysicsNames::wall_*).
 enum class WallSetting { Restitution, TangentialRestitution, Friction };
@@ -144,6 +149,12 @@ void set_wall_law(Physics& p, PhysicsGiven& given, WallSetting setting, const st
 //! unknown face, a face twice, an empty item).
 void parse_wall_setting(Physics& p, PhysicsGiven& given, WallSetting setting, const std::string& text,
                         const std::string& option);
+
+//! Why a scene with gravity along a periodic axis reaches no steady state (empty when it can or
+//! has no such gravity): no wall takes tangential impulse (pair collisions conserve momentum,
+//! smooth walls push along their normals only), or no collision dissipates energy. The adapters
+//! run such a scene and warn with this text.
+std::string unbounded_flow(const Physics& p, const std::array<bool, 3>& periodic, const PhysicsNames& names = {});
 
 //! What a refusal of jammed spheres adds for inelastic collisions (empty when elastic): the
 //! chain may be an inelastic collapse (a settling bed), which a longer contact time lets

@@ -137,6 +137,12 @@ class StepperBase {
   //! Each sphere's pair collisions since the last reset_counters(), ordered like state(); they
   //! add up to twice counters().collisions. Empty unless StepperConfig::count_per_sphere.
   virtual std::vector<std::int64_t> pair_collisions_per_sphere() const = 0;
+  //! Changes gravity between steps (a rotating drum's, LAMMPS's variable fix gravity): the
+  //! following steps' flights are parabolas in the new acceleration, so each step stays exact.
+  //! Validated as validated_gravity() (InputError naming StepperConfig::names' gravity).
+  virtual void set_gravity(const std::array<double, 3>& g) = 0;
+  //! The acceleration the next step uses (as validated: rounding-level components zero).
+  virtual std::array<double, 3> gravity() const = 0;
 };
 
 //! Validates the physics and the configuration against the system (throws InputError) and builds

@@ -72,7 +72,10 @@ ParticleSystem validated_spheres(const ParticleSystem& sys_in, const EventConfig
 
 struct EventEngine::Impl {
   Impl(const ParticleSystem& sys, const Physics& physics, const EventConfig& cfg)
-      : proto(sys), loop(proto, physics, cfg), collapse_advice(hardsphere::collapse_advice(physics, cfg.names)) {}
+      : proto(sys),
+        loop(proto, physics, cfg),
+        collapse_advice(hardsphere::collapse_advice(physics, cfg.names)),
+        names(cfg.names) {}
   //! Runs f, completing a jam refusal in the face's words.
   template <class F>
   void guarded(F&& f) {
@@ -88,6 +91,7 @@ struct EventEngine::Impl {
   ParticleSystem proto;
   event::EventLoop loop;
   std::string collapse_advice;  // added to a jam refusal (inelastic collisions)
+  PhysicsNames names;           // the adapter's, for set_gravity's refusals
 };
 
 EventEngine::EventEngine(const ParticleSystem& sys, const Physics& physics, const EventConfig& cfg)
@@ -131,6 +135,12 @@ std::vector<std::int64_t> EventEngine::pair_collisions_per_sphere() const { retu
 const EventCounters& EventEngine::counters() const { return impl_->loop.counters(); }
 
 void EventEngine::reset_counters() { impl_->loop.reset_counters(); }
+
+void EventEngine::set_gravity(const std::array<double, 3>& g) {
+  impl_->loop.set_gravity(validated_gravity(g, impl_->names));
+}
+
+std::array<double, 3> EventEngine::gravity() const { return impl_->loop.trajectories().gravity(); }
 
 double EventEngine::time() const { return impl_->loop.time(); }
 

@@ -54,6 +54,7 @@ EventLoop::EventLoop(const ParticleSystem& sys, const Physics& physics_in, const
   // with the crossing time, the window the jam guard counts as one instant.
   const double d = smallest_diameter(sys), fall = fall_time(d, physics);
   resting_time_ = physics.resting_time > 0 ? physics.resting_time : (fall < kInf ? kRestingTimeFraction * fall : 1.0);
+  resting_default_ = !(physics.resting_time > 0), smallest_diameter_ = d;
   if (!physics.elastic()) last_collision_.assign(n, -kInf);
   pair_collisions_.assign(n, 0);
   if (physics.rough()) {
@@ -123,6 +124,22 @@ void EventLoop::reset_counters() {
   c_ = EventCounters{};
   std::fill(pair_collisions_.begin(), pair_collisions_.end(), std::int64_t(0));
   reset_time_ = time();
+}
+
+void EventLoop::set_gravity(const std::array<double, 3>& g) {
+  // Trajectories are delayed: each sphere is brought to now on the parabola it flew, then
+  // continues on the new one; every prediction assumed the old acceleration.
+  rebase();
+  trajectories_.rebase(now_);
+  trajectories_.set_gravity(g);
+  if (resting_default_) {
+    Physics p;
+    p.gravity = g;
+    const double fall = fall_time(smallest_diameter_, p);
+    resting_time_ = fall < kInf ? kRestingTimeFraction * fall : 1.0;
+  }
+  for (std::size_t k = 0; k < trajectories_.size(); ++k) predict(int(k));
+  calendar_.build(predictions_.next_times());
 }
 
 //! Processes the calendar's first entry.

@@ -45,6 +45,9 @@ class EventLoop {
   //! By input index: the angular velocities of rough spheres (empty when smooth).
   const std::vector<Vec3d>& omega() const { return omega_; }
   void reset_counters();
+  //! Gravity `g` (validated) from now on: every sphere synced to now on its old parabola, the
+  //! default resting time rescaled, every event predicted afresh.
+  void set_gravity(const std::array<double, 3>& g);
 
  private:
   // inline: the handlers of one event are one hot path, compiled together in event_loop.cpp.
@@ -88,6 +91,8 @@ class EventLoop {
   double contact_time_ = 0.0;
   std::array<kernel::WallLaw<double>, 6> wall_laws_{};  // the box faces' (kFaceNames order)
   double resting_time_ = 0;                             // Physics::resting_time (or its default)
+  bool resting_default_ = false;                        // resting_time_ is the default: it follows |g|
+  double smallest_diameter_ = 0;                        // scales the default resting time
   std::vector<double> last_collision_;                  // input index: time of the last collision (restitution < 1)
   std::vector<std::int64_t> pair_collisions_;           // input index: pair collisions since reset_counters()
   std::vector<Vec3d> omega_;                            // input index: angular velocities (rough only)

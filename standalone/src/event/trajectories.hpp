@@ -40,6 +40,11 @@ class Trajectories {
   std::uint32_t input_index(std::size_t i) const { return orig_[i]; }
   bool has_gravity() const { return has_g_; }
   const std::array<double, 3>& gravity() const { return g_; }
+  //! A new acceleration: only between events, with every sphere synced (rebase()).
+  void set_gravity(const std::array<double, 3>& g) {
+    g_ = g;
+    has_g_ = g != std::array<double, 3>{0, 0, 0};
+  }
   HS_ALWAYS_INLINE void prefetch(std::size_t i) const { __builtin_prefetch(&body_[i]); }
 
   //! Sphere i, for the event handling that brings it to a time (sync) or changes its course.

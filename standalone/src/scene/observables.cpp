@@ -18,9 +18,15 @@ Vec3d total_momentum(const ParticleSystem& sys) {
 }
 
 double potential_energy(const ParticleSystem& sys, const std::array<double, 3>& g) {
+  // Along a periodic axis the height is the unwrapped coordinate (a chute's spheres keep falling).
   double u = 0;
   for (std::size_t i = 0; i < sys.size(); ++i)
-    for (int d = 0; d < 3; ++d) u -= sys.mass[i] * g[std::size_t(d)] * (sys.pos[i][d] - sys.box.lo[std::size_t(d)]);
+    for (int d = 0; d < 3; ++d) {
+      const std::size_t a = std::size_t(d);
+      double x = sys.pos[i][d] - sys.box.lo[a];
+      if (sys.box.periodic[a] && g[a] != 0 && i < sys.image.size()) x += double(sys.image[i][a]) * sys.box.length(d);
+      u -= sys.mass[i] * g[a] * x;
+    }
   return u;
 }
 

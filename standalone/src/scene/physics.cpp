@@ -119,6 +119,14 @@ std::string PhysicsNames::face_value(const std::string& name, int face, double v
   return name + " " + kFaceNames[std::size_t(face)] + face_separator + format_number(value);
 }
 
+std::array<double, 3> validated_gravity(const std::array<double, 3>& g, const PhysicsNames& names) {
+  for (int d = 0; d < 3; ++d)
+    if (!std::isfinite(g[std::size_t(d)]))
+      throw InputError(names.gravity + " component " + "xyz"[d] + " = " + format_number(g[std::size_t(d)]) +
+                       " must be finite");
+  return without_rounding(g);
+}
+
 Physics validated(Physics p, const std::array<bool, 3>& periodic, const PhysicsNames& names,
                   const PhysicsGiven& given) {
   const std::string e = format_number(p.restitution), tc = format_number(p.contact_time);
@@ -144,18 +152,7 @@ Physics validated(Physics p, const std::array<bool, 3>& periodic, const PhysicsN
   if (!(p.inertia > 0 && p.inertia <= 2.0 / 3.0))
     throw InputError(names.inertia + " " + format_number(p.inertia) +
                      " must be in (0, 2/3] (I = q m r^2; 0.4: solid sphere, 2/3: thin shell)");
-  for (int d = 0; d < 3; ++d) {
-    const double g = p.gravity[std::size_t(d)];
-    if (!std::isfinite(g))
-      throw InputError(names.gravity + " component " + "xyz"[d] + " = " + format_number(g) + " must be finite");
-  }
-  p.gravity = without_rounding(p.gravity);
-  for (int d = 0; d < 3; ++d) {
-    const double g = p.gravity[std::size_t(d)];
-    if (g != 0 && periodic[std::size_t(d)])
-      throw InputError(names.gravity + " along periodic axis " + "xyz"[d] + " (" + format_number(g) +
-                       ") would accelerate the spheres without end; put " + names.walls);
-  }
+  p.gravity = validated_gravity(p.gravity, names);
   check_walls(p, periodic, names, given);
   check_shapes(p, periodic);
   if (p.inelastic_walls() && p.contact_time == 0)
@@ -168,12 +165,53 @@ Physics validated(Physics p, const std::array<bool, 3>& periodic, const PhysicsN
   return p;
 }
 
+std::string unbounded_flow(const Physics& p, const std::array<bool, 3>& periodic, const PhysicsNames& names) {
+  int axis = -1;
+  for (int d = 0; d < 3; ++d)
+    if (periodic[std::size_t(d)] && p.gravity[std::size_t(d)] != 0 && axis < 0) axis = d;
+  if (axis < 0) return "";
+  // Pair collisions conserve momentum and smooth walls push along their normals only: the
+  // momentum along a periodic axis leaves the spheres through wall friction alone.
+  bool frictional_wall = false, lossless = p.elastic();
+  for (int f = 0; f < 6; ++f) {
+    if (periodic[std::size_t(f / 2)]) continue;
+    const double beta = p.wall_tangential_restitution(f), mu = p.wall_friction(f);
+    if (p.rough() && beta > -1 && mu > 0) frictional_wall = true;
+    if (p.rough() && !(std::abs(beta) == 1 && std::isinf(mu))) lossless = false;
+  }
+  if (p.rough() && !(std::abs(p.tangential_restitution) == 1 && std::isinf(p.friction))) lossless = false;
+  const std::string what =
+      names.gravity + " along periodic axis " + "xyz"[axis] + " (" + format_number(p.gravity[std::size_t(axis)]) + ")";
+  if (!frictional_wall)
+    return what +
+           " with no frictional wall: nothing takes momentum along that axis from the spheres (collisions between "
+           "them conserve it, smooth walls push along their normals only), so their speeds grow without bound and "
+           "the run reaches no steady state; for a chute give the walls friction (rough spheres, a " +
+           names.wall_tangential_restitution + " above -1 and a " + names.wall_friction + " above 0)";
+  if (lossless)
+    return what +
+           " with every collision conserving energy: the spheres turn the potential energy they lose into speed "
+           "without bound and the run reaches no steady state; give a " +
+           names.restitution + " or " + names.wall_restitution + " below 1, or a finite friction";
+  return "";
+}
+
 std::string collapse_advice(const Physics& p, const PhysicsNames& names) {
   if (p.elastic()) return "";
-  return "; with " + names.restitution + " " + format_number(p.restitution) +
-         " it may also be an inelastic collapse (spheres settling onto each other), which a longer " +
-         names.contact_time + " (now " + format_number(p.contact_time) +
-         ") lets through: the TC model makes a sphere's collisions elastic within that time of its last one";
+  // Name the inelastic law as given: the pairs', or the walls' when only those are inelastic.
+  std::string law = names.restitution + " " + format_number(p.restitution);
+  if (p.restitution == 1)
+    for (int f = 0; f < 6; ++f)
+      if (p.walls[std::size_t(f)].restitution != 1) {
+        law = names.face_value(names.wall_restitution, f, p.walls[std::size_t(f)].restitution);
+        break;
+      }
+  return "; with " + law +
+         " it may also be an inelastic collapse (spheres settling onto each other, their collisions ever closer "
+         "in time), which a longer " +
+         names.contact_time + " lets through: give e.g. " + names.contact_time + " " +
+         format_number(10 * p.contact_time) + " (now " + format_number(p.contact_time) +
+         "; the TC model makes a sphere's collisions elastic within that time of its last one)";
 }
 
 }  // namespace hardsphere

@@ -200,6 +200,8 @@ void Stepper<Real, Mono>::configure_resolver(const Physics& physics, const Stepp
   std::array<bool, 3> no_tests = box_.periodic;
   for (std::size_t d = 0; d < 3; ++d) no_tests[d] = no_tests[d] || unreached_walls_[d];
   resolver_.set_walls(no_tests, wall_lo, wall_hi);
+  names_ = cfg.names;
+  gravity_in_ = physics.gravity;
   gravity_ = {Real(physics.gravity[0]), Real(physics.gravity[1]), Real(physics.gravity[2])};
   has_gravity_ = physics.has_gravity();
   if (sizeof(Real) == sizeof(float) && has_gravity_) kick_residual_.assign(n, V3<Real>{});
@@ -207,6 +209,21 @@ void Stepper<Real, Mono>::configure_resolver(const Physics& physics, const Stepp
   resolver_.set_resting_time(Real(physics.resting_time));
   const double extent = std::max({box_.length(0), box_.length(1), box_.length(2)});
   if (!physics.shapes.empty()) resolver_.set_shapes(physics, origin_, extent);
+}
+
+template <class Real, bool Mono>
+void Stepper<Real, Mono>::set_gravity(const std::array<double, 3>& g) {
+  gravity_in_ = validated_gravity(g, names_);
+  gravity_ = {Real(gravity_in_[0]), Real(gravity_in_[1]), Real(gravity_in_[2])};
+  has_gravity_ = gravity_in_ != std::array<double, 3>{0, 0, 0};
+  if (sizeof(Real) == sizeof(float) && has_gravity_ && kick_residual_.empty())
+    kick_residual_.assign(pos_.size(), V3<Real>{});
+  resolver_.set_gravity(gravity_);
+  if (has_gravity_ && speeds_) {  // speeds change during a step under gravity (configure_lists)
+    speeds_ = false;
+    bind_resolver();
+  }
+  refresh_speed_bound();
 }
 
 template <class Real, bool Mono>

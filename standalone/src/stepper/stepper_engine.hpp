@@ -48,6 +48,8 @@ class Stepper final : public StepperBase, public StateExchange {
       throw JammedSpheres(e.what() + collapse_advice_);
     }
   }
+  void set_gravity(const std::array<double, 3>& g) override;
+  std::array<double, 3> gravity() const override { return gravity_in_; }
   //! Runs the steps in stretches of one specialised kernel (stepper_step.cpp).
   void run_steps(std::int64_t steps);
   ParticleSystem state() const override;
@@ -386,6 +388,8 @@ class Stepper final : public StepperBase, public StateExchange {
   std::vector<V3<Real>> omega_;          // angular velocities in cell order, rough scenes only (else empty)
   detail::SmoothSpins spins_;            // smooth scenes: the spins given, unchanged, by id rank
   std::string collapse_advice_;          // added to a jam refusal (inelastic collisions)
+  PhysicsNames names_;                   // the adapter's names, for set_gravity's refusals
+  std::array<double, 3> gravity_in_{};   // gravity as validated (gravity_ is it in Real)
   double inertia_ = 0.4;                 // q of I = q m r^2
 };
 
