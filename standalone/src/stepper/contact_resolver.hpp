@@ -101,12 +101,16 @@ class ContactResolver {
     walls_.set_walls(periodic, lo, hi);
   }
   void set_resting_time(Real t) { walls_.set_resting_time(t); }
-  void set_gravity(const std::array<Real, 3>& g) { walls_.set_gravity(g); }
+  void set_gravity(const std::array<Real, 3>& g) {
+    walls_.set_gravity(g);
+    shapes_.set_gravity(g);
+  }
   static constexpr std::uint32_t kWall = 0xffffffffu;
   static constexpr int kShape = 3;
   //! Shaped walls (shape_events.hpp), in the engine's coordinates (origin: its box's lower corner).
   void set_shapes(const Physics& p, const std::array<double, 3>& origin, double extent) {
     shapes_.set_shapes(p, origin, extent);
+    shapes_.set_gravity(walls_.gravity());
   }
   const std::vector<WallShapeTotals>& shape_totals() const { return shapes_.totals(); }
   void reset_shape_totals() {

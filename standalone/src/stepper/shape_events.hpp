@@ -25,8 +25,8 @@ template <class Real>
 class ShapeEvents {
  public:
   //! The walls, moved into the engine's coordinates (origin: the box's lower corner, which the
-  //! engine subtracts), their kernel laws (the spheres' tangential law where a wall gives none),
-  //! the rounding its positions carry over `extent` (the largest box length), and gravity.
+  //! engine subtracts), their kernel laws (the spheres' tangential law where a wall gives none)
+  //! and the rounding its positions carry over `extent` (the largest box length).
   void set_shapes(const Physics& p, const std::array<double, 3>& origin, double extent) {
     shapes_.clear();
     laws_.clear();
@@ -48,7 +48,10 @@ class ShapeEvents {
     // A gap within a few roundings of the positions is a touch: a sphere left on the surface by a
     // bounce or a rest is not taken for one overlapping it.
     tol_ = 16 * double(std::numeric_limits<Real>::epsilon()) * size;
-    g_ = {p.gravity[0], p.gravity[1], p.gravity[2]};
+  }
+  //! The engine's gravity, as its drift applies it (set again when it changes between steps).
+  void set_gravity(const std::array<Real, 3>& g) {
+    g_ = {double(g[0]), double(g[1]), double(g[2])};
     g_norm_ = norm(g_);
   }
   bool any() const { return !shapes_.empty(); }
