@@ -165,21 +165,22 @@ void bind_system(py::module_& m) {
       "random",
       [](py::object n, std::optional<double> phi, py::object box, py::object seed, double radius, double mass,
          std::optional<double> temperature, std::optional<double> speed, py::object boundary, py::object method,
-         std::optional<double> rotational_temperature, std::optional<double> inertia) {
+         std::optional<double> rotational_temperature, std::optional<double> inertia, py::object walls) {
         return generate(parse_init_method(text_arg(method, "method")), whole_arg(n, "n", INT64_MIN, INT64_MAX), phi,
                         box, unsigned_arg(seed, "seed"), radius, mass, temperature, speed,
-                        text_arg(boundary, "boundary"), rotational_temperature, inertia);
+                        text_arg(boundary, "boundary"), rotational_temperature, inertia, walls);
       },
       "n"_a = 1000, "phi"_a = py::none(), "box"_a = py::none(), "seed"_a = 1, "radius"_a = 0.5, "mass"_a = 1.0,
       "temperature"_a = py::none(), "speed"_a = py::none(), "boundary"_a = "p", "method"_a = "auto",
-      "rotational_temperature"_a = py::none(), "inertia"_a = py::none(),
+      "rotational_temperature"_a = py::none(), "inertia"_a = py::none(), "walls"_a = py::none(),
       "A generated state as the CLI's --n/--phi/--box/--init make it: n spheres at packing fraction phi "
       "(default 0.2) or in a box of these lengths, Maxwell-Boltzmann velocities at temperature (default 1) or one "
       "speed, momentum zeroed; with rotational_temperature, angular velocities for rough spheres (each component "
       "normal with variance T/I, I = inertia m r^2, inertia 0.4 by default; the CLI's default is the translational "
       "temperature, here none: zero). "
       "method: auto (random insertion up to phi 0.25, lattice up to 0.55, dense up to 0.64), "
-      "random, lattice or dense (docs/initial_states.md).");
+      "random, lattice or dense (docs/initial_states.md). walls: the shaped walls (as Stepper's walls) the spheres "
+      "are placed clear of (random insertion only).");
   sys.def_static(
       "dense",
       [](py::object n, std::optional<double> phi, py::object box, py::object seed, double radius, double mass,
@@ -281,7 +282,7 @@ void bind_stepper(py::module_& m) {
                      std::optional<std::array<double, 3>> gravity, std::optional<double> resting_time,
                      py::object detect, py::object precision, py::object cells, double work_limit,
                      double tangential_restitution, std::optional<double> friction, std::optional<double> inertia,
-                     py::object wall_e, py::object wall_beta, py::object wall_mu) {
+                     py::object wall_e, py::object wall_beta, py::object wall_mu, py::object walls) {
            StepperConfig cfg;
            cfg.dt = dt;
            cfg.detect = parse_detect(text_arg(detect, "detect"));
@@ -289,19 +290,20 @@ void bind_stepper(py::module_& m) {
            cfg.max_particle_steps = work_limit_of(work_limit);
            cfg.names = physics_names();
            const Physics p = physics_of(s.sys.box, restitution, contact_time, gravity, resting_time,
-                                        tangential_restitution, friction, inertia, {wall_e, wall_beta, wall_mu});
+                                        tangential_restitution, friction, inertia, {wall_e, wall_beta, wall_mu, walls});
            return std::make_unique<StepperSim>(s, p, cfg, parse_precision(text_arg(precision, "precision")));
          }),
          "system"_a, py::kw_only(), "dt"_a = 0.01, "restitution"_a = 1.0, "contact_time"_a = py::none(),
          "gravity"_a = py::none(), "resting_time"_a = py::none(), "detect"_a = "auto", "precision"_a = "double",
          "cells"_a = "auto", "work_limit"_a = 1e15, "tangential_restitution"_a = -1.0, "friction"_a = py::none(),
          "inertia"_a = py::none(), "wall_restitution"_a = py::none(), "wall_tangential_restitution"_a = py::none(),
-         "wall_friction"_a = py::none(),
+         "wall_friction"_a = py::none(), "walls"_a = py::none(),
          "Stepper(system, *, dt=0.01, restitution=1, contact_time=1e-4 when restitution < 1, gravity=None, "
          "resting_time=None (with gravity; 0: the sub-step), detect='auto', precision='double', cells='auto', "
          "work_limit=1e15, tangential_restitution=-1, friction=None (inf), inertia=None (0.4; both rough spheres "
          "only), wall_restitution=None (1), wall_tangential_restitution=None, wall_friction=None (the spheres'; "
-         "each one number, 'zlo=0.5,...' or {'zlo': 0.5})): the CLI's options.");
+         "each one number, 'zlo=0.5,...' or {'zlo': 0.5}), walls=None (shaped walls: a list of the CLI's --wall "
+         "specs, e.g. ['cylinder z 10 10 8 rotate 0.5 restitution 0.5'])): the CLI's options.");
   st.def(
       "_run",
       [](py::object self, py::object steps, std::optional<double> time, py::object callback, py::object every,
@@ -325,25 +327,27 @@ void bind_event_engine(py::module_& m) {
   ev.def(py::init([](const SystemData& s, double restitution, std::optional<double> contact_time,
                      std::optional<std::array<double, 3>> gravity, std::optional<double> resting_time, py::object cells,
                      double shell, double work_limit, double tangential_restitution, std::optional<double> friction,
-                     std::optional<double> inertia, py::object wall_e, py::object wall_beta, py::object wall_mu) {
+                     std::optional<double> inertia, py::object wall_e, py::object wall_beta, py::object wall_mu,
+                     py::object walls) {
            EventConfig cfg;
            cfg.cells = cells_of(cells);
            cfg.shell = shell;
            cfg.max_events = work_limit_of(work_limit);
            cfg.names = physics_names();
            const Physics p = physics_of(s.sys.box, restitution, contact_time, gravity, resting_time,
-                                        tangential_restitution, friction, inertia, {wall_e, wall_beta, wall_mu});
+                                        tangential_restitution, friction, inertia, {wall_e, wall_beta, wall_mu, walls});
            return std::make_unique<EventSim>(s, p, cfg);
          }),
          "system"_a, py::kw_only(), "restitution"_a = 1.0, "contact_time"_a = py::none(), "gravity"_a = py::none(),
          "resting_time"_a = py::none(), "cells"_a = "auto", "shell"_a = 0.0, "work_limit"_a = 1e15,
          "tangential_restitution"_a = -1.0, "friction"_a = py::none(), "inertia"_a = py::none(),
          "wall_restitution"_a = py::none(), "wall_tangential_restitution"_a = py::none(),
-         "wall_friction"_a = py::none(),
+         "wall_friction"_a = py::none(), "walls"_a = py::none(),
          "EventEngine(system, *, restitution=1, contact_time=1e-4 when restitution < 1, gravity=None, "
          "resting_time=None (with gravity; 0.01 sqrt(d/|g|)), cells='auto', shell=0 (auto), work_limit=1e15, "
          "tangential_restitution=-1, friction=None (inf), inertia=None (0.4; both rough spheres only), "
-         "wall_restitution=None, wall_tangential_restitution=None, wall_friction=None (as Stepper's)): the CLI's "
+         "wall_restitution=None, wall_tangential_restitution=None, wall_friction=None (as Stepper's), walls=None "
+         "(refused: shaped walls are the stepper's)): the CLI's "
          "options.");
   ev.def(
       "_run",

@@ -164,6 +164,7 @@ std::string StepperSim::title() const { return "hardsphere state after " + std::
 // The stepper's keys of the CLI's summary (one implementation: hardsphere/simulation.hpp).
 void StepperSim::add_summary(nlohmann::json& j) const {
   add_stepper_summary(j, *engine_, cfg_, precision_, *state(), 0, loop_cpu_seconds());
+  add_shape_summary(j, physics_, engine_->counters());
 }
 
 // ---- event engine

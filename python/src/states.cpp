@@ -86,11 +86,29 @@ std::shared_ptr<SystemData> make_system(const Box& box, const py::object& positi
   return data;
 }
 
+namespace {
+//! walls=[...]: each the CLI's --wall words, named in messages as walls 'SPEC'.
+std::vector<WallShape> shapes_of(const py::object& walls) {
+  std::vector<WallShape> out;
+  if (walls.is_none()) return out;
+  if (py::isinstance<py::str>(walls) || !py::isinstance<py::sequence>(walls))
+    throw InputError("walls must be a list of wall specs (strings), got " + py::repr(walls).cast<std::string>());
+  for (const auto item : walls.cast<py::sequence>()) {
+    if (!py::isinstance<py::str>(item))
+      throw InputError("walls: each wall is a spec string, got " + py::repr(item).cast<std::string>());
+    const std::string spec = item.cast<std::string>();
+    out.push_back(parse_wall_shape(spec, "walls '" + spec + "'"));
+  }
+  return out;
+}
+
+}  // namespace
+
 std::shared_ptr<SystemData> generate(InitMethod method, std::int64_t n, std::optional<double> phi,
                                      const py::object& box, std::uint64_t seed, double radius, double mass,
                                      std::optional<double> temperature, std::optional<double> speed,
                                      const std::string& boundary, std::optional<double> rotational_temperature,
-                                     std::optional<double> inertia) {
+                                     std::optional<double> inertia, const py::object& walls) {
   // Keywords that would be ignored are refused, as the CLI refuses --temperature with --init-speed.
   if (temperature && speed) throw InputError("temperature and speed both set the velocities; give one");
   if (inertia && !rotational_temperature)
@@ -102,6 +120,7 @@ std::shared_ptr<SystemData> generate(InitMethod method, std::int64_t n, std::opt
   spec.n = n, spec.radius = radius, spec.mass = mass, spec.temperature = temperature.value_or(1.0), spec.speed = speed;
   spec.seed = seed, spec.method = method;
   const auto periodic = parse_boundary(boundary);
+  spec.walls = shapes_of(walls);
   if (!(radius > 0) || !std::isfinite(radius))
     throw InputError("radius " + format_exact(radius) + " must be positive and finite");
   if (!box.is_none()) {
@@ -192,6 +211,7 @@ Physics physics_of(const Box& box, double restitution, std::optional<double> con
   take_wall_arg(p, given, WallSetting::TangentialRestitution, walls.tangential_restitution,
                 "wall_tangential_restitution");
   take_wall_arg(p, given, WallSetting::Friction, walls.friction, "wall_friction");
+  p.shapes = shapes_of(walls.shapes);
   p.tangential_restitution = tangential_restitution;
   p.friction = friction.value_or(p.friction), p.inertia = inertia.value_or(p.inertia);
   p.restitution = restitution;

@@ -52,7 +52,7 @@ std::shared_ptr<SystemData> generate(InitMethod method, std::int64_t n, std::opt
                                      const pybind11::object& box, std::uint64_t seed, double radius, double mass,
                                      std::optional<double> temperature, std::optional<double> speed,
                                      const std::string& boundary, std::optional<double> rotational_temperature,
-                                     std::optional<double> inertia);
+                                     std::optional<double> inertia, const pybind11::object& walls = pybind11::none());
 
 //! A data file as --read-data reads it; FileError if it cannot be opened. `kinematic_types`
 //! (None or a sequence of atom types): those atoms' spheres are kinematic, as --kinematic-types.
@@ -67,6 +67,8 @@ const PhysicsNames& physics_names();
 struct WallArgs {
   pybind11::object restitution = pybind11::none(), tangential_restitution = pybind11::none(),
                    friction = pybind11::none();
+  //! walls=[...]: shaped walls, each the CLI's --wall words (parse_wall_shape()).
+  pybind11::object shapes = pybind11::none();
 };
 
 //! The physics keywords, validated with the keywords' names in messages.

@@ -137,10 +137,11 @@ struct RunOptions {
   std::string read_data_s, write_data_s, dump_s, seed_s = "1", engine_s = "stepper", time_s, etime_s, blocks_s;
   std::string dump_every_s, bins_s, restitution_s, contact_time_s, resting_time_s, gravity_s, track_s, track_every_s,
       track_file_s, beta_s, friction_s, inertia_s, t_rot_s, wall_e_s, wall_beta_s, wall_mu_s, kinematic_s;
+  std::vector<std::string> walls_s;
   CLI::Option *o_beta, *o_bins, *o_blocks, *o_box, *o_contact_time, *o_detect, *o_dt, *o_dump, *o_dump_every, *o_equil,
       *o_etime, *o_friction, *o_gravity, *o_inertia, *o_init, *o_json, *o_mass, *o_n, *o_phi, *o_radius, *o_read,
       *o_resting_time, *o_restitution, *o_seed, *o_speed, *o_steps, *o_t, *o_t_rot, *o_time, *o_track, *o_track_every,
-      *o_track_file, *o_write, *o_wall_e, *o_wall_beta, *o_wall_mu, *o_kinematic;
+      *o_track_file, *o_write, *o_wall_e, *o_wall_beta, *o_wall_mu, *o_kinematic, *o_walls;
 };
 
 // The options, declared in the order the help lists them: the initial state, the stepping, the
@@ -220,6 +221,11 @@ void add_physics_options(CLI::App* app, RunOptions& o) {
                                   "rough spheres: the walls' tangential restitution, -1 <= beta_w <= 1, one value or "
                                   "face=value items (default: --tangential-restitution)")
                       ->type_name("B|FACE=B,...");
+  o.o_walls = app->add_option("--wall", o.walls_s,
+                              "a shaped wall (repeatable, stepper only), e.g. \"cylinder z 10 10 8 inside rotate 0.5 "
+                              "restitution 0.5\": plane, cylinder, sphere or cone; see docs/cli.md")
+                  ->type_name("SPEC")
+                  ->allow_extra_args(false);
   o.o_wall_mu = app->add_option("--wall-friction", o.wall_mu_s,
                                 "rough spheres: the walls' Coulomb friction mu_w >= 0, one value or face=value items "
                                 "(default: --friction)")
@@ -311,6 +317,7 @@ void take_physics(const RunOptions& o, RunSpec& spec) {
   if (o.o_inertia->count()) spec.physics.inertia = real("--inertia", o.inertia_s);
   // The option rules (a setting given where it has no effect) are the library's, as for every face.
   PhysicsGiven given;
+  for (const std::string& w : o.walls_s) spec.physics.shapes.push_back(parse_wall_shape(w, "--wall '" + w + "'"));
   take_wall_laws(o, spec, given);
   given.contact_time = o.o_contact_time->count(), given.resting_time = o.o_resting_time->count();
   given.friction = o.o_friction->count(), given.inertia = o.o_inertia->count();
@@ -329,6 +336,10 @@ void take_run_length(const RunOptions& o, RunSpec& spec) {
   const double etime = o.o_etime->count() ? real("--equilibrate-time", o.etime_s) : 0.0;
 
   if (spec.engine == Engine::Event) {
+    if (!o.walls_s.empty())
+      throw InputError("--wall '" + o.walls_s.front() +
+                       "': shaped walls run in the stepper only (the event engine predicts contacts with the box "
+                       "faces alone): leave out --engine event");
     for (auto* opt : {o.o_dt, o.o_steps, o.o_equil, o.o_detect, o.o_dump_every})
       if (opt->count())
         throw InputError(opt->get_name() + " is a stepper option; the event engine runs for --time (simulated time)");

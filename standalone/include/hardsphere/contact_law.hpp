@@ -147,25 +147,41 @@ struct WallOutcome {
   ContactOutcome contact;  //!< dissipated_normal: restitution's loss, or a rest's net energy taken
 };
 
-//! The wall law: a sphere of mass m, radius a touching the wall on `side` of axis d at velocity v
-//! (its normal part v[d] towards the wall) under gravity g along d either rests (resting_contact()
-//! over `resting_time`: it leaves at half the speed gravity builds over `hop`, so it is back on
-//! the wall after hop) or bounces, leaving at -e_w v[d] (the TC rule as pairs have it, pair_rule()
-//! with `collided_recently`: within the contact time of its last collision it is elastic and
-//! smooth); the engine moves its own coordinates (e_w = 1: the mirror, v[d] -> -v[d]). Rough (w
-//! its angular velocity, updated): the tangential impulse of the wall's law (wall_tangential())
-//! for the normal impulse, a resting contact's too, so a sphere sliding on a floor is braked at
-//! mu_w g and rolls.
-template <bool Rough, class T, class Recent>
-inline WallOutcome<T> collide_wall(const WallLaw<T>& law, int d, int side, Vec3<T> v, T g, T resting_time, T hop,
-                                   typename detail::NoDeduce<Vec3<T>*>::type w, T m, T a, Recent&& collided_recently) {
-  WallOutcome<T> out;
-  const T vn = v[d];
-  out.rested = resting_contact(vn, g, side, resting_time);
+//! What a contact with a wall of any shape does (collide_surface()): the WallOutcome along the
+//! normal (`leave`: the normal part of the velocity relative to the wall after it) and the
+//! sphere's whole velocity change `dv` (normal and tangential).
+template <class T>
+struct SurfaceOutcome {
+  WallOutcome<T> wall;
+  Vec3<T> dv{};
+};
+
+//! The wall law at a contact of unit normal n (from the wall to the sphere) with a wall whose
+//! surface moves at u there (an infinite mass): the sphere (mass m, radius a, velocity v) either
+//! rests (gravity g with a part g.n into the wall, and a normal approach (v - u).n no faster than
+//! it builds over `resting_time`: it leaves at half the normal speed gravity builds over `hop`)
+//! or bounces, leaving at -e_w (v - u).n (the TC rule as pairs have it, pair_rule() with
+//! `collided_recently`: within the contact time of its last collision it is elastic and smooth).
+//! A sphere neither resting nor approaching is left alone (contact.changed false) unless
+//! `Always` (a box face, which the stepper only predicts for spheres moving into it). Rough (w its
+//! angular velocity, updated): the tangential impulse of the wall's law (wall_tangential()) for
+//! the normal impulse, a resting contact's too, on the velocity relative to the surface, so a
+//! sphere on a turning drum is carried while friction holds it. For a box face (n a unit axis,
+//! u = 0) every dot product with n adds exact zeros: the same numbers as the axis's component.
+template <bool Rough, bool Always = false, class T, class Recent>
+inline SurfaceOutcome<T> collide_surface(const WallLaw<T>& law, Vec3<T> n, Vec3<T> u, Vec3<T> v, Vec3<T> g,
+                                         T resting_time, T hop, typename detail::NoDeduce<Vec3<T>*>::type w, T m, T a,
+                                         Recent&& collided_recently) {
+  SurfaceOutcome<T> s;
+  WallOutcome<T>& out = s.wall;
+  const Vec3<T> vr = v - u;
+  const T vn = dot(vr, n), gn = dot(g, n);
+  out.rested = gn < T(0) && std::abs(vn) <= std::abs(gn) * resting_time;
+  if (!Always && !out.rested && !(vn < T(0))) return s;  // receding from the surface: nothing to do
   out.contact.changed = true;
   T jn;  // the normal impulse per unit mass, in T for the tangential law
   if (out.rested) {
-    out.leave = -(T(0.5) * g * hop);
+    out.leave = -(T(0.5) * gn * hop);
     out.impulse = std::abs(double(vn)) + std::abs(double(out.leave));
     out.contact.dissipated_normal = 0.5 * double(m) * (double(vn) * double(vn) - double(out.leave) * double(out.leave));
     jn = std::abs(vn) + std::abs(out.leave);
@@ -183,16 +199,36 @@ inline WallOutcome<T> collide_wall(const WallLaw<T>& law, int d, int side, Vec3<
           0.5 * double(m) * (double(vn) * double(vn) - double(out.leave) * double(out.leave));
       jn = std::abs(vn) + std::abs(out.leave);
     }
-    if (!rule.full) return out;  // TC-elastic: smooth too
+    s.dv = (out.leave - vn) * n;
+    if (!rule.full) return s;  // TC-elastic: smooth too
   }
+  if (out.rested) s.dv = (out.leave - vn) * n;
   if constexpr (Rough) {
-    Vec3<T> n{};
-    n[d] = side < 0 ? T(1) : T(-1);  // into the box
     T dissipated = T(0);
-    out.dv = wall_tangential(n, v, *w, m, a, jn, law.roughness, dissipated, out.contact.sliding);
+    out.dv = wall_tangential(n, vr, *w, m, a, jn, law.roughness, dissipated, out.contact.sliding);
     out.contact.dissipated_tangential = double(dissipated);
+    s.dv += out.dv;
   }
-  return out;
+  return s;
+}
+
+//! The wall law at a box face: a sphere of mass m, radius a touching the wall on `side` of axis
+//! d at velocity v (its normal part v[d] towards the wall) under gravity g along d, the face's
+//! normal +-e_d and the face at rest (collide_surface(), whose numbers these are). `leave` is
+//! the velocity along d after it (resting: it leaves at half the speed gravity builds over
+//! `hop`, so it is back on the wall after hop); the engine moves its own coordinates (e_w = 1:
+//! the mirror, v[d] -> -v[d]); out.dv, rough spheres' tangential change.
+template <bool Rough, class T, class Recent>
+inline WallOutcome<T> collide_wall(const WallLaw<T>& law, int d, int side, Vec3<T> v, T g, T resting_time, T hop,
+                                   typename detail::NoDeduce<Vec3<T>*>::type w, T m, T a, Recent&& collided_recently) {
+  const T sign = side < 0 ? T(1) : T(-1);  // the normal into the box
+  Vec3<T> n{}, gv{};
+  n[d] = sign;
+  gv[d] = g;
+  SurfaceOutcome<T> s =
+      collide_surface<Rough, true>(law, n, Vec3<T>{}, v, gv, resting_time, hop, w, m, a, collided_recently);
+  s.wall.leave = sign * s.wall.leave;
+  return s.wall;
 }
 
 //! What a free sphere's contact with a kinematic sphere does: the free sphere's velocity change

@@ -8,6 +8,7 @@
 
 #include "hardsphere/particles.hpp"
 #include "hardsphere/rng.hpp"
+#include "hardsphere/wall_shapes.hpp"
 
 namespace hardsphere {
 
@@ -26,6 +27,9 @@ struct InitSpec {
   double inertia = 0.4;  //!< q of I = q m r^2
   std::uint64_t seed = 1;
   InitMethod method = InitMethod::Auto;
+  //! Shaped walls (Physics::shapes): random insertion places spheres clear of them (the only
+  //! method that takes them; Auto chooses it).
+  std::vector<WallShape> walls;
 };
 
 //! Above this packing fraction Auto uses the lattice route: random insertion slows down
@@ -48,7 +52,7 @@ ParticleSystem make_initial_state(const InitSpec& spec);
 //! Seed-paper insertion: uniform random positions, rejected on overlap (cell grid). Throws
 //! InputError naming how many spheres fitted if the packing cannot be reached.
 void place_random(ParticleSystem& sys, std::int64_t n, double radius, double mass, Rng& rng,
-                  std::int64_t max_attempts_per_sphere = 2000);
+                  std::int64_t max_attempts_per_sphere = 2000, const std::vector<WallShape>& walls = {});
 
 //! Maxwell-Boltzmann angular velocities at temperature T: each component normal with variance
 //! T / I, I = q m r^2 (total angular momentum not removed, T not rescaled).

@@ -5,6 +5,9 @@
 #include <limits>
 #include <optional>
 #include <string>
+#include <vector>
+
+#include "hardsphere/wall_shapes.hpp"
 
 namespace hardsphere {
 
@@ -24,20 +27,6 @@ constexpr double kRestingTimeFraction = 0.01;
 //! The box faces in the order Physics::walls holds them (face 2 d + 1 is axis d's upper wall),
 //! named as every face names them.
 constexpr std::array<const char*, 6> kFaceNames{"xlo", "xhi", "ylo", "yhi", "zlo", "zhi"};
-
-//! The law of one box face (the wall an infinite mass at rest): normal restitution and, for rough
-//! spheres, Walton's tangential law, as the pair law has them. Unset tangential parameters take the
-//! spheres' (Physics::tangential_restitution, friction), which is what walls did before they had
-//! laws of their own.
-struct WallLaw {
-  double restitution = 1.0;                      //!< e_w in (0, 1]; 1: elastic
-  std::optional<double> tangential_restitution;  //!< beta_w in [-1, 1]; rough spheres only
-  std::optional<double> friction;                //!< mu_w >= 0 (infinity: no sliding); rough spheres only
-  bool operator==(const WallLaw& o) const {
-    return restitution == o.restitution && tangential_restitution == o.tangential_restitution && friction == o.friction;
-  }
-  bool operator!=(const WallLaw& o) const { return !(*this == o); }
-};
 
 struct Physics {
   //! Normal restitution of sphere-sphere collisions, in (0, 1] (the walls': `walls`).
@@ -68,12 +57,17 @@ struct Physics {
   //! Each box face's law (kFaceNames order); the default is elastic and, for smooth spheres,
   //! frictionless. A wall collision with e_w < 1 takes the TC model as pairs do.
   std::array<WallLaw, 6> walls{};
+  //! Shaped walls (wall_shapes.hpp): planes, cylinders, spheres, cones, each with its own law;
+  //! the stepper only. Empty: the box faces alone.
+  std::vector<WallShape> shapes;
 
   //! Every collision elastic: pairs and walls (the TC model's clock is kept otherwise).
   bool elastic() const { return restitution == 1.0 && !inelastic_walls(); }
   bool inelastic_walls() const {
     for (const WallLaw& w : walls)
       if (w.restitution != 1.0) return true;
+    for (const WallShape& w : shapes)
+      if (w.law.restitution != 1.0) return true;
     return false;
   }
   //! Some face's law differs from the default (the run summary then reports the walls' laws).

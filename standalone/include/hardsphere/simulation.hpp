@@ -114,6 +114,10 @@ void add_stepper_warnings(nlohmann::json& j, const StepperBase& engine, const St
 void add_stepper_summary(nlohmann::json& j, const StepperBase& engine, const StepperConfig& cfg, Precision precision,
                          const ParticleSystem& final_state, std::int64_t equilibrate_steps, double loop_cpu);
 
+//! The shaped walls' keys (none without them): `shaped_walls`, each wall's words, collisions,
+//! resting contacts and work, and `wall_work`, their sum.
+void add_shape_summary(nlohmann::json& j, const Physics& physics, const StepCounters& counters);
+
 //! The event engine's keys of the run summary (docs/cli.md) but the block averages
 //! (BlockAverages::add_summary): time, grid, shell, event counts and rates per `loop_cpu` second.
 void add_event_summary(nlohmann::json& j, const EventEngine& engine, double equilibrate_time, double loop_cpu);

@@ -109,6 +109,10 @@ struct StepCounters {
   //! the kinematic spheres did on them (ParticleSystem::kinematic).
   std::int64_t kinematic_collisions = 0;
   double kinematic_work = 0;
+  //! The work moving shaped walls did on the spheres (Physics::shapes; 0 for walls at rest).
+  double wall_work = 0;
+  //! Each shaped wall's collisions, resting contacts and work (Physics::shapes order).
+  std::vector<WallShapeTotals> shapes;
 };
 
 //! Type-erased engine interface, so precision and scene specialisations are chosen at run time.

@@ -44,6 +44,10 @@ EventLoop::EventLoop(const ParticleSystem& sys, const Physics& physics_in, const
   const std::size_t n = sys.size();
   // Physics: validated, then the collision rule's parameters.
   const Physics physics = validated(physics_in, sys.box.periodic);
+  // Shaped walls are the stepper's: the event engine predicts contacts with the box faces only.
+  if (!physics.shapes.empty())
+    throw InputError(physics.shapes.front().source + ": shaped walls run in the stepper only (the event engine " +
+                     "predicts contacts with the box faces alone): use the stepper");
   law_.restitution = physics.restitution;
   contact_time_ = physics.contact_time;
   // The smallest diameter's fall time scales the default resting time (hops of ~1e-5 d) and,

@@ -146,7 +146,7 @@ void dense_route(ParticleSystem& sys, const InitSpec& spec, Rng& rng) {
 }  // namespace
 
 void place_random(ParticleSystem& sys, std::int64_t n, double radius, double mass, Rng& rng,
-                  std::int64_t max_attempts_per_sphere) {
+                  std::int64_t max_attempts_per_sphere, const std::vector<WallShape>& walls) {
   const Box& box = sys.box;
   const double diameter = 2 * radius;
   const CellGrid grid = CellGrid::with_min_width(box, diameter, 2 * n + 27);
@@ -157,8 +157,14 @@ void place_random(ParticleSystem& sys, std::int64_t n, double radius, double mas
     for (std::int64_t attempt = 0; attempt < max_attempts_per_sphere && !ok; ++attempt) {
       Vec3d p;
       for (int d = 0; d < 3; ++d) p[d] = lower(box, d, radius) + rng.uniform() * span(box, d, radius);
-      const int cell = grid.cell_of(p.x, p.y, p.z);
       ok = true;
+      // A funnel's spheres start inside it (its outside is not a wall).
+      for (const WallShape& w : walls) {
+        const double gap = shape_gap(w, p, radius);
+        ok = ok && gap >= 0 && (w.kind != ShapeKind::Cone || std::isfinite(gap));
+      }
+      if (!ok) continue;
+      const int cell = grid.cell_of(p.x, p.y, p.z);
       grid.for_each_neighbour(cell, [&](int nb) {
         if (!ok) return;
         for (std::uint32_t j : members[std::size_t(nb)]) {
@@ -286,6 +292,13 @@ InitMethod init_method(const InitSpec& spec) {
                      ", the densest state the initialiser promises (random close packing is near 0.64, close packing " +
                      format_number(kClosePacking) + "); --init dense tries denser ones");
   InitMethod method = spec.method;
+  if (!spec.walls.empty()) {
+    if (method != InitMethod::Auto && method != InitMethod::Random)
+      throw InputError(std::string("the ") + (method == InitMethod::Lattice ? "lattice" : "dense") +
+                       " initial state does not know shaped walls (" + spec.walls.front().source +
+                       "): random insertion places spheres clear of them (init random)");
+    return InitMethod::Random;
+  }
   if (method == InitMethod::Auto) {
     method = phi <= kRandomInsertionLimit      ? InitMethod::Random
              : !above(phi, kLatticeRouteLimit) ? InitMethod::Lattice
@@ -307,7 +320,7 @@ ParticleSystem make_initial_state(const InitSpec& spec) {
   ParticleSystem sys;
   sys.box = spec.box;
   if (method == InitMethod::Random) {
-    place_random(sys, spec.n, spec.radius, spec.mass, rng);
+    place_random(sys, spec.n, spec.radius, spec.mass, rng, 2000, spec.walls);
   } else if (method == InitMethod::Lattice && spec.method == InitMethod::Auto) {
     // Walls can jam the lattice route below its limit (small boxes): the dense generator
     // separates spheres without dynamics, so it is the fallback.

@@ -114,7 +114,7 @@ void add_rough_summary(nlohmann::json& j, const ParticleSystem& initial, const P
 }
 
 void add_wall_summary(nlohmann::json& j, const Box& box, const RunTotals& t, const Physics& physics) {
-  if (!physics.wall_laws()) return;
+  if (!physics.wall_laws() && physics.shapes.empty()) return;
   nlohmann::json laws = nlohmann::json::object();
   for (int f = 0; f < 6; ++f) {
     if (box.periodic[std::size_t(f / 2)]) continue;

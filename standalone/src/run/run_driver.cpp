@@ -63,6 +63,7 @@ ParticleSystem initial_state(const RunSpec& spec, std::vector<std::string>* note
     init.rotational_temperature.reset();
   }
   for (int d = 0; d < 3; ++d) init.box.periodic[d] = spec.periodic[d];
+  init.walls = spec.physics.shapes;
   return make_initial_state(init);
 }
 

@@ -96,6 +96,7 @@ double StepperRun::measure(const RunOutputs& out) {
 
 void StepperRun::add_summary(nlohmann::json& j, const ParticleSystem& fin, double cpu) const {
   add_stepper_summary(j, *engine_, spec_.stepper, spec_.precision, fin, spec_.equilibrate, cpu);
+  add_shape_summary(j, spec_.physics, engine_->counters());
 }
 
 }  // namespace

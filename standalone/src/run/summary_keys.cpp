@@ -5,6 +5,20 @@
 
 namespace hardsphere {
 
+void add_shape_summary(nlohmann::json& j, const Physics& physics, const StepCounters& c) {
+  if (physics.shapes.empty()) return;
+  nlohmann::json walls = nlohmann::json::array();
+  for (std::size_t k = 0; k < physics.shapes.size(); ++k) {
+    const WallShapeTotals t = k < c.shapes.size() ? c.shapes[k] : WallShapeTotals{};
+    walls.push_back({{"wall", describe(physics.shapes[k])},
+                     {"collisions", t.collisions},
+                     {"resting_contacts", t.resting_contacts},
+                     {"work", t.work}});
+  }
+  j["shaped_walls"] = walls;
+  j["wall_work"] = c.wall_work;
+}
+
 void add_stepper_summary(nlohmann::json& j, const StepperBase& engine, const StepperConfig& cfg, Precision precision,
                          const ParticleSystem& fin, std::int64_t equilibrate_steps, double cpu) {
   const StepCounters& c = engine.counters();

@@ -90,6 +90,29 @@ void check_walls(Physics& p, const std::array<bool, 3>& periodic, const PhysicsN
   }
 }
 
+//! Each shaped wall's geometry (validated_shape()) and law, named by the wall's source.
+void check_shapes(Physics& p, const std::array<bool, 3>& periodic) {
+  for (WallShape& shape : p.shapes) {
+    shape = validated_shape(shape, periodic);
+    const WallLaw& w = shape.law;
+    const std::string at = shape.source + ": ";
+    if (!(w.restitution > 0 && w.restitution <= 1))
+      throw InputError(at + "restitution " + format_number(w.restitution) + " must be in (0, 1] (1: elastic)");
+    if (w.tangential_restitution && !(*w.tangential_restitution >= -1 && *w.tangential_restitution <= 1))
+      throw InputError(at + "tangential_restitution " + format_number(*w.tangential_restitution) +
+                       " must be in [-1, 1] (-1: smooth, 1: perfectly rough)");
+    if (w.friction && !(*w.friction >= 0))
+      throw InputError(at + "friction " + format_number(*w.friction) + " must be >= 0 (infinite: no sliding)");
+    if ((w.tangential_restitution || w.friction) && !p.rough())
+      throw InputError(at + (w.friction ? "friction" : "tangential_restitution") +
+                       " needs rough spheres (a tangential restitution above -1): a wall's tangential impulse " +
+                       "turns the spheres, and only rough spheres carry angular velocities");
+    if (w.friction && std::isfinite(*w.friction) && w.tangential_restitution.value_or(p.tangential_restitution) == -1)
+      throw InputError(at + "friction " + format_number(*w.friction) +
+                       " needs a tangential_restitution above -1 as its sticking limit beta0");
+  }
+}
+
 }  // namespace
 
 std::string PhysicsNames::face_value(const std::string& name, int face, double value) const {
@@ -131,6 +154,7 @@ Physics validated(Physics p, const std::array<bool, 3>& periodic, const PhysicsN
                      " must be in (0, 2/3] (I = q m r^2; 0.4: solid sphere, 2/3: thin shell)");
   p.gravity = validated_gravity(p.gravity, names);
   check_walls(p, periodic, names, given);
+  check_shapes(p, periodic);
   if (p.inelastic_walls() && p.contact_time == 0)
     throw InputError(names.contact_time + " 0 with a " + names.wall_restitution +
                      " below 1: an inelastic collapse against a wall would never end; give " + names.contact_time +

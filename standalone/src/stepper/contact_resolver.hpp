@@ -33,6 +33,7 @@
 #include "stepper/contact_queue.hpp"
 #include "stepper/contact_tally.hpp"
 #include "stepper/distance_filter.hpp"
+#include "stepper/shape_events.hpp"
 #include "stepper/wall_events.hpp"
 
 namespace hardsphere {
@@ -41,7 +42,8 @@ namespace hardsphere {
 template <class Real, bool Mono>
 class ContactResolver {
  public:
-  //! A pair contact (i < j), or a wall bounce of sphere i (j == kWall, image = the axis).
+  //! A pair contact (i < j), or a wall bounce of sphere i (j == kWall, image = the axis, or
+  //! kShape + k for shaped wall k).
   struct Candidate {
     std::uint32_t i, j;              // i < j
     std::uint8_t image;              // of r_i - r_j
@@ -102,8 +104,19 @@ class ContactResolver {
   void set_gravity(const std::array<Real, 3>& g) {
     walls_.set_gravity(g);
     kinematic_gravity_ = a_.kinematic && (g[0] != Real(0) || g[1] != Real(0) || g[2] != Real(0));
+    shapes_.set_gravity(g);
   }
   static constexpr std::uint32_t kWall = 0xffffffffu;
+  static constexpr int kShape = 3;
+  //! Shaped walls (shape_events.hpp), in the engine's coordinates (origin: its box's lower corner).
+  void set_shapes(const Physics& p, const std::array<double, 3>& origin, double extent) {
+    shapes_.set_shapes(p, origin, extent);
+    shapes_.set_gravity(walls_.gravity());
+  }
+  const std::vector<WallShapeTotals>& shape_totals() const { return shapes_.totals(); }
+  void reset_shape_totals() {
+    for (WallShapeTotals& t : shapes_.totals()) t = WallShapeTotals{};
+  }
   //! An upper bound of every sphere's speed in this step (the resolver raises it after each
   //! collision). It lets neighbour sweeps reject distant partners early; +inf (the default)
   //! disables that, which is always correct.
@@ -154,10 +167,19 @@ class ContactResolver {
     walls_.predict(a_.pos[s], a_.vel[s], radius(s), cs.back, [&](int d, Real back) {
       candidates_.push_back({s, kWall, std::uint8_t(d), back, cs.count, 0});
     });
+    if (shapes_.any()) predict_shapes(s);
+  }
+  //! The shaped walls' part of predict_walls(), out of line: the faces' part stays small enough
+  //! to be inlined into the step loop (scenes without shaped walls cost what they did).
+  [[gnu::noinline]] void predict_shapes(std::uint32_t s) {
+    const Change cs = change_[s];
+    shapes_.predict(a_.pos[s], a_.vel[s], radius(s), cs.back, [&](std::size_t k, Real back) {
+      candidates_.push_back({s, kWall, std::uint8_t(kShape + k), back, cs.count, 0});
+    });
   }
   //! predict_walls() for every sphere (after a scan).
   void predict_all_walls() {
-    if (!walls_.any()) return;
+    if (!walls_.any() && !shapes_.any()) return;
     for (std::uint32_t s = 0; s < change_.size(); ++s) predict_walls(s);
   }
 
@@ -282,7 +304,7 @@ class ContactResolver {
     // Periodic scenes skip every wall test; smooth ones every rough test (their loop is the one
     // they had before rough spheres).
     // Kinematic spheres under gravity take the walls' loop, whose sweeps test their pairs (consider()).
-    const bool walls = walls_.any() || kinematic_gravity_;
+    const bool walls = walls_.any() || shapes_.any() || kinematic_gravity_;
     if (a_.omega) return walls ? resolve_impl<true, true>(hooks, tally) : resolve_impl<false, true>(hooks, tally);
     if (walls) return resolve_impl<true, false>(hooks, tally);
     return resolve_impl<false, false>(hooks, tally);
@@ -327,10 +349,7 @@ class ContactResolver {
         break;
       }
       if constexpr (Walls) {
-        if (wall)
-          bounce<Rough>(c, hooks, tally);
-        else if (!collide<Rough>(c, hooks, tally))
-          continue;
+        if (wall ? !bounce<Rough>(c, hooks, tally) : !collide<Rough>(c, hooks, tally)) continue;
       } else if (!collide<Rough>(c, hooks, tally)) {
         continue;
       }
@@ -435,7 +454,8 @@ class ContactResolver {
   //! Sphere c.i's bounce off the wall of axis c.image, `c.back` before the end of the step: the
   //! wall law at the contact (kernel::collide_wall()), then its end-of-step position and velocity.
   template <bool Rough, class Hooks>
-  void bounce(const Candidate& c, Hooks& hooks, ContactTally& tally) {
+  bool bounce(const Candidate& c, Hooks& hooks, ContactTally& tally) {
+    if (c.image >= kShape) return bounce_shape<Rough>(c, hooks, tally);
     const std::uint32_t i = c.i;
     const int d = c.image;
     const Real back = c.back;
@@ -471,6 +491,39 @@ class ContactResolver {
     tally.wall_impulse[std::size_t(d)] += double(Mono ? mass_ : a_.mass[i]) * out.impulse;
     mark_changed(i, back);
     hooks.after_bounce(i);
+    return true;
+  }
+
+  //! Sphere c.i's contact with shaped wall c.image - kShape, `c.back` before the end of the step
+  //! (ShapeEvents::collide()), then the tallies and re-predictions as for a face.
+  template <bool Rough, class Hooks>
+  bool bounce_shape(const Candidate& c, Hooks& hooks, ContactTally& tally) {
+    const std::uint32_t i = c.i;
+    const std::size_t k = std::size_t(c.image - kShape);
+    const auto out = shapes_.template collide<Rough>(k, a_.pos[i], a_.vel[i], Rough ? a_.omega + i : nullptr, radius(i),
+                                                     mass(i), c.back, walls_.resting_time(dt_),
+                                                     [&] { return collided_recently(i, i, c.back); });
+    if (!out.changed) return false;  // receding at the contact
+    if (shapes_.law(k).restitution != 1 && !out.rested) last_collision_[id_index(i)] = step_end_ - double(c.back);
+    if constexpr (Rough) {
+      tally.dissipated_normal += out.dissipated_normal;
+      tally.dissipated_tangential += out.dissipated_tangential;
+    }
+    tally.wall_dissipated_normal += out.dissipated_normal;
+    tally.wall_dissipated_tangential += out.dissipated_tangential;
+    tally.wall_work += out.work;
+    const Real speed = norm(a_.vel[i]);
+    speed_bound_ = std::max(speed_bound_, speed);
+    if (a_.speed) a_.speed[i] = speed;
+    if (out.rested) {
+      ++tally.resting_contacts;
+    } else {
+      ++tally.wall_collisions;
+      if (a_.observer) a_.observer->bounce(i);
+    }
+    mark_changed(i, c.back);
+    hooks.after_bounce(i);
+    return true;
   }
 
   //! When the event limit stops a step, spheres may still be beyond a wall: mirror them (their
@@ -597,6 +650,7 @@ class ContactResolver {
   std::vector<std::uint32_t> near_;                        // sweep scratch: list entries that pass the distance test
   WallEvents<Real> walls_;
   bool kinematic_gravity_ = false;  // kinematic spheres under gravity: consider_kinematic()
+  ShapeEvents<Real> shapes_;
 };
 
 }  // namespace hardsphere

@@ -1,5 +1,6 @@
 #pragma once
-//! What the contact resolver totals over the contacts it resolves.
+//! What the contact resolver adds up over the contacts it resolves (the stepper's StepCounters
+//! take it from here).
 #include <array>
 #include <cstdint>
 
@@ -23,6 +24,7 @@ struct ContactTally {
   //! dissipation is the walls'), and the work the kinematic spheres did (kernel::KinematicOutcome).
   std::int64_t kinematic_collisions = 0;
   double kinematic_work = 0;
+  double wall_work = 0;  //!< the work moving walls did on the spheres
 };
 
 }  // namespace hardsphere

@@ -52,9 +52,9 @@ Stepper<Real, Mono>::Stepper(const ParticleSystem& sys, const Physics& physics, 
     : box_(relative_box(sys.box)),
       user_box_(sys.box),
       origin_(sys.box.lo),
-      // Kinematic spheres take the general kernel: under gravity (along any axis) their pairs need
-      // consider_kinematic(), which the all-periodic kernel leaves out.
-      all_periodic_(cfg.specialise && sys.box.all_periodic() && !sys.kinematic_count()),
+      // Kinematic spheres and shaped walls take the general kernel: under gravity (along any axis)
+      // kinematic pairs need consider_kinematic(), and the all-periodic kernel has no walls.
+      all_periodic_(cfg.specialise && sys.box.all_periodic() && !sys.kinematic_count() && physics.shapes.empty()),
       sweep_(detects_by_sweep(cfg.detect, sys, cfg.dt)),
       dt_(Real(cfg.dt)) {
   check_config(sys, physics, cfg);
@@ -80,6 +80,15 @@ void Stepper<Real, Mono>::check_config(const ParticleSystem& sys, const Physics&
   }
   if (cfg.max_events_per_step < 1) throw InputError("max events per step must be >= 1");
   check_scene_numbers(sys, "stepper");
+  check_clear_of_shapes(sys, physics.shapes);
+  // A moving kinematic sphere passes through a shaped wall unseen (only the box faces are checked
+  // for its reach): refused until the shapes check it too.
+  if (!physics.shapes.empty())
+    for (std::size_t i = 0; i < sys.size(); ++i)
+      if (sys.is_kinematic(i) && (sys.vel[i].x != 0 || sys.vel[i].y != 0 || sys.vel[i].z != 0))
+        throw InputError(atom_origin(sys, i, "initial state") +
+                         " is kinematic and moving, with shaped walls, which do not stop it or check its path: "
+                         "give moving kinematic spheres no shaped walls, or make them frozen (velocity 0)");
   const double g_norm = std::sqrt(physics.gravity[0] * physics.gravity[0] + physics.gravity[1] * physics.gravity[1] +
                                   physics.gravity[2] * physics.gravity[2]);
   check_engine_numbers<Real>(sys, cfg.dt, sizeof(Real) == sizeof(float) ? "stepper in single precision" : "stepper",
@@ -212,6 +221,8 @@ void Stepper<Real, Mono>::configure_resolver(const Physics& physics, const Stepp
   if (sizeof(Real) == sizeof(float) && has_gravity_) kick_residual_.assign(n, V3<Real>{});
   resolver_.set_gravity(gravity_);
   resolver_.set_resting_time(Real(physics.resting_time));
+  const double extent = std::max({box_.length(0), box_.length(1), box_.length(2)});
+  if (!physics.shapes.empty()) resolver_.set_shapes(physics, origin_, extent);
 }
 
 template <class Real, bool Mono>

@@ -68,11 +68,14 @@ class Stepper final : public StepperBase, public StateExchange {
     counters_.wall_dissipated_tangential = tally_.wall_dissipated_tangential;
     counters_.kinematic_collisions = tally_.kinematic_collisions;
     counters_.kinematic_work = tally_.kinematic_work;
+    counters_.wall_work = tally_.wall_work;
+    if (!resolver_.shape_totals().empty()) counters_.shapes = resolver_.shape_totals();
     return counters_;
   }
   void reset_counters() override {
     counters_ = StepCounters{};
     tally_ = ContactTally{};
+    resolver_.reset_shape_totals();
     std::fill(pair_collisions_.begin(), pair_collisions_.end(), std::int64_t(0));
   }
   SphereSample sphere(std::size_t index) const override;
