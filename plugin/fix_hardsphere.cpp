@@ -217,6 +217,7 @@ void FixHardSphere::setup(int vflag) {
   }
   check_setup();
   skip_reverse_comm();
+  read_walls();
   read_gravity();
   positions_kept = false;  // the run's start reads every atom anew
   path->configure(stepper_config(), physics);

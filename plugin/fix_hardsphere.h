@@ -91,6 +91,8 @@ class FixHardSphere : public Fix {
   //! The warning of a chute that cannot reach a steady state (hardsphere::unbounded_flow), once a run.
   void warn_unbounded_flow();
   bool flow_warned = false;
+  void read_walls();               //!< the walls of the fix wall/hardsphere commands into physics
+  std::string walls_text() const;  //!< those walls in words, to see whether they changed
   //! A wall keyword at arg[a]: 'KEY value' (every wall) or 'KEY face value'; returns the
   //! arguments it took.
   int wall_keyword(int a, int narg, char **arg);
@@ -127,7 +129,12 @@ class FixHardSphere : public Fix {
   std::int64_t max_events = 100000000;
   //! Restitution, contact time, tangential restitution, friction and inertia from the keywords,
   //! gravity from the fix gravity commands (read at setup); validated at setup.
-  hardsphere::Physics physics{1.0, hardsphere::kDefaultContactTime, {0, 0, 0}};
+  hardsphere::Physics physics = keyword_defaults();
+  static hardsphere::Physics keyword_defaults() {
+    hardsphere::Physics p;
+    p.contact_time = hardsphere::kDefaultContactTime;
+    return p;
+  }
   hardsphere::PhysicsGiven given;        //!< the keywords given: one that would have no effect is refused
   std::set<std::string> wall_keys_seen;  //!< 'KEY face' of the wall keywords (each once)
   PartTimer timing;                      //!< 'timing yes': wall time per part, printed at the end of each run
@@ -139,6 +146,8 @@ class FixHardSphere : public Fix {
   int kinematic_bits = 0;            //!< group bits of fix freeze groups: kinematic spheres (serial path)
   std::vector<double> x_kept;        //!< owned x before other fixes' step-end hooks, if they may move atoms
   bool positions_kept = false;       //!< x_kept was taken in the last step (on every rank alike)
+  std::vector<class FixWallHardSphere *> wall_fixes;  //!< fix wall/hardsphere commands: walls of the stepper
+  std::string walls_at_setup;                         //!< their walls as the last setup read them
 
   // Per-atom collision virial (compute stress/atom): each collision's r_ij (x) dp_i / dt, half to
   // each atom, taken from the stepper right after a step on which LAMMPS asks for it and kept

@@ -16,6 +16,7 @@
 #include "fix_hardsphere.h"
 #include "fix_move.h"
 #include "fix_setforce.h"
+#include "fix_wall_hardsphere.h"
 #include "force.h"
 #include "group.h"
 #include "hardsphere/format.hpp"
@@ -194,6 +195,7 @@ void FixHardSphere::check_input() {
 
 void FixHardSphere::check_other_fixes() {
   gravity_fixes.clear();
+  wall_fixes.clear();
   fixes_at_init.clear();
   for (int i = 0; i < modify->nfix; i++) fixes_at_init.emplace_back(modify->fix[i]->id);
   kinematic_bits = 0;
@@ -269,12 +271,16 @@ void FixHardSphere::check_other_fix(Fix *f, int mask) {
     gravity_fixes.push_back(f);
     return;
   }
+  if (is_style(f, "wall/hardsphere")) {  // its walls join the physics at setup (read_walls)
+    wall_fixes.push_back(static_cast<FixWallHardSphere *>(f));
+    return;
+  }
   if (utils::strmatch(f->style, "^wall/"))
     error->all(FLERR, "fix hardsphere: " + fix_name(f) +
-                          " is a wall fix, which hard spheres would not feel (they have no forces): walls "
-                          "come from the box, use 'boundary f' on that axis (spheres bounce off fixed faces) "
-                          "and remove 'fix " +
-                          f->id + "'");
+                          " is a wall fix, which hard spheres would not feel (they have no forces): use 'fix " + f->id +
+                          " all wall/hardsphere' with the same wall (xplane|yplane|zplane LO HI, zcylinder "
+                          "RADIUS) and the hard-sphere law (restitution E, friction MU, ...), or 'boundary f' "
+                          "on that axis (the box faces are walls)");
   if (is_style(f, "adapt"))
     error->all(FLERR, "fix hardsphere: " + fix_name(f) +
                           " changes parameters during a run, which fix hardsphere takes only at a run's start: "
@@ -367,12 +373,31 @@ void FixHardSphere::check_fixes_unchanged() {
   bool same = int(fixes_at_init.size()) == modify->nfix;
   for (int i = 0; same && i < modify->nfix; i++) same = fixes_at_init[std::size_t(i)] == modify->fix[i]->id;
   gravity_fixes.clear();
-  for (int i = 0; i < modify->nfix; i++)
+  wall_fixes.clear();
+  for (int i = 0; i < modify->nfix; i++) {
     if (is_style(modify->fix[i], "gravity")) gravity_fixes.push_back(modify->fix[i]);
-  if (!same)
+    if (is_style(modify->fix[i], "wall/hardsphere"))
+      wall_fixes.push_back(static_cast<FixWallHardSphere *>(modify->fix[i]));
+  }
+  if (!same || walls_text() != walls_at_setup)
     error->all(FLERR,
                "fix hardsphere: fixes were added, removed or replaced since the last run's setup, which 'run ... "
                "pre no' skips: start this run with its setup ('run N' without 'pre no')");
+}
+
+void FixHardSphere::read_walls() {
+  // The walls of every fix wall/hardsphere, validated with the rest of the physics in read_gravity.
+  physics.shapes.clear();
+  for (const FixWallHardSphere *f : wall_fixes)
+    physics.shapes.insert(physics.shapes.end(), f->shapes().begin(), f->shapes().end());
+  walls_at_setup = walls_text();
+}
+
+std::string FixHardSphere::walls_text() const {
+  std::string text;
+  for (const FixWallHardSphere *f : wall_fixes)
+    for (const hardsphere::WallShape &w : f->shapes()) text += hardsphere::describe(w) + "\n";
+  return text;
 }
 
 std::array<double, 3> FixHardSphere::gravity_now(bool settled) const {

@@ -1,5 +1,6 @@
 // Plugin entry for LAMMPS builds with the PLUGIN package: `plugin load hardsphereplugin.so`.
 #include "fix_hardsphere.h"
+#include "fix_wall_hardsphere.h"
 #include "lammps_compat.h"
 #include "lammpsplugin.h"
 #include "pair_hardsphere.h"
@@ -10,6 +11,9 @@ using namespace LAMMPS_NS;
 namespace {
 void *make_pair(void *lmp) { return new PairHardSphere(static_cast<LAMMPS *>(lmp)); }
 void *make_fix(void *lmp, int narg, char **arg) { return new FixHardSphere(static_cast<LAMMPS *>(lmp), narg, arg); }
+void *make_wall(void *lmp, int narg, char **arg) {
+  return new FixWallHardSphere(static_cast<LAMMPS *>(lmp), narg, arg);
+}
 }  // namespace
 
 extern "C" void lammpsplugin_init(void *lmp, void *handle, void *regfunc) {
@@ -30,5 +34,10 @@ extern "C" void lammpsplugin_init(void *lmp, void *handle, void *regfunc) {
   p.name = "hardsphere";
   p.info = "hard-sphere time stepper: drift and time-ordered elastic collisions";
   p.creator.v2 = (lammpsplugin_factory2 *)&make_fix;
+  (*reg)(&p, lmp);
+
+  p.name = "wall/hardsphere";
+  p.info = "a wall (plane or cylinder) the atoms of fix hardsphere collide with";
+  p.creator.v2 = (lammpsplugin_factory2 *)&make_wall;
   (*reg)(&p, lmp);
 }
