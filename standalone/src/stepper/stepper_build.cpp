@@ -86,7 +86,7 @@ void Stepper<Real, Mono>::check_config(const ParticleSystem& sys, const Physics&
   if (!physics.shapes.empty())
     for (std::size_t i = 0; i < sys.size(); ++i)
       if (sys.is_kinematic(i) && (sys.vel[i].x != 0 || sys.vel[i].y != 0 || sys.vel[i].z != 0))
-        throw InputError(atom_origin(sys, i, "initial state") +
+        throw InputError(atom_origin(sys, i, "initial state", nullptr) +
                          " is kinematic and moving, with shaped walls, which do not stop it or check its path: "
                          "give moving kinematic spheres no shaped walls, or make them frozen (velocity 0)");
   const double g_norm = std::sqrt(physics.gravity[0] * physics.gravity[0] + physics.gravity[1] * physics.gravity[1] +
