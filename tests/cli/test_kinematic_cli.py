@@ -103,3 +103,10 @@ def test_a_kinematic_sphere_running_into_a_wall_is_refused(hs, tmp_path):
     data = bed_file(tmp_path / "bed.data", base_velocity=(0.0, 0.0, 1.0))
     refused(run(hs, "--read-data", data, "--kinematic-types", 2, *RUN, "--steps", 3000),
             "kinematic atom 1 moving at 1 along z reaches the wall")
+
+
+def test_moving_kinematic_spheres_with_shaped_walls_are_refused(hs, tmp_path):
+    """Only the box faces check a moving kinematic sphere's path: with a shaped wall it is refused."""
+    data = bed_file(tmp_path / "bed.data", base_velocity=(0.1, 0.0, 0.0))
+    refused(run(hs, "--read-data", data, "--kinematic-types", 2, *RUN, "--steps", 1, "--wall", "plane 0 0 11 0 0 -1"),
+            "atom 1 is kinematic and moving, with shaped walls")
