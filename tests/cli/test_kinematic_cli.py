@@ -6,27 +6,8 @@ import math
 import pytest
 from hs_run import run, run_json, refused
 
-BOX = (6.0, 6.0, 12.0)
+from tests.frozen_bed import BOX, write_bed
 
-
-def bed_file(path, base_velocity=(0.0, 0.0, 0.0), free_overlap=False):
-    """Type 2: a 6 x 6 base of touching unit spheres at z = 0.5; type 1: 30 spheres of radius 0.45 above."""
-    atoms, vels = [], []
-    n = 0
-    for i in range(6):
-        for j in range(6):
-            n += 1
-            atoms.append(f"{n} 2 1.0 1.909859317102744 {0.5 + i} {0.5 + j} 0.5")
-            vels.append(f"{n} {base_velocity[0]} {base_velocity[1]} {base_velocity[2]} 0 0 0")
-    for k in range(30):
-        n += 1
-        z = 0.5 + 0.9 if (free_overlap and k == 0) else 2.5 + 1.5 * (k // 25)
-        atoms.append(f"{n} 1 0.9 1.5 {0.6 + (k % 5) * 1.2} {0.6 + (k // 5) % 5 * 1.2} {z}")
-        vels.append(f"{n} {0.3 * math.sin(k)} {0.3 * math.cos(k)} 0 0 0 0")
-    text = (f"bed\n\n{n} atoms\n2 atom types\n\n0 {BOX[0]} xlo xhi\n0 {BOX[1]} ylo yhi\n0 {BOX[2]} zlo zhi\n\n"
-            "Atoms # sphere\n\n" + "\n".join(atoms) + "\n\nVelocities\n\n" + "\n".join(vels) + "\n")
-    path.write_text(text)
-    return str(path)
 
 
 RUN = ["--boundary", "p,p,w", "--gravity", "0,0,-1", "--dt", 0.005, "--restitution", 0.6,
@@ -34,7 +15,7 @@ RUN = ["--boundary", "p,p,w", "--gravity", "0,0,-1", "--dt", 0.005, "--restituti
 
 
 def test_bed_on_a_frozen_base(hs, tmp_path):
-    data = bed_file(tmp_path / "bed.data")
+    data = str(write_bed(tmp_path / "bed.data"))
     j = run_json(hs, "--read-data", data, "--kinematic-types", 2, *RUN, "--steps", 2000,
                  "--write-data", tmp_path / "end.data")
     assert j["kinematic_spheres"] == 36
@@ -62,7 +43,7 @@ def test_bed_on_a_frozen_base(hs, tmp_path):
 
 
 def test_moving_base_does_work_and_the_budget_closes(hs, tmp_path):
-    data = bed_file(tmp_path / "bed.data", base_velocity=(0.2, 0.0, 0.0))
+    data = str(write_bed(tmp_path / "bed.data", base_velocity=(0.2, 0.0, 0.0)))
     j = run_json(hs, "--read-data", data, "--kinematic-types", 2, *RUN, "--steps", 1000)
     assert j["kinematic_work"] > 0
     # Energy lost = what the contacts took - the work the moving base did.
@@ -71,7 +52,7 @@ def test_moving_base_does_work_and_the_budget_closes(hs, tmp_path):
 
 
 def test_without_kinematic_types_the_touching_base_still_runs_as_free_spheres(hs, tmp_path):
-    j = run_json(hs, "--read-data", bed_file(tmp_path / "bed.data"), *RUN, "--steps", 1)
+    j = run_json(hs, "--read-data", str(write_bed(tmp_path / "bed.data")), *RUN, "--steps", 1)
     assert "kinematic_spheres" not in j  # no key where there are none
 
 
@@ -82,11 +63,11 @@ def test_without_kinematic_types_the_touching_base_still_runs_as_free_spheres(hs
     (["--kinematic-types", "2,2"], ["--kinematic-types: type 2 is given twice"]),
 ])
 def test_bad_kinematic_types_are_refused(hs, tmp_path, args, needles):
-    refused(run(hs, "--read-data", bed_file(tmp_path / "bed.data"), *RUN, "--steps", 1, *args), *needles)
+    refused(run(hs, "--read-data", str(write_bed(tmp_path / "bed.data")), *RUN, "--steps", 1, *args), *needles)
 
 
 def test_the_event_engine_refuses_kinematic_spheres(hs, tmp_path):
-    refused(run(hs, "--read-data", bed_file(tmp_path / "bed.data"), "--boundary", "p,p,w", "--engine", "event",
+    refused(run(hs, "--read-data", str(write_bed(tmp_path / "bed.data")), "--boundary", "p,p,w", "--engine", "event",
                 "--time", 1, "--kinematic-types", 2), "kinematic spheres (36)", "run them with the stepper")
 
 
@@ -95,18 +76,18 @@ def test_kinematic_types_need_a_data_file(hs):
 
 
 def test_a_free_sphere_overlapping_a_kinematic_one_is_refused(hs, tmp_path):
-    data = bed_file(tmp_path / "bed.data", free_overlap=True)
+    data = str(write_bed(tmp_path / "bed.data", free_overlap=True))
     refused(run(hs, "--read-data", data, "--kinematic-types", 2, *RUN, "--steps", 1), "overlaps atom")
 
 
 def test_a_kinematic_sphere_running_into_a_wall_is_refused(hs, tmp_path):
-    data = bed_file(tmp_path / "bed.data", base_velocity=(0.0, 0.0, 1.0))
+    data = str(write_bed(tmp_path / "bed.data", base_velocity=(0.0, 0.0, 1.0)))
     refused(run(hs, "--read-data", data, "--kinematic-types", 2, *RUN, "--steps", 3000),
             "kinematic atom 1 moving at 1 along z reaches the wall")
 
 
 def test_moving_kinematic_spheres_with_shaped_walls_are_refused(hs, tmp_path):
     """Only the box faces check a moving kinematic sphere's path: with a shaped wall it is refused."""
-    data = bed_file(tmp_path / "bed.data", base_velocity=(0.1, 0.0, 0.0))
+    data = str(write_bed(tmp_path / "bed.data", base_velocity=(0.1, 0.0, 0.0)))
     refused(run(hs, "--read-data", data, "--kinematic-types", 2, *RUN, "--steps", 1, "--wall", "plane 0 0 11 0 0 -1"),
             "atom 1 is kinematic and moving, with shaped walls")

@@ -1,7 +1,6 @@
 """Kinematic spheres from Python: System.from_data(..., kinematic_types=[2]) as --kinematic-types 2,
 a Stepper run equal to the CLI's bit for bit (with its kinematic_* keys), and the refusals."""
 import json
-import math
 
 import numpy as np
 import pytest
@@ -10,26 +9,11 @@ import hardsphere as hs
 
 from test_cli_agreement import KEYS
 
-
-def bed_file(path, base_velocity=(0.0, 0.0, 0.0)):
-    """Type 2: a 6 x 6 base of touching unit spheres at z = 0.5; type 1: 30 spheres of diameter 0.9 above."""
-    atoms, vels, n = [], [], 0
-    for i in range(6):
-        for j in range(6):
-            n += 1
-            atoms.append(f"{n} 2 1.0 1.909859317102744 {0.5 + i} {0.5 + j} 0.5")
-            vels.append(f"{n} {base_velocity[0]} {base_velocity[1]} {base_velocity[2]} 0 0 0")
-    for k in range(30):
-        n += 1
-        atoms.append(f"{n} 1 0.9 1.5 {0.6 + (k % 5) * 1.2} {0.6 + (k // 5) % 5 * 1.2} {2.5 + 1.5 * (k // 25)}")
-        vels.append(f"{n} {0.3 * math.sin(k)} {0.3 * math.cos(k)} 0 0 0 0")
-    path.write_text(f"bed\n\n{n} atoms\n2 atom types\n\n0 6 xlo xhi\n0 6 ylo yhi\n0 12 zlo zhi\n\n"
-                    "Atoms # sphere\n\n" + "\n".join(atoms) + "\n\nVelocities\n\n" + "\n".join(vels) + "\n")
-    return path
+from tests.frozen_bed import write_bed
 
 
 def test_stepper_with_kinematic_base_equals_cli(cli, tmp_path):
-    data = bed_file(tmp_path / "bed.data", (0.2, 0, 0))
+    data = write_bed(tmp_path / "bed.data", (0.2, 0, 0))
     out = tmp_path / "cli.data"
     summary = json.loads(cli("run", "--read-data", data, "--boundary", "p,p,w", "--gravity", "0,0,-1",
                              "--restitution", 0.6, "--kinematic-types", 2, "--steps", 500, "--dt", 0.005,
@@ -59,10 +43,10 @@ def test_stepper_with_kinematic_base_equals_cli(cli, tmp_path):
 ])
 def test_bad_kinematic_types_are_refused(tmp_path, types, text):
     with pytest.raises(ValueError, match=text):
-        hs.System.from_data(str(bed_file(tmp_path / "bed.data")), boundary="p,p,w", kinematic_types=types)
+        hs.System.from_data(str(write_bed(tmp_path / "bed.data")), boundary="p,p,w", kinematic_types=types)
 
 
 def test_the_event_engine_refuses_kinematic_spheres(tmp_path):
-    s = hs.System.from_data(str(bed_file(tmp_path / "bed.data")), boundary="p,p,w", kinematic_types=[2])
+    s = hs.System.from_data(str(write_bed(tmp_path / "bed.data")), boundary="p,p,w", kinematic_types=[2])
     with pytest.raises(ValueError, match="run them with the stepper"):
         hs.EventEngine(s)
