@@ -40,7 +40,7 @@ lmp.close()
 
 # The PLUGIN-package entry (Debian's LAMMPS has no `plugin load`): call lammpsplugin_init of
 # hardsphereplugin.so with a live LAMMPS (it checks the version it runs in) and a recording
-# register function, and check both styles are offered.
+# register function, and check every style is offered.
 if len(sys.argv) > 2:
     class Plugin(ctypes.Structure):
         _fields_ = [("version", ctypes.c_char_p), ("style", ctypes.c_char_p), ("name", ctypes.c_char_p),
@@ -55,5 +55,6 @@ if len(sys.argv) > 2:
     plug.lammpsplugin_init(host.lmp, None, ctypes.cast(reg, ctypes.c_void_p))
     host.close()
     print("plugin registers", seen)
-    ok = ok and sorted(seen) == [("fix", "hardsphere", True), ("pair", "hardsphere", True)]
+    ok = ok and sorted(seen) == [("fix", "hardsphere", True), ("fix", "wall/hardsphere", True),
+                                 ("pair", "hardsphere", True)]
 sys.exit(0 if ok else 1)
