@@ -263,12 +263,7 @@ void FixHardSphere::check_contact_distances() {
   double *radius = atom->radius;
   std::vector<double> rmax(nt + 1, 0.0), grmax(nt + 1, 0.0);
   for (int i = 0; i < atom->nlocal; i++) rmax[atom->type[i]] = std::max(rmax[atom->type[i]], radius[i]);
-  for (int f = 0; f < modify->nfix; f++)
-    if (OtherFixes::is_atom_changer(modify->fix[f]))
-      for (int t = 1; t <= nt; t++) {
-        int type = t;
-        if (auto *r = static_cast<double *>(modify->fix[f]->extract("radius", type))) rmax[t] = std::max(rmax[t], *r);
-      }
+  for (int t = 1; t <= nt; t++) rmax[t] = std::max(rmax[t], OtherFixes::inserted_radius(modify, t));
   MPI_Allreduce(rmax.data(), grmax.data(), nt + 1, MPI_DOUBLE, MPI_MAX, world);
   for (int a = 1; a <= nt; a++)
     for (int b = a; b <= nt; b++)

@@ -80,6 +80,16 @@ bool OtherFixes::is_atom_changer(const Fix *f) {
   return false;
 }
 
+double OtherFixes::inserted_radius(const Modify *modify, int type) {
+  double largest = 0.0;
+  for (int i = 0; i < modify->nfix; i++) {
+    if (!is_atom_changer(modify->fix[i])) continue;
+    int t = type;  // extract() may change it
+    if (auto *r = static_cast<double *>(modify->fix[i]->extract("radius", t))) largest = std::max(largest, *r);
+  }
+  return largest;
+}
+
 bool OtherFixes::changes_atoms(bigint step) const {
   for (const Fix *f : changers_)
     if (f->force_reneighbor && f->next_reneighbor == step) return true;

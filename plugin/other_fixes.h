@@ -40,6 +40,9 @@ class OtherFixes {
   std::string atom_changers(bigint step) const;
   //! fix hardsphere follows these styles' insertions and deletions.
   static bool is_atom_changer(const Fix *f);
+  //! The largest radius of the atoms of `type` that fixes of `modify` will insert during a run (fix
+  //! pour, fix deposit: their extract("radius", type), as LAMMPS's granular pair styles read it); 0: none.
+  static double inserted_radius(const Modify *modify, int type);
 
  private:
   bool every_step_ = false;   //!< a fix acts inside every step

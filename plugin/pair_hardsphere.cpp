@@ -116,16 +116,9 @@ bool LAMMPS_NS::hardsphere_rerun_in_progress(LAMMPS *lmp) {
 }
 
 double PairHardSphere::auto_cut() {
-  // Atoms a fix inserts during the run (fix pour, fix deposit) count as LAMMPS's granular pair
-  // styles count them: the largest radius the fix's extract("radius", type) gives.
+  // Atoms a fix inserts during the run (fix pour, fix deposit) count too.
   double inserted = 0.0;
-  for (int i = 0; i < modify->nfix; i++) {
-    if (!OtherFixes::is_atom_changer(modify->fix[i])) continue;
-    for (int t = 1; t <= atom->ntypes; t++) {
-      int type = t;
-      if (auto *r = static_cast<double *>(modify->fix[i]->extract("radius", type))) inserted = std::max(inserted, *r);
-    }
-  }
+  for (int t = 1; t <= atom->ntypes; t++) inserted = std::max(inserted, OtherFixes::inserted_radius(modify, t));
   if (atom->natoms == 0 && !(inserted > 0.0)) {
     // LAMMPS initialises the pair style before the fixes: a fix hardsphere cannot follow is the
     // cause to name first.
