@@ -59,37 +59,35 @@ def drum(ctx, case):
         dict(standalone=ref)
 
 
-def refused(ctx, deck, commands, **vars_):
-    out = ctx.lammps(deck, vars=vars_, commands=commands, expect_ok=False)
+def refused(ctx, commands):
+    """The drum's gas followed by `commands`, which must end in a LAMMPS error."""
+    data, _ = drum_state(ctx)
+    out = ctx.lammps("shapes/drum.lmp", vars=dict(data=data), commands=commands, expect_ok=False)
     return {"exit status": abs(out.returncode), "error": (out.errors or ["(no ERROR line)"])[0]}, {}
 
 
 @cases.case
 def wall_gran(ctx, case):
-    data, _ = drum_state(ctx)
-    return refused(ctx, "shapes/drum.lmp", "fix hs all hardsphere\nfix w all wall/gran hooke 2000 NULL 50 NULL 0.5 0 "
-                   "xplane -5 5\nrun 1\n", data=data)
+    return refused(ctx, "fix hs all hardsphere\nfix w all wall/gran hooke 2000 NULL 50 NULL 0.5 0 "
+                   "xplane -5 5\nrun 1\n")
 
 
 @cases.case
 def wiggle(ctx, case):
-    data, _ = drum_state(ctx)
-    return refused(ctx, "shapes/drum.lmp", "fix hs all hardsphere\nfix w all wall/hardsphere zplane 0 NULL wiggle z 1 "
-                   "10\nrun 1\n", data=data)
+    return refused(ctx, "fix hs all hardsphere\nfix w all wall/hardsphere zplane 0 NULL wiggle z 1 "
+                   "10\nrun 1\n")
 
 
 @cases.case
 def no_fix(ctx, case):
-    data, _ = drum_state(ctx)
-    return refused(ctx, "shapes/drum.lmp", "pair_style zero 1.0\npair_coeff * *\nfix n all nve/sphere\n"
-                   "fix w all wall/hardsphere zcylinder 4\nrun 1\n", data=data)
+    return refused(ctx, "pair_style zero 1.0\npair_coeff * *\nfix n all nve/sphere\n"
+                   "fix w all wall/hardsphere zcylinder 4\nrun 1\n")
 
 
 @cases.case
 def outside(ctx, case):
     """A cylinder narrower than the spheres' lattice: the run's start refuses the atom outside."""
-    data, _ = drum_state(ctx)
-    return refused(ctx, "shapes/drum.lmp", drum_commands("fix w all wall/hardsphere zcylinder 2"), data=data)
+    return refused(ctx, drum_commands("fix w all wall/hardsphere zcylinder 2"))
 
 
 if __name__ == "__main__":
