@@ -18,7 +18,7 @@ ROUGH = ["--tangential-restitution", 0.3]
     ("cylinder z 10 10 -1", ["radius -1 must be > 0"]),
     ("plane 1 1 1 0 0 0", ["normal 0 0 0 has no direction"]),
     ("plane 0 0 1 0 0 1 shear 0 0 2", ["has a part 2 along the normal"]),
-    ("plane 0 0 1 0 0 1 rotate 1", ["'rotate' applies to a cylinder, a sphere or a cone"]),
+    ("plane 0 0 1 0 0 1 axis z", ["'axis' applies to a sphere (its rotation's axis), not a plane"]),
     ("sphere 10 10 10 3 shear 1 0 0", ["'shear' applies to a plane"]),
     ("cylinder z 10 10 5 bounds 4 2", ["bounds 4 2 must have LO < HI"]),
     ("cone z 10 10 5 2 1 3", ["axial extent 5 2 must have LO < HI"]),
@@ -46,6 +46,8 @@ def test_walls_the_scene_cannot_take_are_refused(hs):
             "periodic axis x crosses the sphere")
     refused(run(hs, "--n", 40, "--box", 20, "--boundary", "w,w,p", "--steps", 5, "--wall", "cylinder x 10 10 3"),
             "periodic axis z crosses the cylinder")
+    refused(run(hs, "--n", 40, "--box", 20, "--boundary", "p,w,w", "--steps", 5, "--wall", "plane 0 0 1 0 0 1 rotate 1"),
+            "periodic axis x runs along the rotating plane, whose surface velocity is not periodic")
     refused(run(hs, "--n", 40, "--box", 20, "--boundary", "w", "--engine", "event", "--time", 1,
                 "--wall", "sphere 10 10 10 3"), "shaped walls run in the stepper only")
     refused(run(hs, *BOX, "--init", "lattice", "--wall", "sphere 10 10 10 3 outside"),

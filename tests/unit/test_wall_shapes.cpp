@@ -4,7 +4,8 @@
 // wall once per analytic chord; a fast graze of a sphere obstacle within one step is caught at
 // its analytic contact; a fast drum holds a sliding sphere at tan theta = mu and one released at
 // the bottom is carried up past that angle and slides back; the drum's work closes the energy
-// budget. Parsing and refusals: the end of this file.
+// budget; a turning plate carries a sphere round and its work closes the budget too. Parsing
+// and refusals: the end of this file.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -212,6 +213,88 @@ TEST(WallShapes, TheDrumsWorkClosesTheEnergyBudget) {
   EXPECT_EQ(c.wall_work, c.shapes[0].work);
 }
 
+namespace {
+
+//! A turning plate: the plane z = 2 turning at omega about +z through (10, 10), wall friction
+//! mu, under gravity -z; a rough sphere resting on it at rest at (13, 10), 3 from the axis.
+Physics plate(double omega, double mu, double e = 1) {
+  Physics ph;
+  ph.gravity = {0, 0, -1};
+  ph.tangential_restitution = 0;
+  ph.contact_time = kDefaultContactTime;
+  ph.shapes = {wall("plane 10 10 2 0 0 1 rotate " + std::to_string(omega) + " restitution " + std::to_string(e) +
+                    " tangential_restitution 0 friction " + std::to_string(mu))};
+  return ph;
+}
+
+}  // namespace
+
+TEST(WallShapes, ATurningPlateCarriesASphereRound) {
+  // The plate's surface under the sphere moves at omega r = 6 along +y; the sphere slides, and
+  // each step's resting contact gives it mu |g| dt along the surface's velocity (as the drum's
+  // wall): v_y grows by mu g dt a step (measured: to 2e-17). Over 2000 steps friction carries it
+  // round the axis (its angular momentum about the axis grows, positive) and it stays on the
+  // plate (centre at z = 2.5 to rounding).
+  StepperConfig cfg;
+  cfg.dt = 1e-3;
+  auto st = make_stepper(one_sphere({13, 10, 2.5}, {}), plate(2, 0.5), cfg);
+  st->run(2);  // the first step ends just inside the plate; the second starts the resting contact
+  for (int k = 0; k < 4; ++k) {
+    const double vy = st->state().vel[0].y;
+    st->run(1);
+    EXPECT_NEAR(st->state().vel[0].y - vy, 0.5 * 1e-3, 1e-14) << "step " << k + 3;
+  }
+  double lz_prev = 0;
+  for (int k = 0; k < 20; ++k) {
+    st->run(100);
+    const ParticleSystem s = st->state();
+    const double lz = (s.pos[0].x - 10) * s.vel[0].y - (s.pos[0].y - 10) * s.vel[0].x;
+    EXPECT_GT(lz, lz_prev) << "step " << 100 * (k + 1);
+    EXPECT_NEAR(s.pos[0].z, 2.5, 1e-12);
+    lz_prev = lz;
+  }
+  EXPECT_GT(std::atan2(st->state().pos[0].y - 10, st->state().pos[0].x - 13 + 3), 0.0);
+  EXPECT_GT(st->counters().resting_contacts, 1900);
+}
+
+TEST(WallShapes, ARotationSetBetweenStepsIsTheWallBuiltTurning) {
+  // set_shape_rotation (a LAMMPS region's rotate v_theta, its rate per step): a plate built at
+  // rest and set turning before the first step runs the same steps, bit for bit, as the plate
+  // built turning; set back to 0 it stops carrying the sphere's surface along.
+  StepperConfig cfg;
+  cfg.dt = 1e-3;
+  auto built = make_stepper(one_sphere({13, 10, 2.5}, {}), plate(2, 0.5), cfg);
+  auto set = make_stepper(one_sphere({13, 10, 2.5}, {}), plate(0, 0.5), cfg);
+  set->set_shape_rotation(0, 2);
+  built->run(500);
+  set->run(500);
+  for (int d = 0; d < 3; ++d) {
+    EXPECT_EQ(built->state().pos[0][d], set->state().pos[0][d]);
+    EXPECT_EQ(built->state().vel[0][d], set->state().vel[0][d]);
+  }
+  EXPECT_EQ(built->counters().wall_work, set->counters().wall_work);
+  EXPECT_THROW(set->set_shape_rotation(0, std::nan("")), InputError);
+  EXPECT_THROW(set->set_shape_rotation(1, 1), std::out_of_range);
+}
+
+TEST(WallShapes, ATurningPlatesWorkClosesTheEnergyBudget) {
+  // Work of the plate = energy change + what the contacts took, to rounding: a sphere dropped
+  // from 0.3 above a slow inelastic plate (it bounces, then rests, slips and rolls).
+  StepperConfig cfg;
+  cfg.dt = 1e-3;
+  auto st = make_stepper(one_sphere({13, 10, 2.8}, {}), plate(0.7, 0.4, 0.7), cfg);
+  const double e0 = energy(st->state(), 0.4);
+  st->run(20000);
+  const StepCounters& c = st->counters();
+  const double e1 = energy(st->state(), 0.4);
+  const double taken = c.wall_dissipated_normal + c.wall_dissipated_tangential;
+  ASSERT_EQ(c.shapes.size(), 1u);
+  EXPECT_GT(c.shapes[0].collisions, 3);
+  EXPECT_GT(c.shapes[0].resting_contacts, 1000);
+  EXPECT_GT(std::abs(c.wall_work), 0.1);
+  EXPECT_NEAR(c.wall_work, e1 - e0 + taken, 1e-9 * (std::abs(c.wall_work) + taken));
+}
+
 TEST(WallShapes, ParsingNamesTheWallAndTheWord) {
   const WallShape w = wall("cone z 10 10 2 8 1 4 restitution 0.5");
   EXPECT_EQ(w.kind, ShapeKind::Cone);
@@ -221,7 +304,7 @@ TEST(WallShapes, ParsingNamesTheWallAndTheWord) {
   EXPECT_EQ(describe(wall("cylinder x 3 4 2 outside bounds 1 5 rotate 0.5")),
             "cylinder x 3 4 2 outside bounds 1 5 rotate 0.5 restitution 1");
   for (const char* bad : {"", "box 1 2 3", "plane 1 2 3 0 0", "plane 1 2 3 0 0 x", "cylinder w 1 1 1",
-                          "sphere 1 1 1 1 bounds 0 1", "plane 0 0 0 0 0 1 rotate 1", "sphere 1 1 1 1 inside inside",
+                          "sphere 1 1 1 1 bounds 0 1", "plane 0 0 0 0 0 1 axis z", "sphere 1 1 1 1 inside inside",
                           "cylinder z 1 1 1 shear 1 0 0", "sphere 1 1 1 1 sticky"})
     EXPECT_THROW(wall(bad), InputError) << bad;
   try {
@@ -253,6 +336,7 @@ TEST(WallShapes, RefusesBadValuesNamingThem) {
   refused("plane 0 0 0 0 0 1 shear 0 0 1", "has a part 1 along the normal", walls);
   refused("plane 0 0 0 0 0 1", "periodic axis z", {true, true, true});
   refused("cylinder x 1 1 2", "periodic axis z crosses the cylinder", {false, false, true});
+  refused("plane 0 0 0 0 0 1 rotate 1", "periodic axis x runs along the rotating plane", {true, false, false});
   refused("sphere 1 1 1 nan", "radius nan must be finite", walls);
   // The law: through validated(), as every face reaches it.
   Physics p;

@@ -147,6 +147,10 @@ class StepperBase {
   virtual void set_gravity(const std::array<double, 3>& g) = 0;
   //! The acceleration the next step uses (as validated: rounding-level components zero).
   virtual std::array<double, 3> gravity() const = 0;
+  //! Changes shaped wall k's angular velocity (Physics::shapes[k].omega) between steps: a LAMMPS
+  //! region turned by a variable angle, its rate over the next step. Throws InputError for a
+  //! non-finite rate and std::out_of_range for a k that is not a wall.
+  virtual void set_shape_rotation(std::size_t k, double omega) = 0;
 };
 
 //! Validates the physics and the configuration against the system (throws InputError) and builds

@@ -46,8 +46,10 @@ struct WallShape {
   //! given (both finite, lo < hi), its open ends.
   double lo = -std::numeric_limits<double>::infinity(), hi = std::numeric_limits<double>::infinity();
   double radius_lo = 0, radius_hi = 0;  //!< cone: radii at lo and hi
-  double omega = 0;                     //!< cylinder, sphere, cone: angular velocity about +axis
-  Vec3<double> surface_velocity{};      //!< plane: the surface's velocity in its plane (shear)
+  //! Angular velocity of the surface: cylinder, sphere, cone about +axis through `point`; plane
+  //! about its normal through `point` (a turning plate: a drum's end walls).
+  double omega = 0;
+  Vec3<double> surface_velocity{};  //!< plane: the surface's velocity in its plane (shear)
   WallLaw law;
   std::string source;  //!< how messages name it, e.g. `--wall 2 "cylinder z 0 0 5"`
 
@@ -67,7 +69,8 @@ const char* shape_kind_name(ShapeKind k);
 //!   cone AXIS C1 C2 LO HI RLO RHI        radii RLO at LO and RHI at HI along AXIS; open ends
 //!   inside | outside                     cylinder, sphere (inside by default)
 //!   bounds LO HI                         cylinder: an open tube from LO to HI along its axis
-//!   rotate W                             cylinder, sphere, cone: surface turning about +axis
+//!   rotate W                             cylinder, sphere, cone: surface turning about +axis;
+//!                                        plane: about its normal through its point
 //!   axis x|y|z                           sphere: the axis it rotates about (z by default)
 //!   shear VX VY VZ                       plane: surface velocity in the plane
 //!   restitution E, tangential_restitution B, friction MU   the wall's law
@@ -81,8 +84,8 @@ std::string describe(const WallShape& w);
 //! Throws InputError naming the wall's source and the value: a zero or non-finite normal, a
 //! radius <= 0, cone radii < 0 or both 0, bounds with lo >= hi, a non-finite number, a shear
 //! velocity with a part along the normal, a motion the shape does not take, or a wall that is not
-//! the same along a periodic axis (a plane whose normal has a component there, a cylinder along
-//! another axis or bounded, a sphere or a cone). Returns the wall with its normal made unit.
+//! the same along a periodic axis (a plane whose normal has a component there or that rotates, a
+//! cylinder along another axis or bounded, a sphere or a cone). Returns the wall with its normal made unit.
 WallShape validated_shape(WallShape w, const std::array<bool, 3>& periodic);
 
 //! The signed gap between a sphere of radius a at x and the wall (negative: overlapping), or
@@ -145,9 +148,11 @@ inline Vec3<double> shape_normal(const WallShape& w, Vec3<double> x) {
   return w.inside ? -u : u;
 }
 
-//! The wall surface's velocity at point p (a rotating wall turns about its axis through `point`).
+//! The wall surface's velocity at point p (a rotating wall turns about its axis through `point`;
+//! a plane about its normal, plus its shear).
 inline Vec3<double> shape_surface_velocity(const WallShape& w, Vec3<double> p) {
-  if (w.kind == ShapeKind::Plane) return w.surface_velocity;
+  if (w.kind == ShapeKind::Plane)
+    return w.omega == 0 ? w.surface_velocity : w.surface_velocity + w.omega * cross(w.normal, p - w.point);
   if (w.omega == 0) return {};
   Vec3<double> e{};
   e[w.axis] = w.omega;

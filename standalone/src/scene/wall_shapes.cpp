@@ -109,7 +109,6 @@ WallShape parse_wall_shape(const std::string& spec, const std::string& source) {
     in.fail("unknown shape '" + kind + "' (expected plane, cylinder, sphere or cone)");
   }
   std::set<std::string> seen;
-  const bool round = w.kind != ShapeKind::Plane;
   while (!in.done()) {
     const std::string key = in.word("a keyword");
     const std::string group = key == "outside" ? "inside" : key;
@@ -125,7 +124,6 @@ WallShape parse_wall_shape(const std::string& spec, const std::string& source) {
       w.lo = in.number("bounds LO HI");
       w.hi = in.number("bounds LO HI");
     } else if (key == "rotate") {
-      only(round, "a cylinder, a sphere or a cone (a plane takes shear)");
       w.omega = in.number("rotate W (angular velocity about +axis)");
     } else if (key == "axis") {
       only(w.kind == ShapeKind::Sphere, "a sphere (its rotation's axis)");
@@ -203,6 +201,11 @@ WallShape validated_shape(WallShape w, const std::array<bool, 3>& periodic) {
       if (periodic[std::size_t(d)] && w.normal[d] != 0)
         fail(std::string("the plane's normal has a component along periodic axis ") + "xyz"[d] +
              ": a wall across a periodic axis has no meaning; give that axis walls or a normal without it");
+    // A turning plate's surface velocity grows with the distance from its axis: not periodic.
+    for (int d = 0; d < 3; ++d)
+      if (periodic[std::size_t(d)] && w.omega != 0)
+        fail(std::string("periodic axis ") + "xyz"[d] +
+             " runs along the rotating plane, whose surface velocity is not periodic: give that axis walls");
   }
   if (w.kind == ShapeKind::Cylinder || w.kind == ShapeKind::Sphere) {
     finite(w.radius, "radius");

@@ -113,6 +113,7 @@ class ContactResolver {
     shapes_.set_shapes(p, origin, extent);
     shapes_.set_gravity(walls_.gravity());
   }
+  void set_shape_rotation(std::size_t k, double omega) { shapes_.set_rotation(k, omega); }
   const std::vector<WallShapeTotals>& shape_totals() const { return shapes_.totals(); }
   void reset_shape_totals() {
     for (WallShapeTotals& t : shapes_.totals()) t = WallShapeTotals{};

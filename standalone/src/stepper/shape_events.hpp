@@ -11,10 +11,12 @@
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <string>
 #include <vector>
 
 #include "hardsphere/collision.hpp"
 #include "hardsphere/contact_law.hpp"
+#include "hardsphere/errors.hpp"
 #include "hardsphere/physics.hpp"
 #include "hardsphere/vec3.hpp"
 #include "hardsphere/wall_shapes.hpp"
@@ -53,6 +55,12 @@ class ShapeEvents {
   void set_gravity(const std::array<Real, 3>& g) {
     g_ = {double(g[0]), double(g[1]), double(g[2])};
     g_norm_ = norm(g_);
+  }
+  //! Wall k's surface turns at omega from now on (the geometry stays: only the surface moves).
+  void set_rotation(std::size_t k, double omega) {
+    if (!std::isfinite(omega))
+      throw InputError(shapes_.at(k).source + ": rotation rate " + std::to_string(omega) + " must be finite");
+    shapes_.at(k).omega = omega;
   }
   bool any() const { return !shapes_.empty(); }
   std::size_t size() const { return shapes_.size(); }

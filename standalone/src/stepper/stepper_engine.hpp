@@ -51,6 +51,7 @@ class Stepper final : public StepperBase, public StateExchange {
   }
   void set_gravity(const std::array<double, 3>& g) override;
   std::array<double, 3> gravity() const override { return gravity_in_; }
+  void set_shape_rotation(std::size_t k, double omega) override { resolver_.set_shape_rotation(k, omega); }
   //! Runs the steps in stretches of one specialised kernel (stepper_step.cpp).
   void run_steps(std::int64_t steps);
   ParticleSystem state() const override;
