@@ -291,6 +291,7 @@ void FixHardSphere::initial_integrate(int vflag) {
     path->configure(stepper_config(), physics);
   }
   if (!gravity_fixes.empty()) take_gravity();
+  if (!region_fixes.empty()) take_wall_turns();
   // Another fix may have moved atoms at the end of the last step (x was kept at post_force).
   const bool moved = positions_kept && positions_moved();
   positions_kept = false;

@@ -91,7 +91,9 @@ class FixHardSphere : public Fix {
   //! The warning of a chute that cannot reach a steady state (hardsphere::unbounded_flow), once a run.
   void warn_unbounded_flow();
   bool flow_warned = false;
-  void read_walls();               //!< the walls of the fix wall/hardsphere commands into physics
+  void read_walls();  //!< the walls of the fix wall/hardsphere(/region) commands into physics
+  //! Before each step: a turning region's walls take its angle's rate over the step.
+  void take_wall_turns();
   std::string walls_text() const;  //!< those walls in words, to see whether they changed
   //! A wall keyword at arg[a]: 'KEY value' (every wall) or 'KEY face value'; returns the
   //! arguments it took.
@@ -147,7 +149,11 @@ class FixHardSphere : public Fix {
   std::vector<double> x_kept;        //!< owned x before other fixes' step-end hooks, if they may move atoms
   bool positions_kept = false;       //!< x_kept was taken in the last step (on every rank alike)
   std::vector<class FixWallHardSphere *> wall_fixes;  //!< fix wall/hardsphere commands: walls of the stepper
-  std::string walls_at_setup;                         //!< their walls as the last setup read them
+  //! fix wall/hardsphere/region commands (their walls follow wall_fixes' in physics.shapes) and
+  //! where each one's walls start there.
+  std::vector<class FixWallHardSphereRegion *> region_fixes;
+  std::vector<std::size_t> region_first;
+  std::string walls_at_setup;  //!< their walls as the last setup read them
 
   // Per-atom collision virial (compute stress/atom): each collision's r_ij (x) dp_i / dt, half to
   // each atom, taken from the stepper right after a step on which LAMMPS asks for it and kept

@@ -17,6 +17,7 @@
 #include "fix_move.h"
 #include "fix_setforce.h"
 #include "fix_wall_hardsphere.h"
+#include "fix_wall_hardsphere_region.h"
 #include "force.h"
 #include "group.h"
 #include "hardsphere/format.hpp"
@@ -196,6 +197,7 @@ void FixHardSphere::check_input() {
 void FixHardSphere::check_other_fixes() {
   gravity_fixes.clear();
   wall_fixes.clear();
+  region_fixes.clear();
   fixes_at_init.clear();
   for (int i = 0; i < modify->nfix; i++) fixes_at_init.emplace_back(modify->fix[i]->id);
   kinematic_bits = 0;
@@ -275,6 +277,15 @@ void FixHardSphere::check_other_fix(Fix *f, int mask) {
     wall_fixes.push_back(static_cast<FixWallHardSphere *>(f));
     return;
   }
+  if (is_style(f, "wall/hardsphere/region")) {
+    region_fixes.push_back(static_cast<FixWallHardSphereRegion *>(f));
+    return;
+  }
+  if (is_style(f, "wall/gran/region"))
+    error->all(FLERR, "fix hardsphere: " + fix_name(f) +
+                          " is a wall fix, which hard spheres would not feel (they have no forces): use 'fix " + f->id +
+                          " all wall/hardsphere/region REGION-ID' with the same region and the hard-sphere law "
+                          "(restitution E, tangential_restitution B, friction MU)");
   if (utils::strmatch(f->style, "^wall/"))
     error->all(FLERR, "fix hardsphere: " + fix_name(f) +
                           " is a wall fix, which hard spheres would not feel (they have no forces): use 'fix " + f->id +
@@ -374,10 +385,13 @@ void FixHardSphere::check_fixes_unchanged() {
   for (int i = 0; same && i < modify->nfix; i++) same = fixes_at_init[std::size_t(i)] == modify->fix[i]->id;
   gravity_fixes.clear();
   wall_fixes.clear();
+  region_fixes.clear();
   for (int i = 0; i < modify->nfix; i++) {
     if (is_style(modify->fix[i], "gravity")) gravity_fixes.push_back(modify->fix[i]);
     if (is_style(modify->fix[i], "wall/hardsphere"))
       wall_fixes.push_back(static_cast<FixWallHardSphere *>(modify->fix[i]));
+    if (is_style(modify->fix[i], "wall/hardsphere/region"))
+      region_fixes.push_back(static_cast<FixWallHardSphereRegion *>(modify->fix[i]));
   }
   if (!same || walls_text() != walls_at_setup)
     error->all(FLERR,
@@ -390,12 +404,35 @@ void FixHardSphere::read_walls() {
   physics.shapes.clear();
   for (const FixWallHardSphere *f : wall_fixes)
     physics.shapes.insert(physics.shapes.end(), f->shapes().begin(), f->shapes().end());
+  region_first.clear();
+  for (const FixWallHardSphereRegion *f : region_fixes) {
+    region_first.push_back(physics.shapes.size());
+    physics.shapes.insert(physics.shapes.end(), f->shapes().begin(), f->shapes().end());
+  }
   walls_at_setup = walls_text();
+}
+
+void FixHardSphere::take_wall_turns() {
+  // A region's 'rotate v_theta': its rate over this step, from its variable now and one step on.
+  for (std::size_t i = 0; i < region_fixes.size(); i++)
+    for (const auto &[k, omega] : region_fixes[i]->rates()) {
+      hardsphere::WallShape &w = physics.shapes.at(region_first.at(i) + k);
+      if (w.omega == omega) continue;
+      w.omega = omega;
+      try {
+        path->set_shape_rotation(region_first[i] + k, omega);
+      } catch (const std::exception &e) {
+        error->all(FLERR,
+                   std::string("fix hardsphere: at step ") + std::to_string(update->ntimestep) + ": " + e.what());
+      }
+    }
 }
 
 std::string FixHardSphere::walls_text() const {
   std::string text;
   for (const FixWallHardSphere *f : wall_fixes)
+    for (const hardsphere::WallShape &w : f->shapes()) text += hardsphere::describe(w) + "\n";
+  for (const FixWallHardSphereRegion *f : region_fixes)
     for (const hardsphere::WallShape &w : f->shapes()) text += hardsphere::describe(w) + "\n";
   return text;
 }

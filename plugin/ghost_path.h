@@ -42,6 +42,10 @@ class GhostPath : public StepPath, protected Pointers {
     physics_.gravity = g;
     if (stepper_) stepper_->set_gravity(g);
   }
+  void set_shape_rotation(std::size_t k, double omega) override {
+    physics_.shapes.at(k).omega = omega;
+    if (stepper_) stepper_->set_shape_rotation(k, omega);
+  }
   //! New ghosts, atoms may have changed ranks: the stepper is made again before the next step.
   void neighbours_changed() override { stale_ = epoch_ = true; }
   //! The stepper is made now (outside the run's loop, as the serial path's is) from LAMMPS's

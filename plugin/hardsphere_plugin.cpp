@@ -1,6 +1,7 @@
 // Plugin entry for LAMMPS builds with the PLUGIN package: `plugin load hardsphereplugin.so`.
 #include "fix_hardsphere.h"
 #include "fix_wall_hardsphere.h"
+#include "fix_wall_hardsphere_region.h"
 #include "lammps_compat.h"
 #include "lammpsplugin.h"
 #include "pair_hardsphere.h"
@@ -13,6 +14,9 @@ void *make_pair(void *lmp) { return new PairHardSphere(static_cast<LAMMPS *>(lmp
 void *make_fix(void *lmp, int narg, char **arg) { return new FixHardSphere(static_cast<LAMMPS *>(lmp), narg, arg); }
 void *make_wall(void *lmp, int narg, char **arg) {
   return new FixWallHardSphere(static_cast<LAMMPS *>(lmp), narg, arg);
+}
+void *make_wall_region(void *lmp, int narg, char **arg) {
+  return new FixWallHardSphereRegion(static_cast<LAMMPS *>(lmp), narg, arg);
 }
 }  // namespace
 
@@ -39,5 +43,10 @@ extern "C" void lammpsplugin_init(void *lmp, void *handle, void *regfunc) {
   p.name = "wall/hardsphere";
   p.info = "a wall (plane or cylinder) the atoms of fix hardsphere collide with";
   p.creator.v2 = (lammpsplugin_factory2 *)&make_wall;
+  (*reg)(&p, lmp);
+
+  p.name = "wall/hardsphere/region";
+  p.info = "the surface of a region (block, cylinder, cone, sphere, plane, union) as walls of fix hardsphere";
+  p.creator.v2 = (lammpsplugin_factory2 *)&make_wall_region;
   (*reg)(&p, lmp);
 }

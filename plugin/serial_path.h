@@ -32,6 +32,10 @@ class SerialPath : public StepPath, protected Pointers {
     physics_.gravity = g;
     if (stepper_) stepper_->set_gravity(g);
   }
+  void set_shape_rotation(std::size_t k, double omega) override {
+    physics_.shapes.at(k).omega = omega;
+    if (stepper_) stepper_->set_shape_rotation(k, omega);
+  }
   void neighbours_changed() override { lammps_moved_ = true; }
   void run_starts() override { make("fix hardsphere", kStartHint); }
   //! The group bits of fix freeze groups: their atoms are kinematic spheres.

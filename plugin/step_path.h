@@ -42,6 +42,9 @@ class StepPath {
   //! Gravity from the next step on (a fix gravity with variables, validated): the stepper in use
   //! and every one the path makes later.
   virtual void set_gravity(const std::array<double, 3> &g) = 0;
+  //! Shaped wall k's angular velocity from the next step on (a region's 'rotate v_theta'): the
+  //! stepper in use and every one the path makes later.
+  virtual void set_shape_rotation(std::size_t k, double omega) = 0;
   //! LAMMPS re-neighboured (or a run's setup does): it may have wrapped, sorted or migrated atoms.
   virtual void neighbours_changed() = 0;
   //! A run's setup: the path starts from LAMMPS's atoms, checked as a run's start.

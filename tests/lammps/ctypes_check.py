@@ -56,5 +56,5 @@ if len(sys.argv) > 2:
     host.close()
     print("plugin registers", seen)
     ok = ok and sorted(seen) == [("fix", "hardsphere", True), ("fix", "wall/hardsphere", True),
-                                 ("pair", "hardsphere", True)]
+                                 ("fix", "wall/hardsphere/region", True), ("pair", "hardsphere", True)]
 sys.exit(0 if ok else 1)
