@@ -3,7 +3,8 @@
 mpirun is given, 2 ranks, fewer steps): each must finish, conserve kinetic energy and collide.
 The DEM scenes converted from LAMMPS's examples (in.*_hardsphere, docs/dem_recipe.md) run with
 every 'run N' cut to 3000 steps: each must finish with atoms that collided, none overlapping
-another in the state it writes (-var out).
+another in the state it writes (-var out). A scene whose header has a line '# serial only:
+REASON' runs on one rank only (the reason is printed).
 With --plugin PATH every input starts with `plugin load PATH` (a stock lmp with
 hardsphereplugin.so). Inputs that read a data file (-var data) run under compare.cross_validate
 (ctest cross_validate_quick); the granular ones are for Debian's lmp (tests/compare).
@@ -58,7 +59,11 @@ def main():
     a.lmp = os.path.abspath(a.lmp)
     ok = True
     for path in sorted(glob.glob(os.path.join(a.inputs, "in.*_hardsphere"))):
+        serial = re.search(r"^# serial only: (.*)$", open(path).read(), flags=re.M)
         for np_ in ([1, 2] if a.mpirun else [1]):
+            if np_ > 1 and serial:
+                print(f"serial only: {os.path.basename(path)}: {serial.group(1)}")
+                continue
             ok &= dem_scene(a, path, np_)
     for path in sorted(glob.glob(os.path.join(a.inputs, "in.hardsphere_*"))):
         if "${data}" in open(path).read():
