@@ -23,18 +23,19 @@ def gas(ctx, rmax=3.4):
     return "gas.data"
 
 
-def against_cli(ctx, region, walls, z_periodic=False, pre="", rmax=3.4):
+def against_cli(ctx, region, walls, z_periodic=False, pre="", rmax=3.4, rough=False):
     """The gas inside `region` (a LAMMPS region command's arguments after its ID) against the
     standalone's --wall `walls`, 300 steps; z periodic or walled (round shapes need walls)."""
     data = gas(ctx, rmax)
-    commands = (f"{pre}region r {region}\nfix hs all hardsphere restitution 0.8\n"
+    tangential = " tangential_restitution 0.5 friction 0.3" if rough else ""
+    commands = (f"{pre}region r {region}\nfix hs all hardsphere restitution 0.8{tangential}\n"
                 f"fix w all wall/hardsphere/region r {LAW}\n"
                 "thermo_style custom step c_ke f_hs[1] f_hs[5]\nthermo_modify format float %.17g norm no\n"
                 "thermo 50\nrun 300\nwrite_data end.data\n")
     rows = ctx.lammps("regions/gas.lmp", vars=dict(data=data, bz="p" if z_periodic else "f"),
                       commands=commands).rows
     opts = ["--read-data", data, "--boundary", "w,w,p" if z_periodic else "w,w,w", "--dt", 0.01, "--steps", 300, "--restitution", 0.8,
-            "--write-data", "cli.data"]
+            "--write-data", "cli.data"] + (["--tangential-restitution", 0.5, "--friction", 0.3] if rough else [])
     for w in walls:
         opts += ["--wall", f"{w} {LAW}"]
     ref = ctx.standalone(*opts)
@@ -62,6 +63,15 @@ def union_funnel(ctx, case):
            "region co cone z 0 0 3.6 4.5 3 6.6 open 1 open 2 units box\n")
     return against_cli(ctx, "union 2 co cy", ["cone z 0 0 3 6.6 3.6 4.5", "cylinder z 0 0 3.6 bounds 0.02 3",
                                               "plane 0 0 0.02 0 0 1"], pre=pre, rmax=3.05)
+
+
+@cases.case
+def turning_cylinder(ctx, case):
+    """Rough spheres in a cylinder turned by 'rotate v_t' at 0.5 about its own axis: the
+    standalone's cylinder 'rotate 0.5'."""
+    return against_cli(ctx, "cylinder z 0 0 4 INF INF units box rotate v_t 0 0 0 0 0 1",
+                       ["cylinder z 0 0 4 rotate 0.5"], z_periodic=True, rough=True,
+                       pre="variable t equal 0.5*elapsed*dt\n")
 
 
 @cases.case
@@ -111,8 +121,14 @@ refusal("wall_gran_region", "region r cylinder z 0 0 4 INF INF units box\n",
 refusal("intersect", "region a cylinder z 0 0 4 INF INF units box\nregion b sphere 0 0 3 5 units box\n"
         "region r intersect 2 a b\n")
 refusal("move", "variable d equal 0.1*elapsed\nregion r cylinder z 0 0 4 INF INF units box move v_d NULL NULL\n")
+# granregion.box's turning container
 refusal("block_rotate", "variable t equal 0.1*elapsed\n"
         "region r block -4 4 -4 4 INF INF units box rotate v_t 0 0 0 0 0 1\n")
+# granregion.mixer's blades: an intersect of the drum and turning side-out blocks
+refusal("mixer", "variable t equal 0.1*elapsed\nregion c cylinder z 0 0 4 0 6.6 side in units box\n"
+        "region b1 block -4 4 -0.5 0.5 0 2 side out rotate v_t 0 0 0 0 0 1 units box\n"
+        "region b2 block -0.5 0.5 -4 4 0 2 side out rotate v_t 0 0 0 0 0 1 units box\n"
+        "region r intersect 3 c b1 b2 side in\n")
 refusal("off_axis", "variable t equal 0.1*elapsed\n"
         "region r cylinder z 0 0 4 INF INF units box rotate v_t 1 0 0 0 0 1\n")
 refusal("side_out_block", "region r block -1 1 -1 1 1 2 units box side out\n")
