@@ -50,6 +50,14 @@ def cylinder(ctx, case):
 
 
 @cases.case
+def lattice_units(ctx, case):
+    """A region in lattice units (the region command's default) with lattice spacing 2: read in
+    box units, radius 4."""
+    return against_cli(ctx, "cylinder z 0 0 2 INF INF", ["cylinder z 0 0 4"], z_periodic=True,
+                       pre="lattice sc 0.125\n")
+
+
+@cases.case
 def closed_cylinder(ctx, case):
     """A cylinder with its caps inside the box: tube and two planes."""
     return against_cli(ctx, "cylinder z 0 0 4 0.02 6.58 units box",
