@@ -88,6 +88,12 @@ def sphere(ctx, case):
 
 
 @cases.case
+def plane_side_out(ctx, case):
+    """A plane with 'side out': the spheres on the side its normal points away from."""
+    return against_cli(ctx, "plane 3.8 0 0 1 0 0 side out units box", ["plane 3.8 0 0 -1 0 0"], z_periodic=True)
+
+
+@cases.case
 def block(ctx, case):
     return against_cli(ctx, "block -3.8 3.8 -3.9 3.9 INF INF units box",
                        ["plane -3.8 0 0 1 0 0", "plane 3.8 0 0 -1 0 0", "plane 0 -3.9 0 0 1 0",
