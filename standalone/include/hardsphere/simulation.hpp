@@ -19,6 +19,11 @@ namespace hardsphere {
 enum class Engine { Stepper, Event };
 Engine parse_engine(const std::string& s);  //!< "stepper" or "event"; throws InputError
 
+//! Transport (RunSpec::transport): lags per correlation window, and the default window in Enskog
+//! mean free times (long enough for the Helfand moments' slope, short enough for many blocks).
+constexpr int kTransportLags = 20;
+constexpr double kTransportWindowFreeTimes = 30;
+
 //! Most event-engine blocks of a run: one stored value and one advance each.
 constexpr int kMaxBlocks = 1000000;
 
@@ -56,6 +61,11 @@ struct RunSpec {
   double track_every = 0;
   std::optional<std::string> track_file;
   int histogram_bins = 40;
+  //! Self-diffusion, shear viscosity and thermal conductivity of the measured run (transport.hpp):
+  //! correlation window (0: kTransportWindowFreeTimes mean free times) and independent blocks.
+  bool transport = false;
+  double transport_window = 0;
+  int transport_blocks = 10;
 
   //! Called during the measured run (about every 1% for the stepper, after each block for the
   //! event engine) with the fraction done and the simulated time; the CLI's progress line.

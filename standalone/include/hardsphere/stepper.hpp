@@ -23,6 +23,7 @@
 #include "hardsphere/particles.hpp"
 #include "hardsphere/physics.hpp"
 #include "hardsphere/precision.hpp"
+#include "hardsphere/transport.hpp"
 
 namespace hardsphere {
 
@@ -147,6 +148,9 @@ class StepperBase {
   virtual void set_gravity(const std::array<double, 3>& g) = 0;
   //! The acceleration the next step uses (as validated: rounding-level components zero).
   virtual std::array<double, 3> gravity() const = 0;
+  //! Feeds `tally` (started by the caller from state(); nullptr: none) with every step's time and
+  //! every pair collision, so its stress and heat-flux integrals are exact (transport.hpp).
+  virtual void set_transport(TransportTally* tally) = 0;
 };
 
 //! Validates the physics and the configuration against the system (throws InputError) and builds
