@@ -498,6 +498,7 @@ CommandLine parse_command_line(int argc, const char* const* argv) {
   take_physics(o, spec);
   take_run_length(o, spec);
   take_outputs(o, spec);
+  if (spec.transport) check_transport(spec.periodic, spec.physics, "--transport");  // before any warning
   if (o.o_read->count()) {
     if (o.read_data_s.empty()) throw InputError("--read-data: empty file name");
     spec.read_data = o.read_data_s;

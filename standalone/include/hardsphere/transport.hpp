@@ -78,6 +78,8 @@ class TransportTally {
 //! walls, gravity, inelastic or rough collisions, kinematic spheres, unequal radii or masses.
 //! `option` names the request (--transport, transport=True).
 void check_transport(const ParticleSystem& sys, const Physics& physics, const std::string& option);
+//! The part that needs no state: the boundaries and the physics.
+void check_transport(const std::array<bool, 3>& periodic, const Physics& physics, const std::string& option);
 
 //! Results in reduced units (sphere diameter, mass and the run's temperature kT = 1); each error is
 //! the standard error of the mean of independent blocks.

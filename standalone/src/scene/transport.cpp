@@ -17,12 +17,18 @@ void TransportTally::start(const ParticleSystem& sys) {
   for (std::size_t k = 0; k < 3; ++k) current_[k] = dj[k];
 }
 
-void check_transport(const ParticleSystem& sys, const Physics& physics, const std::string& option) {
-  auto refuse = [&](const std::string& why) {
-    throw InputError(option + " needs an elastic one-species fluid in an all-periodic box without gravity: " + why);
-  };
+namespace {
+
+[[noreturn]] void refuse_transport(const std::string& option, const std::string& why) {
+  throw InputError(option + " needs an elastic one-species fluid in an all-periodic box without gravity: " + why);
+}
+
+}  // namespace
+
+void check_transport(const std::array<bool, 3>& periodic, const Physics& physics, const std::string& option) {
+  auto refuse = [&](const std::string& why) { refuse_transport(option, why); };
   for (int d = 0; d < 3; ++d)
-    if (!sys.box.periodic[std::size_t(d)]) refuse(std::string("the ") + "xyz"[d] + " axis has walls (boundary w)");
+    if (!periodic[std::size_t(d)]) refuse(std::string("the ") + "xyz"[d] + " axis has walls (boundary w)");
   if (!physics.shapes.empty()) refuse("the scene has " + std::to_string(physics.shapes.size()) + " shaped walls");
   for (int d = 0; d < 3; ++d)
     if (physics.gravity[std::size_t(d)] != 0) {
@@ -40,6 +46,11 @@ void check_transport(const ParticleSystem& sys, const Physics& physics, const st
     m << "tangential restitution " << physics.tangential_restitution << " (rough spheres carry heat in rotation)";
     refuse(m.str());
   }
+}
+
+void check_transport(const ParticleSystem& sys, const Physics& physics, const std::string& option) {
+  auto refuse = [&](const std::string& why) { refuse_transport(option, why); };
+  check_transport(sys.box.periodic, physics, option);
   if (sys.kinematic_count() > 0) refuse(std::to_string(sys.kinematic_count()) + " kinematic spheres");
   if (sys.size() < 2) refuse(std::to_string(sys.size()) + " spheres");
   for (std::size_t i = 1; i < sys.size(); ++i)
