@@ -263,7 +263,7 @@ void add_output_options(CLI::App* app, RunOptions& o, bool& quiet) {
   o.o_transport = app->add_flag("--transport", o.transport,
                                 "self-diffusion, shear viscosity and thermal conductivity (Einstein/Helfand)");
   o.o_tr_window = app->add_option("--transport-window", o.tr_window_s,
-                                  "longest correlation time of --transport (default 30 mean free times)")
+                                  "longest correlation time of --transport (default 100 mean free times)")
                       ->type_name("FLOAT")
                       ->needs(o.o_transport);
   o.o_tr_blocks = app->add_option("--transport-blocks", o.tr_blocks_s,

@@ -43,12 +43,13 @@ def test_both_engines_agree_within_their_errors(dense):
 
 
 def test_dilute_gas_against_chapman_enskog(hs):
-    # 256 spheres at phi 0.01 (30 mean free times a window, 20000 steps of dt 1, ~4 s): D, eta and
+    # 256 spheres at phi 0.01 (a window of 220, 30 mean free times; 20000 steps of dt 1, ~4 s): D, eta and
     # lambda against Enskog with its converged Sonine factors (1.019, 1.016, 1.025; at phi 0.01
     # Enskog is Chapman-Enskog within 1%). Relative deviations over seeds 1-12 (mean, sd):
     # D -0.0045, 0.0069; eta -0.023, 0.076; lambda +0.028, 0.141 (the block error bars were
     # 0.0069, 0.082, 0.106 of the values: the blocks are independent). Tolerance |mean| + 4 sd.
-    j = run_json(hs, "--n", 256, "--phi", 0.01, "--dt", 1, "--steps", 20000, "--seed", 1, "--transport")
+    j = run_json(hs, "--n", 256, "--phi", 0.01, "--dt", 1, "--steps", 20000, "--seed", 1, "--transport",
+                 "--transport-window", 220)
     phi = 0.01
     n, g, b = 6 * phi / math.pi, (1 - phi / 2) / (1 - phi) ** 3, 4 * phi
     theory = {"diffusion_raw": 3 / (8 * n * g) * math.sqrt(1 / math.pi) * 1.019,

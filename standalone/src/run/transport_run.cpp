@@ -43,7 +43,7 @@ TransportRun::TransportRun(const RunSpec& spec, const ParticleSystem& initial, d
     std::ostringstream m;
     m << "--transport: the measured run of time " << measured_time << " is too short for " << blocks_
       << " blocks of two correlation windows of " << interval_ * lags_
-      << (spec.transport_window > 0 ? " (--transport-window)" : " (30 mean free times)") << ": run at least "
+      << (spec.transport_window > 0 ? " (--transport-window)" : " (100 mean free times)") << ": run at least "
       << 2.0 * blocks_ * lags_ * interval_ << ", or give a shorter --transport-window or fewer --transport-blocks";
     throw InputError(m.str());
   }
