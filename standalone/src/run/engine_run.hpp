@@ -13,7 +13,6 @@
 #include "hardsphere/run_summary.hpp"
 #include "hardsphere/simulation.hpp"
 #include "io/tracker.hpp"
-#include "run/transport_run.hpp"
 
 namespace hardsphere {
 

@@ -1,12 +1,11 @@
 // Transport coefficients in a run: the window and the sampling chosen (or checked) before the run,
 // the samples and blocks during it, the summary keys after it.
-#include "run/transport_run.hpp"
-
 #include <cmath>
 #include <sstream>
 
 #include "hardsphere/errors.hpp"
 #include "hardsphere/observables.hpp"
+#include "hardsphere/simulation.hpp"
 
 namespace hardsphere {
 
@@ -22,17 +21,18 @@ double mean_free_time(const ParticleSystem& sys) {
 
 }  // namespace
 
-TransportRun::TransportRun(const RunSpec& spec, const ParticleSystem& initial, double measured_time, double quantum)
+TransportRun::TransportRun(const RunSpec& spec, const ParticleSystem& initial, double measured_time, double quantum,
+                           const TransportNames& names)
     : lags_(kTransportLags), blocks_(spec.transport_blocks) {
-  check_transport(initial, spec.physics, "--transport");
+  check_transport(initial, spec.physics, names.option);
   if (spec.transport_blocks < 2)
-    throw InputError("--transport-blocks " + std::to_string(spec.transport_blocks) +
+    throw InputError(names.blocks + " " + std::to_string(spec.transport_blocks) +
                      " must be >= 2 (the error bars are the spread of the blocks)");
   const double window =
       spec.transport_window > 0 ? spec.transport_window : kTransportWindowFreeTimes * mean_free_time(initial);
   if (!(std::isfinite(window) && window > 0)) {
     std::ostringstream m;
-    m << "--transport-window " << window << " must be positive and finite";
+    m << names.window << " " << window << " must be positive and finite";
     throw InputError(m.str());
   }
   interval_ = window / lags_;
@@ -41,10 +41,11 @@ TransportRun::TransportRun(const RunSpec& spec, const ParticleSystem& initial, d
   // Each block must hold at least two windows, or its slope is no better than noise.
   if (samples_ < std::int64_t(2) * lags_ * blocks_) {
     std::ostringstream m;
-    m << "--transport: the measured run of time " << measured_time << " is too short for " << blocks_
+    m << names.option << ": the measured run of time " << measured_time << " is too short for " << blocks_
       << " blocks of two correlation windows of " << interval_ * lags_
-      << (spec.transport_window > 0 ? " (--transport-window)" : " (100 mean free times)") << ": run at least "
-      << 2.0 * blocks_ * lags_ * interval_ << ", or give a shorter --transport-window or fewer --transport-blocks";
+      << (spec.transport_window > 0 ? " (" + names.window + ")" : std::string(" (100 mean free times)"))
+      << ": run at least " << 2.0 * blocks_ * lags_ * interval_ << ", or give a shorter " << names.window
+      << " or fewer " << names.blocks;
     throw InputError(m.str());
   }
 }
