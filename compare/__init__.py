@@ -21,6 +21,7 @@ Validations (each writes a report and exits 1 when a check fails):
   rough_cooling_soft  a rough gas against LAMMPS and LIGGGHTS frictional soft spheres
                       (.../rough_cooling_soft.md)
   seed_figures        the seed paper's figures (docs/reports/validation/seed_figures.json)
+  transport           D, eta and lambda against Enskog and DynamO (docs/reports/validation/transport.md)
 Reports and figures from committed data (no simulation):
   docs_figures        the README's figures (docs/reports/figures/)
   headlines           docs/reports/README.md: every report with its headline result

@@ -132,6 +132,26 @@ def enskog_viscosity(density, kT=1.0):
     return eta0 * (1 / g11 + 0.8 * b + 0.7614 * b * b * g11)
 
 
+# Converged Sonine factors of the dilute gas over the first approximation (Chapman and Cowling):
+# D, eta, lambda.
+SONINE_D, SONINE_ETA, SONINE_LAMBDA = 1.01896, 1.01600, 1.02513
+
+
+def enskog_transport(phi, contact=None):
+    """Enskog's D_E, eta_E and lambda_E of unit spheres (sigma = m = kT = 1) at packing fraction
+    phi, g Carnahan-Starling's contact value unless given, the dilute values with their converged
+    Sonine factors: D_E = D0 / g, eta_E = eta0 (1/g + 0.8 b + 0.7614 b^2 g),
+    lambda_E = lambda0 (1/g + 1.2 b + 0.7574 b^2 g), b rho = 4 phi."""
+    g = contact if contact is not None else contact_value_cs(phi)
+    n = 6 * phi / math.pi
+    b = 4 * phi
+    d0 = SONINE_D * 3 / (8 * n) / math.sqrt(math.pi)
+    eta0 = SONINE_ETA * 5 / 16 / math.sqrt(math.pi)
+    lam0 = SONINE_LAMBDA * 75 / 64 / math.sqrt(math.pi)
+    return dict(D=d0 / g, eta=eta0 * (1 / g + 0.8 * b + 0.7614 * b * b * g),
+                lam=lam0 * (1 / g + 1.2 * b + 0.7574 * b * b * g), g=g, n=n)
+
+
 def free_path(n):
     """Mean free path of a dilute gas of unit spheres at number density n."""
     return 1 / (math.sqrt(2) * math.pi * n)

@@ -127,6 +127,17 @@ def brownian(d):
             f"diffusion coefficient {ds} of Enskog's heavy-tracer value")
 
 
+def transport(d):
+    ev = [r for r in d["rows"] if r["engine"] == "event"]
+    gate = [r for r in d["rows"] if abs(r["phi"] - d["dynamo"]["phi"]) < 1e-9]
+    at = ", ".join(f"{r['engine']} D_raw {r['diffusion_raw']:.3f}, eta {r['shear_viscosity']:.2f}, lambda "
+                   f"{r['thermal_conductivity']:.2f}" for r in gate)
+    return (f"N = {ev[0]['N']}, phi {min(r['phi'] for r in ev):g}-{max(r['phi'] for r in ev):g}: eta / eta_E "
+            f"{span([r['shear_viscosity'] / r['eta_enskog'] for r in ev])}, D / D_E "
+            f"{span([r['diffusion'] / r['D_enskog'] for r in ev])}; at n = 0.5 {at} (DynamO 0.247, 0.58, 2.3); "
+            f"{len(d['failures'])} failed checks")
+
+
 def eos(d):
     k = [d_["z"] / d_["z_kolafa"] - 1 for d_ in d]
     g = [d_["rate"] / d_["rate_enskog_cs"] - 1 for d_ in d]
@@ -243,6 +254,8 @@ INDEX = [
      "python3 -m compare.dem_scenes --out docs/reports/validation", dem_scenes),
     ("Validation", "validation/brownian", "a heavy sphere's collision rate, temperature and diffusion against Enskog",
      "python3 -m compare.brownian --out docs/reports/validation", brownian),
+    ("Validation", "validation/transport", "equilibrium D, eta and lambda against Enskog and DynamO",
+     "python3 -m compare.transport --out docs/reports/validation", transport),
     ("Validation", "event_engine/eos", "the event engine's equation of state and collision rate",
      "python3 -m compare.accuracy eos --out docs/reports/event_engine", eos),
     ("Validation", "stress", "hard cases through both engines, one per class of input defect",

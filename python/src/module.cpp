@@ -307,12 +307,14 @@ void bind_stepper(py::module_& m) {
   st.def(
       "_run",
       [](py::object self, py::object steps, std::optional<double> time, py::object callback, py::object every,
-         py::object progress) {
-        run_stepper(self.cast<StepperSim&>(), self, optional_whole(steps, "steps"), time, callback,
-                    optional_whole(every, "every"), progress);
+         py::object progress, bool transport, std::optional<double> transport_window, py::object transport_blocks) {
+        run_stepper(
+            self.cast<StepperSim&>(), self, optional_whole(steps, "steps"), time, callback,
+            optional_whole(every, "every"), progress,
+            {transport, transport_window, whole_arg(transport_blocks, "transport_blocks", INT64_MIN, INT64_MAX)});
       },
       "steps"_a = py::none(), "time"_a = py::none(), "callback"_a = py::none(), "every"_a = py::none(),
-      "progress"_a = py::none());
+      "progress"_a = py::none(), "transport"_a = false, "transport_window"_a = py::none(), "transport_blocks"_a = 10);
   st.def_property_readonly("dt", &StepperSim::dt);
   st.def_property_readonly("steps", &StepperSim::steps, "steps since construction or reset_counters()");
   st.def_property_readonly("skin", [](const StepperSim& s) { return s.engine().skin(); });
@@ -352,12 +354,15 @@ void bind_event_engine(py::module_& m) {
   ev.def(
       "_run",
       [](py::object self, py::object steps, std::optional<double> time, py::object callback,
-         std::optional<double> every, py::object progress, py::object blocks) {
+         std::optional<double> every, py::object progress, py::object blocks, bool transport,
+         std::optional<double> transport_window, py::object transport_blocks) {
         run_event(self.cast<EventSim&>(), self, optional_whole(steps, "steps"), time, callback, every, progress,
-                  whole_arg(blocks, "blocks", INT64_MIN, INT64_MAX));
+                  whole_arg(blocks, "blocks", INT64_MIN, INT64_MAX),
+                  {transport, transport_window, whole_arg(transport_blocks, "transport_blocks", INT64_MIN, INT64_MAX)});
       },
       "steps"_a = py::none(), "time"_a = py::none(), "callback"_a = py::none(), "every"_a = py::none(),
-      "progress"_a = py::none(), "blocks"_a = 20);
+      "progress"_a = py::none(), "blocks"_a = 20, "transport"_a = false, "transport_window"_a = py::none(),
+      "transport_blocks"_a = 10);
   ev.def_property_readonly("time", &EventSim::time, "simulated time since construction");
   ev.def_property_readonly("events", &EventSim::events, "events since construction or reset_counters()");
   ev.def_property_readonly("shell", [](const EventSim& s) { return s.engine().shell(); });

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <sstream>
 
 #include "hardsphere/errors.hpp"
@@ -63,10 +64,55 @@ std::string number(double x) {
   return o.str();
 }
 
+//! run(transport=True): the CLI's TransportRun over this run, fed by the engine while it lasts;
+//! its keys reach observables() only when the whole run was done (any run clears the last ones).
+class TransportSampling {
+ public:
+  TransportSampling(Simulation& sim, const TransportArgs& a, double measured_time, double quantum) : sim_(sim) {
+    sim.set_transport_keys(nullptr);
+    if (!a.on) {
+      if (a.window || a.blocks != 10) throw InputError("transport_window and transport_blocks need transport=True");
+      return;
+    }
+    if (a.window && !(*a.window > 0 && std::isfinite(*a.window)))
+      throw InputError("transport_window " + number(*a.window) + " must be positive and finite");
+    if (a.blocks < 2 || a.blocks > 100000)
+      throw InputError("transport_blocks " + std::to_string(a.blocks) + " must be 2 to 100000");
+    RunSpec spec;
+    spec.physics = sim.physics();
+    spec.transport = true;
+    spec.transport_window = a.window.value_or(0.0);
+    spec.transport_blocks = int(a.blocks);
+    run_.emplace(spec, *sim.state(), measured_time, quantum,
+                 TransportNames{"transport=True", "transport_window", "transport_blocks"});
+    run_->begin(*sim.state());
+    sim.set_transport(&run_->tally());
+  }
+  ~TransportSampling() {
+    if (run_) sim_.set_transport(nullptr);
+  }
+  TransportSampling(const TransportSampling&) = delete;
+  TransportSampling& operator=(const TransportSampling&) = delete;
+  bool on() const { return run_.has_value(); }
+  double interval() const { return run_->interval(); }
+  std::int64_t samples() const { return run_->samples(); }
+  void sample(std::int64_t k) { run_->sample(k, *sim_.state()); }
+  void finish() {
+    nlohmann::json j;
+    run_->add_summary(j);
+    sim_.set_transport_keys(std::move(j));
+  }
+
+ private:
+  Simulation& sim_;
+  std::optional<TransportRun> run_;
+};
+
 }  // namespace
 
 void run_stepper(StepperSim& sim, py::object self, std::optional<std::int64_t> steps, std::optional<double> time,
-                 py::object callback, std::optional<std::int64_t> every, py::object progress) {
+                 py::object callback, std::optional<std::int64_t> every, py::object progress,
+                 const TransportArgs& transport_args) {
   const Simulation::InRun in_run(sim);
   if (steps && time) throw InputError("steps and time both set the run length; give one");
   if (!steps && !time) throw InputError("run needs steps=N or time=T");
@@ -83,18 +129,26 @@ void run_stepper(StepperSim& sim, py::object self, std::optional<std::int64_t> s
     throw InputError("every = " + std::to_string(*every) + " needs a callback (it says when to call it)");
   const std::int64_t total = *steps;
   sim.check_work(total);
+  TransportSampling transport(sim, transport_args, double(total) * dt, dt);
+  // Transport samples every `every_t` steps (the interval is a whole number of steps).
+  const std::int64_t every_t = transport.on() ? std::llround(transport.interval() / dt) : total;
+  std::int64_t next_t = transport.on() ? std::min(every_t, total) : total;
   const double n = double(std::max<std::size_t>(sim.state()->size(), 1));
   const std::int64_t chunk = std::max<std::int64_t>(1, std::int64_t(kChunkWork / n));
   LoopClock clock(sim);
   std::int64_t done = 0, next_call = every ? std::min(*every, total) : total;
   while (done < total) {
-    const std::int64_t k = std::min({chunk, total - done, next_call - done});
+    const std::int64_t k = std::min({chunk, total - done, next_call - done, next_t - done});
     {
       Simulation::Running running(sim);
       py::gil_scoped_release release;
       sim.run(k);
     }
     done += k;
+    if (transport.on() && done == next_t) {
+      if (done / every_t <= transport.samples()) transport.sample(done / every_t);
+      next_t = std::min(next_t + every_t, total);
+    }
     check_signals();
     if (every && done == next_call) {
       next_call = std::min(next_call + *every, total);
@@ -102,6 +156,7 @@ void run_stepper(StepperSim& sim, py::object self, std::optional<std::int64_t> s
     }
     report(clock, progress, double(done) / double(total), sim.sim_time());
   }
+  if (transport.on() && done == total) transport.finish();
 }
 
 namespace {
@@ -150,10 +205,17 @@ double first_chunk(EventSim& sim, double time) {
 }  // namespace
 
 void run_event(EventSim& sim, py::object self, std::optional<std::int64_t> steps, std::optional<double> time,
-               py::object callback, std::optional<double> every, py::object progress, std::int64_t blocks) {
+               py::object callback, std::optional<double> every, py::object progress, std::int64_t blocks,
+               const TransportArgs& transport_args) {
   const Simulation::InRun in_run(sim);
   check_event_run(sim, steps, time, callback, every, blocks);
   const double t0 = sim.time(), target = t0 + *time;
+  TransportSampling transport(sim, transport_args, *time, 0.0);
+  std::int64_t sampled = 0;  // transport samples taken
+  auto sample_at = [&] {
+    if (!transport.on() || sampled >= transport.samples()) return std::numeric_limits<double>::infinity();
+    return t0 + double(sampled + 1) * transport.interval();
+  };
   double chunk = first_chunk(sim, *time);
   std::int64_t calls = 0;
   auto next_call = [&] {
@@ -179,8 +241,8 @@ void run_event(EventSim& sim, py::object self, std::optional<std::int64_t> steps
   LoopClock clock(sim);
   try {
     while (sim.time() < target) {
-      const double x = sim.time(), call_at = next_call(), block_at = block_end();
-      const double stop = std::min({call_at, block_at, target});
+      const double x = sim.time(), call_at = next_call(), block_at = block_end(), t_at = sample_at();
+      const double stop = std::min({call_at, block_at, target, t_at});
       double end = std::min(x + chunk, stop);
       // A chunk ends at a stop exactly only if it starts past half of it (Sterbenz), so the
       // state, blocks and callbacks do not depend on where the chunks ended.
@@ -195,6 +257,7 @@ void run_event(EventSim& sim, py::object self, std::optional<std::int64_t> steps
       const std::int64_t ev = sim.events() - e0;
       chunk = ev > 0 ? std::clamp(ran * kChunkWork / double(ev), 0.5 * ran, 4 * ran) : 4 * std::max(ran, chunk);
       if (end == block_at) close_block();
+      if (end == t_at) transport.sample(++sampled);
       check_signals();
       if (every && end == call_at) {
         ++calls;
@@ -208,6 +271,7 @@ void run_event(EventSim& sim, py::object self, std::optional<std::int64_t> steps
     throw;
   }
   close_partial();
+  if (transport.on() && sim.time() >= target) transport.finish();
 }
 
 }  // namespace hardsphere::python

@@ -56,6 +56,7 @@ void Simulation::reset_counters() {
   check_not_in_run("reset_counters");
   engine_reset();
   start_measurement();
+  transport_keys_ = nullptr;
 }
 
 nlohmann::json Simulation::observables(std::int64_t histogram_bins) const {
@@ -71,6 +72,7 @@ nlohmann::json Simulation::observables(std::int64_t histogram_bins) const {
   add_summary(j);
   // Potential energies are the current gravity's at both ends (docs/python.md).
   if (gravity_changed_) j["gravity_changed"] = true;
+  if (transport_keys_.is_object()) j.update(transport_keys_);
   return j;
 }
 

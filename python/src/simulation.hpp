@@ -57,6 +57,10 @@ class Simulation {
   double loop_cpu_seconds() const { return cpu_; }
   void add_cpu(double seconds) { cpu_ += seconds; }
   virtual double sim_time() const = 0;
+  //! The engine feeds `tally` from now on (nullptr: none): run(transport=True).
+  virtual void set_transport(TransportTally* tally) = 0;
+  //! The transport keys of the last complete run(transport=True), added to observables().
+  void set_transport_keys(nlohmann::json keys) { transport_keys_ = std::move(keys); }
   const SystemData& origin() const { return origin_; }
   const Physics& physics() const { return physics_; }
   //! Gravity from the next step or time on (the engine's set_gravity: InputError naming the
@@ -107,7 +111,8 @@ class Simulation {
   virtual std::array<double, 3> engine_gravity() const = 0;
 
   Physics physics_;
-  bool gravity_changed_ = false;  // set_gravity() during the measurement
+  bool gravity_changed_ = false;   // set_gravity() during the measurement
+  nlohmann::json transport_keys_;  // set_transport_keys()
   SystemData origin_;
 
  private:
@@ -132,6 +137,7 @@ class StepperSim final : public Simulation {
   std::int64_t steps() const { return engine().counters().steps; }
   double sim_time() const override { return engine().counters().sim_time; }
   const StepperBase& engine() const { return check_idle(), *engine_; }
+  void set_transport(TransportTally* tally) override { engine_->set_transport(tally); }
 
  private:
   ParticleSystem engine_state() const override { return engine_->state(); }
@@ -163,6 +169,7 @@ class EventSim final : public Simulation {
   double time() const { return engine().time(); }
   std::int64_t events() const { return engine().counters().events; }
   double sim_time() const override { return engine().counters().sim_time; }
+  void set_transport(TransportTally* tally) override { engine_->set_transport(tally); }
   const EventEngine& engine() const { return check_idle(), *engine_; }
 
  private:

@@ -137,11 +137,14 @@ struct RunOptions {
   std::string read_data_s, write_data_s, dump_s, seed_s = "1", engine_s = "stepper", time_s, etime_s, blocks_s;
   std::string dump_every_s, bins_s, restitution_s, contact_time_s, resting_time_s, gravity_s, track_s, track_every_s,
       track_file_s, beta_s, friction_s, inertia_s, t_rot_s, wall_e_s, wall_beta_s, wall_mu_s, kinematic_s;
+  std::string tr_window_s, tr_blocks_s;
+  bool transport = false;
   std::vector<std::string> walls_s;
   CLI::Option *o_beta, *o_bins, *o_blocks, *o_box, *o_contact_time, *o_detect, *o_dt, *o_dump, *o_dump_every, *o_equil,
       *o_etime, *o_friction, *o_gravity, *o_inertia, *o_init, *o_json, *o_mass, *o_n, *o_phi, *o_radius, *o_read,
       *o_resting_time, *o_restitution, *o_seed, *o_speed, *o_steps, *o_t, *o_t_rot, *o_time, *o_track, *o_track_every,
-      *o_track_file, *o_write, *o_wall_e, *o_wall_beta, *o_wall_mu, *o_kinematic, *o_walls;
+      *o_track_file, *o_write, *o_wall_e, *o_wall_beta, *o_wall_mu, *o_kinematic, *o_walls, *o_transport, *o_tr_window,
+      *o_tr_blocks;
 };
 
 // The options, declared in the order the help lists them: the initial state, the stepping, the
@@ -257,6 +260,16 @@ void add_output_options(CLI::App* app, RunOptions& o, bool& quiet) {
                         ->type_name("FLOAT");
   o.o_track_file = app->add_option("--track-file", o.track_file_s,
                                    "tracker table: time, unwrapped x y z, vx vy vz, pair collisions so far");
+  o.o_transport = app->add_flag("--transport", o.transport,
+                                "self-diffusion, shear viscosity and thermal conductivity (Einstein/Helfand)");
+  o.o_tr_window = app->add_option("--transport-window", o.tr_window_s,
+                                  "longest correlation time of --transport (default 100 mean free times)")
+                      ->type_name("FLOAT")
+                      ->needs(o.o_transport);
+  o.o_tr_blocks = app->add_option("--transport-blocks", o.tr_blocks_s,
+                                  "independent blocks of --transport's error bars (default 10)")
+                      ->type_name("INT")
+                      ->needs(o.o_transport);
   o.o_json = app->add_option("--json", o.json_s, "write the JSON summary to FILE (- for stdout)");
   o.o_bins = app->add_option("--histogram-bins", o.bins_s, "bins of the speed histogram in the JSON (default 40)")
                  ->type_name("INT");
@@ -281,6 +294,13 @@ void take_settings(const RunOptions& o, RunSpec& spec) {
   if (o.o_blocks->count()) spec.blocks = int(whole("--blocks", o.blocks_s, 1, kMaxBlocks));
   if (o.o_dump_every->count()) spec.dump_every = whole("--dump-every", o.dump_every_s, 1, LLONG_MAX);
   if (o.o_bins->count()) spec.histogram_bins = int(whole("--histogram-bins", o.bins_s, 1, kMaxBins));
+  spec.transport = o.transport;
+  if (o.o_tr_window->count()) {
+    spec.transport_window = real("--transport-window", o.tr_window_s);
+    if (!(spec.transport_window > 0))
+      throw InputError("--transport-window " + o.tr_window_s + " must be positive and finite");
+  }
+  if (o.o_tr_blocks->count()) spec.transport_blocks = int(whole("--transport-blocks", o.tr_blocks_s, 2, 100000));
 }
 
 //! The walls' laws; inelastic walls take the TC model's default contact time, as --restitution.
@@ -478,6 +498,7 @@ CommandLine parse_command_line(int argc, const char* const* argv) {
   take_physics(o, spec);
   take_run_length(o, spec);
   take_outputs(o, spec);
+  if (spec.transport) check_transport(spec.periodic, spec.physics, "--transport");  // before any warning
   if (o.o_read->count()) {
     if (o.read_data_s.empty()) throw InputError("--read-data: empty file name");
     spec.read_data = o.read_data_s;

@@ -26,7 +26,7 @@ PUBLIC = {
     "vec3.hpp": "common", "precision.hpp": "common", "errors.hpp": "common", "limits.hpp": "common", "rng.hpp": "common",
     "format.hpp": "common", "collision_totals.hpp": "common",
     "box.hpp": "scene", "particles.hpp": "scene", "scene_limits.hpp": "scene", "observables.hpp": "scene",
-    "physics.hpp": "scene", "wall_shapes.hpp": "scene",
+    "physics.hpp": "scene", "wall_shapes.hpp": "scene", "transport.hpp": "scene",
     "collision.hpp": "kernel", "contact_law.hpp": "kernel",
     "stepper.hpp": "stepper", "state_exchange.hpp": "stepper",
     "event_engine.hpp": "event",

@@ -30,6 +30,7 @@
 
 #include "hardsphere/particles.hpp"
 #include "hardsphere/physics.hpp"
+#include "hardsphere/transport.hpp"
 
 namespace hardsphere {
 
@@ -120,7 +121,10 @@ class EventEngine {
   //! gravity). A default resting time (Physics::resting_time 0) follows the new |g|.
   void set_gravity(const std::array<double, 3>& g);
   std::array<double, 3> gravity() const;  //!< the acceleration in use (as validated)
-  double time() const;                    //!< simulated time since construction
+  //! Feeds `tally` (started by the caller from state(), its clock 0 now; nullptr: none) with the
+  //! time and every pair collision, so its stress and heat-flux integrals are exact (transport.hpp).
+  void set_transport(TransportTally* tally);
+  double time() const;  //!< simulated time since construction
   std::array<int, 3> cells_per_dim() const;
   double shell() const;              //!< neighbour-list shell in use (length units, after any shrinking)
   std::string scene_kernel() const;  //!< e.g. "periodic,mono"

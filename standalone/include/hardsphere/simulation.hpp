@@ -12,12 +12,18 @@
 #include "hardsphere/init.hpp"
 #include "hardsphere/run_summary.hpp"
 #include "hardsphere/stepper.hpp"
+#include "hardsphere/transport.hpp"
 
 namespace hardsphere {
 
 //! Which engine a run uses.
 enum class Engine { Stepper, Event };
 Engine parse_engine(const std::string& s);  //!< "stepper" or "event"; throws InputError
+
+//! Transport (RunSpec::transport): lags per correlation window, and the default window in Enskog
+//! mean free times: D converges to 1% only past ~75 (the long-time tail; measured at n = 0.5).
+constexpr int kTransportLags = 20;
+constexpr double kTransportWindowFreeTimes = 100;
 
 //! Most event-engine blocks of a run: one stored value and one advance each.
 constexpr int kMaxBlocks = 1000000;
@@ -56,6 +62,11 @@ struct RunSpec {
   double track_every = 0;
   std::optional<std::string> track_file;
   int histogram_bins = 40;
+  //! Self-diffusion, shear viscosity and thermal conductivity of the measured run (transport.hpp):
+  //! correlation window (0: kTransportWindowFreeTimes mean free times) and independent blocks.
+  bool transport = false;
+  double transport_window = 0;
+  int transport_blocks = 10;
 
   //! Called during the measured run (about every 1% for the stepper, after each block for the
   //! event engine) with the fraction done and the simulated time; the CLI's progress line.
@@ -161,6 +172,38 @@ class BlockAverages {
   double virial_ = 0;
   std::int64_t collisions_ = 0;
   std::vector<double> z_, rate_;
+};
+
+//! The option names a TransportRun's refusals use (the CLI's; Python passes its keywords).
+struct TransportNames {
+  std::string option = "--transport", window = "--transport-window", blocks = "--transport-blocks";
+};
+
+//! Transport coefficients in a run (RunSpec::transport): the tally both engines feed, the samples
+//! at whole intervals of the measured run and the blocks of the error bars (transport.hpp). The
+//! CLI's run driver and the Python module's run loops use it alike.
+class TransportRun {
+ public:
+  //! Checks the scene and the window against the measured run (InputError, naming the options);
+  //! `quantum` is the time the samples must be whole multiples of (the stepper's dt; 0: any).
+  TransportRun(const RunSpec& spec, const ParticleSystem& initial, double measured_time, double quantum,
+               const TransportNames& names = {});
+  //! The measured run starts from `state`: the tally's clock and the first sample.
+  void begin(const ParticleSystem& state);
+  TransportTally& tally() { return tally_; }
+  double interval() const { return interval_; }
+  std::int64_t samples() const { return samples_; }  //!< sample intervals in the measured run
+  //! Sample `index` (1 .. samples()) of `state`, at index * interval() into the measured run.
+  void sample(std::int64_t index, const ParticleSystem& state);
+  //! The summary keys (diffusion, ..., transport_temperature).
+  void add_summary(nlohmann::json& j) const;
+
+ private:
+  TransportTally tally_;
+  std::optional<TransportEstimator> estimator_;
+  double interval_ = 0;
+  std::int64_t samples_ = 0;
+  int lags_ = 0, blocks_ = 0;
 };
 
 }  // namespace hardsphere

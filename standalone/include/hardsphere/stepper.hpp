@@ -23,6 +23,7 @@
 #include "hardsphere/particles.hpp"
 #include "hardsphere/physics.hpp"
 #include "hardsphere/precision.hpp"
+#include "hardsphere/transport.hpp"
 
 namespace hardsphere {
 
@@ -151,6 +152,9 @@ class StepperBase {
   //! region turned by a variable angle, its rate over the next step. Throws InputError for a
   //! non-finite rate and std::out_of_range for a k that is not a wall.
   virtual void set_shape_rotation(std::size_t k, double omega) = 0;
+  //! Feeds `tally` (started by the caller from state(); nullptr: none) with every step's time and
+  //! every pair collision, so its stress and heat-flux integrals are exact (transport.hpp).
+  virtual void set_transport(TransportTally* tally) = 0;
 };
 
 //! Validates the physics and the configuration against the system (throws InputError) and builds

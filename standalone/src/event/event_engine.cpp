@@ -145,6 +145,8 @@ void EventEngine::set_gravity(const std::array<double, 3>& g) {
   impl_->loop.set_gravity(validated_gravity(g, impl_->names));
 }
 
+void EventEngine::set_transport(TransportTally* tally) { impl_->loop.set_transport(tally); }
+
 std::array<double, 3> EventEngine::gravity() const { return impl_->loop.trajectories().gravity(); }
 
 double EventEngine::time() const { return impl_->loop.time(); }

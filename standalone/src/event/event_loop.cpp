@@ -101,6 +101,7 @@ void EventLoop::run_until_impl(double t_end, double run_end) {
     step<Rough>();
   }
   now_ = t_end - base_;
+  if (transport_) transport_->advance_to(time() - transport_origin_);
 }
 
 void EventLoop::run_events(std::int64_t count) {
@@ -113,6 +114,7 @@ void EventLoop::run_events(std::int64_t count) {
 template <bool Rough>
 void EventLoop::run_events_impl(std::int64_t count) {
   for (std::int64_t e = 0; e < count && !calendar_.empty() && calendar_.top_key() < kInf; ++e) step<Rough>();
+  if (transport_) transport_->advance_to(time() - transport_origin_);
 }
 
 const EventCounters& EventLoop::counters() {
@@ -208,6 +210,7 @@ void EventLoop::collide(int i, int j) {
       law_, [&] { return kernel::tc_elastic(t, last_collision_[in_i], last_collision_[in_j], contact_time_); });
   if (law_.restitution != 1.0) last_collision_[in_i] = last_collision_[in_j] = t;
   Vec3d va{a.vx, a.vy, a.vz}, vb{b.vx, b.vy, b.vz};
+  const Vec3d va0 = va, vb0 = vb;
   // Exact: an impulse below the rounding of both velocities changes nothing (see collide_pair()).
   const kernel::ContactOutcome out = kernel::collide_pair<Rough, true>(
       law_, rule, dr, va, vb, Rough ? &omega_[in_i] : nullptr, Rough ? &omega_[in_j] : nullptr,
@@ -222,6 +225,12 @@ void EventLoop::collide(int i, int j) {
     Trajectories::set_velocity(a, va);
     Trajectories::set_velocity(b, vb);
     c_.pair_virial += out.virial;
+    if (transport_) {
+      transport_->advance_to(t - transport_origin_);
+      const double r[3] = {dr.x, dr.y, dr.z};
+      transport_->collision(0.0, r, trajectories_.mass(std::size_t(i)), va0, va, trajectories_.mass(std::size_t(j)),
+                            vb0, vb);
+    }
     if constexpr (Rough) {
       c_.dissipated_normal += out.dissipated_normal;
       c_.dissipated_tangential += out.dissipated_tangential;

@@ -48,6 +48,11 @@ class EventLoop {
   //! Gravity `g` (validated) from now on: every sphere synced to now on its old parabola, the
   //! default resting time rescaled, every event predicted afresh.
   void set_gravity(const std::array<double, 3>& g);
+  //! The transport tally, its clock 0 at the current time (EventEngine::set_transport).
+  void set_transport(TransportTally* tally) {
+    transport_ = tally;
+    transport_origin_ = time();
+  }
 
  private:
   // inline: the handlers of one event are one hot path, compiled together in event_loop.cpp.
@@ -100,6 +105,8 @@ class EventLoop {
   JamGuard jam_;
 
   double now_ = 0, base_ = 0, reset_time_ = 0;
+  TransportTally* transport_ = nullptr;  // set_transport: told of the time and every collision
+  double transport_origin_ = 0;
   std::int64_t events_since_rebase_ = 0, rebase_every_ = 0;
   double total_events_ = 0;  // all events since construction
   double max_events_ = std::numeric_limits<double>::infinity();

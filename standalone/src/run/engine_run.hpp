@@ -21,6 +21,7 @@ struct RunOutputs {
   DumpWriter* dump = nullptr;
   Tracker* tracker = nullptr;
   const std::function<void(double fraction, double sim_time)>* progress = nullptr;
+  TransportRun* transport = nullptr;  //!< fed and sampled, begun by measure()
 };
 
 class EngineRun {
@@ -31,6 +32,8 @@ class EngineRun {
   virtual const char* name() const = 0;  //!< the summary's "engine" and the tracker's header
   //! The measured run's length in simulated time.
   virtual double measured_time() const = 0;
+  //! The time samples must be whole multiples of (the stepper's dt; 0: any time).
+  virtual double time_quantum() const = 0;
   //! Refuses (InputError) a tracker interval the engine cannot sample at.
   virtual void check_track_every(double every) const = 0;
   //! The state in id order (the order sphere() and the tracker index).

@@ -51,6 +51,7 @@ class EventRun final : public EngineRun {
   }
   const char* name() const override { return "event"; }
   double measured_time() const override { return spec_.time; }
+  double time_quantum() const override { return 0; }
   void check_track_every(double) const override {}  // the state is exact at any time
   ParticleSystem state() const override { return engine_->state(); }
   bool equilibrate() override {
@@ -74,11 +75,14 @@ class EventRun final : public EngineRun {
   //! Runs `duration` further, stopping at each tracker row's time on the way (samples change
   //! nothing). A row due within rounding of the end is taken there.
   void advance(double duration, Tracker* tracker);
+  //! advance(), stopping at each transport sample on the way.
+  void advance(double duration, Tracker* tracker, TransportRun* transport);
 
   const RunSpec& spec_;
   std::unique_ptr<EventEngine> engine_;
   std::size_t n_ = 0;
   double t_measure_ = 0;
+  std::int64_t next_transport_ = 1;  // the next transport sample's index
   std::optional<BlockAverages> blocks_;
 };
 
@@ -93,23 +97,43 @@ void EventRun::advance(double duration, Tracker* tracker) {
   engine_->advance(std::max(0.0, end - engine_->time()));
 }
 
+void EventRun::advance(double duration, Tracker* tracker, TransportRun* transport) {
+  if (!transport) return advance(duration, tracker);
+  const double end = engine_->time() + duration;
+  for (;;) {
+    const std::int64_t k = next_transport_;
+    const double t = t_measure_ + double(k) * transport->interval();
+    if (k > transport->samples() || t > end) break;
+    advance(std::max(0.0, t - engine_->time()), tracker);
+    transport->sample(k, engine_->state());
+    ++next_transport_;
+  }
+  advance(std::max(0.0, end - engine_->time()), tracker);
+}
+
 double EventRun::measure(const RunOutputs& out) {
   // A dump frame (if asked for) after each block.
   blocks_.emplace(engine_->state());
   double cpu = 0;
   t_measure_ = engine_->time();
+  if (out.transport) {
+    out.transport->begin(engine_->state());
+    engine_->set_transport(&out.transport->tally());
+    next_transport_ = 1;
+  }
   const double block = spec_.time / spec_.blocks;
   for (int b = 0; b < spec_.blocks; ++b) {
     const double t_start = engine_->time();
     const double target = b + 1 == spec_.blocks ? spec_.time - engine_->counters().sim_time : block;
     const double c0 = process_cpu_seconds();
-    advance(target, out.tracker);
+    advance(target, out.tracker, out.transport);
     cpu += process_cpu_seconds() - c0;
     const EventCounters& c = engine_->counters();
     blocks_->close_block(c, engine_->time() - t_start);
     if (out.dump) out.dump->write_frame(c.events, engine_->state());
     if (out.progress) (*out.progress)(double(b + 1) / spec_.blocks, c.sim_time);
   }
+  if (out.transport) engine_->set_transport(nullptr);
   return cpu;
 }
 

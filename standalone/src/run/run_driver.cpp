@@ -88,6 +88,8 @@ nlohmann::json run_simulation(const RunSpec& spec) {
   std::vector<std::string> notes;  // sections of the data file that were skipped
   ParticleSystem sys = initial_state(spec, &notes);
   engine->start(sys);
+  std::optional<TransportRun> transport;  // refused before the run when the scene has no coefficients
+  if (spec.transport) transport.emplace(spec, sys, engine->measured_time(), engine->time_quantum());
   std::optional<Tracker> tracker;
   if (spec.track_id) {
     engine->check_track_every(spec.track_every);
@@ -105,8 +107,8 @@ nlohmann::json run_simulation(const RunSpec& spec) {
   const double e0 = kinetic_energy(sys);
   const Vec3d p0 = total_momentum(sys);
   if (dump) dump->write_frame(0, sys);
-  const double cpu = engine->measure(
-      {dump ? &*dump : nullptr, tracker ? &*tracker : nullptr, spec.progress ? &spec.progress : nullptr});
+  const double cpu = engine->measure({dump ? &*dump : nullptr, tracker ? &*tracker : nullptr,
+                                      spec.progress ? &spec.progress : nullptr, transport ? &*transport : nullptr});
 
   const ParticleSystem fin = engine->state();
   const RunTotals totals = engine->totals(e0, p0);
@@ -115,6 +117,7 @@ nlohmann::json run_simulation(const RunSpec& spec) {
                   engine->name(), engine->rounding_epsilon(), cpu);
   for (auto n = notes.rbegin(); n != notes.rend(); ++n) j["warnings"].insert(j["warnings"].begin(), *n);
   engine->add_summary(j, fin, cpu);
+  if (transport) transport->add_summary(j);
   if (tracker) j["track"] = tracker->summary();
   if (spec.report) spec.report(j);
   commit_outputs(j, fin, spec.write_data, engine->final_title(), dump, json_file, tracker ? &tracker->file() : nullptr);

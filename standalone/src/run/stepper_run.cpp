@@ -33,6 +33,7 @@ class StepperRun final : public EngineRun {
   }
   const char* name() const override { return "stepper"; }
   double measured_time() const override { return double(spec_.steps) * dt_; }
+  double time_quantum() const override { return dt_; }
   void check_track_every(double every) const override {
     // Rows are written at the ends of steps, so they must be a whole number of steps apart.
     const double ratio = every / dt_;
@@ -75,8 +76,16 @@ double StepperRun::measure(const RunOutputs& out) {
   const std::int64_t report_every = out.progress ? std::max<std::int64_t>(1, steps / 100) : steps;
   std::int64_t next_frame = out.dump ? std::min(spec_.dump_every, steps) : steps;
   std::int64_t next_sample = out.tracker ? std::min(track_steps_, steps) : steps;
+  // Transport samples every `every` steps (a whole number: TransportRun rounds its interval to dt).
+  const std::int64_t every = out.transport ? std::llround(out.transport->interval() / dt_) : steps;
+  std::int64_t next_transport = out.transport ? std::min(every, steps) : steps;
+  if (out.transport) {
+    out.transport->begin(engine_->state());
+    engine_->set_transport(&out.transport->tally());
+  }
   while (done < steps) {
-    const std::int64_t chunk = std::min({next_frame - done, next_sample - done, report_every, steps - done});
+    const std::int64_t chunk =
+        std::min({next_frame - done, next_sample - done, next_transport - done, report_every, steps - done});
     const double t0 = process_cpu_seconds();
     engine_->run(chunk);
     cpu += process_cpu_seconds() - t0;
@@ -89,8 +98,13 @@ double StepperRun::measure(const RunOutputs& out) {
       if (done % track_steps_ == 0) out.tracker->write(double(done) * dt_, engine_->sphere(out.tracker->index()));
       next_sample = std::min(next_sample + track_steps_, steps);
     }
+    if (out.transport && done == next_transport) {
+      if (done / every <= out.transport->samples()) out.transport->sample(done / every, engine_->state());
+      next_transport = std::min(next_transport + every, steps);
+    }
     if (out.progress) (*out.progress)(double(done) / double(steps), engine_->counters().sim_time);
   }
+  if (out.transport) engine_->set_transport(nullptr);
   return cpu;
 }
 

@@ -3,6 +3,7 @@
 #include <cstdint>
 
 #include "hardsphere/state_exchange.hpp"
+#include "hardsphere/transport.hpp"
 #include "hardsphere/vec3.hpp"
 
 namespace hardsphere {
@@ -40,6 +41,8 @@ struct ContactArrays {
   Vec3<Real>* omega = nullptr;
   //! Kinematic spheres (1), indexed like pos; nullptr: none, and no collision asks.
   const std::uint8_t* kinematic = nullptr;
+  //! Optional: the transport integrals, told of every pair collision (set_transport).
+  TransportTally* transport = nullptr;
 };
 
 }  // namespace hardsphere

@@ -607,6 +607,10 @@ class ContactResolver {
     tally.virial_tensor[3] += r[0] * dp[1];
     tally.virial_tensor[4] += r[0] * dp[2];
     tally.virial_tensor[5] += r[1] * dp[2];
+    // a_.vel still holds both velocities before the collision.
+    if (a_.transport)
+      a_.transport->collision(double(back), r, mi, to_double(a_.vel[i]), to_double(vi),
+                              Mono ? double(mass_) : double(a_.mass[j]), to_double(a_.vel[j]), to_double(vj));
     a_.pos[i] = ri + back * vi;
     a_.pos[j] = rj + back * vj;
     a_.vel[i] = vi;
@@ -628,6 +632,8 @@ class ContactResolver {
     }
     return true;
   }
+
+  static Vec3d to_double(const Vec3<Real>& v) { return {double(v.x), double(v.y), double(v.z)}; }
 
   //! Half of a collision's r (x) dp to each of its spheres (ContactArrays::sphere_virial).
   void add_sphere_virial(std::uint32_t i, std::uint32_t j, const double* t) {

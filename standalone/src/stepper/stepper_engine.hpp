@@ -98,6 +98,10 @@ class Stepper final : public StepperBase, public StateExchange {
     observer_ = observer;
     bind_resolver();
   }
+  void set_transport(TransportTally* tally) override {
+    transport_ = tally;
+    bind_resolver();
+  }
   void set_sphere_virial(bool on) override {
     if (on == !sphere_virial_.empty()) return;
     if (on)
@@ -382,6 +386,7 @@ class Stepper final : public StepperBase, public StateExchange {
   ContactTally tally_;
   mutable StepCounters counters_;
   CollisionObserver* observer_ = nullptr;     // set_collision_observer
+  TransportTally* transport_ = nullptr;       // set_transport
   std::function<bool(bool)> agree_;           // set_rebuild_agreement
   bool vote_due_ = false;                     // this step has not asked agree_ yet
   std::vector<std::uint32_t> input_of_rank_;  // id rank -> index in the constructor's input

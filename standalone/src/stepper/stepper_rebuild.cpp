@@ -90,7 +90,7 @@ void Stepper<Real, Mono>::bind_resolver() {
                   pairs_.adj(), image_shift_, speeds_ ? speed_.data() : nullptr, pairs_.adj_plain_end(),
                   pair_collisions_.empty() ? nullptr : pair_collisions_.data(),
                   sphere_virial_.empty() ? nullptr : sphere_virial_.data(), observer_,
-                  omega_.empty() ? nullptr : omega_.data(), kin_.empty() ? nullptr : kin_.data()});
+                  omega_.empty() ? nullptr : omega_.data(), kin_.empty() ? nullptr : kin_.data(), transport_});
 }
 
 template void Stepper<float, true>::rebuild();

@@ -153,6 +153,7 @@ Real Stepper<Real, Mono>::substep() {
   // uniform acceleration; the displacement guard sees the true positions.
   if (has_gravity_) kick(Real(0.5) * h_), keep_kinematic();
   drift();
+  if (transport_) transport_->advance(double(h_));
   if (has_gravity_) {
     kick(Real(0.5) * h_), keep_kinematic();
     refresh_speed_bound();
@@ -177,6 +178,7 @@ Real Stepper<Real, Mono>::substep() {
   if (cut != ContactResolver<Real, Mono>::kWholeStep) {
     // The step ends at the collision that stopped it: every sphere goes back along its path.
     for (std::size_t k = 0; k < pos_.size(); ++k) pos_[k] -= cut * vel_[k];
+    if (transport_) transport_->advance(-double(cut));  // the collisions' changes counted from the old end
     if (has_gravity_) {  // back along the parabolas: x(t - c) = x - v c + g c^2 / 2, v - g c
       const V3<Real> g{gravity_[0], gravity_[1], gravity_[2]};
       for (std::size_t k = 0; k < pos_.size(); ++k) {
