@@ -125,3 +125,17 @@ def test_a_continued_run_keeps_the_walls_phase_with_time(hs, tmp_path):
     run_json(hs, "--read-data", half, *common, "--steps", 200, "--wall", wall + " time 1", "--write-data", rest)
     atoms = lambda p: [float(x) for x in p.read_text().split("Atoms")[1].split("\n\n")[1].split()[4:]]
     assert atoms(rest) == pytest.approx(atoms(whole), abs=1e-9)
+
+
+def test_a_plate_wiggled_within_one_step_does_not_miss_the_sphere(hs, tmp_path):
+    # A plate with period P = dt is back at 0 at every step's end, the sphere 0.02 above it at
+    # rest both times: the plate meets it mid-step where A (1 - cos t) = 0.02 (cos 0.6, sin 0.8)
+    # at u = A omega 0.8, and the elastic bounce off it leaves at 2 u = 16 pi. On main's detection
+    # of the end overlap alone, no contact.
+    data = one_sphere(tmp_path, 0.52)
+    out = tmp_path / "out.data"
+    j = run_json(hs, "--read-data", data, "--boundary", "p,p,w", "--steps", 3, "--dt", 0.01,
+                 "--wall", "plane 0 0 0 0 0 1 wiggle z 0.05 0.01", "--write-data", out)
+    assert j["shaped_walls"][0]["collisions"] == 1
+    vz = float(out.read_text().split("Velocities")[1].split()[3])
+    assert vz == pytest.approx(16 * math.pi, rel=1e-9)

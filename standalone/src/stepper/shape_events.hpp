@@ -133,11 +133,13 @@ class ShapeEvents {
     const double gap = shape_gap(shapes_[k], wall.x, a);
     Vec3<double> w{}, w0{};
     if constexpr (Rough) w = w0 = {double(omega->x), double(omega->y), double(omega->z)};
-    // On a wiggled wall a sphere rests under gravity relative to the wall (its acceleration
-    // taken off): it rides a plate accelerating down slower than g and leaves one that is faster.
+    // Where gravity pulls a sphere onto a wiggled wall it rests under gravity relative to the
+    // wall (its acceleration taken off): it rides a plate accelerating down slower than g and
+    // leaves one that is faster (the bouncing ball); without that pull there is no rest.
     const WallShape& s = shapes_[k];
-    const Vec3<double> g_rel = s.wiggle_axis >= 0 ? g_ - shape_motion_acceleration(s, s.time + end_ - t) : g_;
-    const auto out = kernel::collide_surface<Rough>(laws_[k], wall.n, wall.u, vc, g_rel, double(resting_time), t,
+    const bool relative = s.wiggle_axis >= 0 && dot(g_, wall.n) < 0;
+    const Vec3<double> g_law = relative ? g_ - shape_motion_acceleration(s, s.time + end_ - t) : g_;
+    const auto out = kernel::collide_surface<Rough>(laws_[k], wall.n, wall.u, vc, g_law, double(resting_time), t,
                                                     Rough ? &w : nullptr, m, a, recent);
     if (!out.wall.contact.changed) return r;
     if (gap < 0) {
