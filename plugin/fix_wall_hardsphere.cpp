@@ -7,6 +7,7 @@
 #include "fix_hardsphere.h"
 #include "hardsphere/errors.hpp"
 #include "modify.h"
+#include "update.h"
 #include "utils.h"
 
 using namespace LAMMPS_NS;
@@ -16,7 +17,7 @@ namespace {
 const char *const kUsage =
     "use 'fix ID all wall/hardsphere xplane|yplane|zplane LO HI [keywords]' (LO or HI NULL for none) or "
     "'fix ID all wall/hardsphere zcylinder RADIUS [keywords]'; keywords: restitution E, "
-    "tangential_restitution B, friction MU, shear x|y|z V, rotate W (zcylinder)";
+    "tangential_restitution B, friction MU, shear x|y|z V, wiggle x|y|z A P, rotate W (zcylinder)";
 
 bool is_plane_style(const std::string &s) { return s == "xplane" || s == "yplane" || s == "zplane"; }
 
@@ -56,6 +57,7 @@ FixWallHardSphere::FixWallHardSphere(LAMMPS *lmp, int narg, char **arg) : Fix(lm
                           " (regions: boundary f faces, or shapes of the standalone's --wall)");
   }
   std::string keywords;
+  bool wiggle = false;
   for (; a < narg; a++) {
     const std::string k = arg[a];
     if (k == "restitution" || k == "tangential_restitution" || k == "friction" || k == "rotate") {
@@ -75,17 +77,36 @@ FixWallHardSphere::FixWallHardSphere(LAMMPS *lmp, int narg, char **arg) : Fix(lm
       v[dim[0] - 'x'] = arg[a + 2];
       keywords += " shear " + v[0] + " " + v[1] + " " + v[2];
       a += 2;
-    } else if (k == "wiggle") {
-      error->all(FLERR, name +
-                            ": 'wiggle' (a wall oscillating along its normal) is not supported: hard-sphere "
-                            "walls stay in place; a moving surface is 'shear' (planes) or 'rotate' (zcylinder)");
+    } else if (k == "wiggle") {  // fix wall/gran's: A (1 - cos 2 pi t / P), t from this fix's step
+      if (a + 3 >= narg)
+        error->all(FLERR, name + ": 'wiggle' needs a direction (x, y or z), an amplitude and a period");
+      const std::string dim = arg[a + 1];
+      if (dim != "x" && dim != "y" && dim != "z")
+        error->all(FLERR, name + ": wiggle direction '" + dim + "' must be x, y or z");
+      if (style == "zcylinder" && dim != "z")
+        error->all(FLERR, name + ": a zcylinder wiggles along its axis only: use 'wiggle z A P'");
+      utils::numeric(FLERR, arg[a + 2], false, lmp);
+      utils::numeric(FLERR, arg[a + 3], false, lmp);
+      keywords += " wiggle " + dim + " " + arg[a + 2] + " " + arg[a + 3];
+      wiggle = true;
+      a += 3;
     } else {
       error->all(FLERR, name + ": unknown keyword '" + k + "'; " + kUsage);
     }
   }
+  if (wiggle && keywords.find(" shear ") != std::string::npos)
+    error->all(FLERR, name + ": 'wiggle' and 'shear' together (fix wall/gran refuses them too): give one");
+  // The wall's time is fix wall/gran's: the steps since this fix was defined times dt. Engines
+  // are made at a run's setup (the state is at ntimestep) or within a step (at ntimestep - 1).
+  time_origin_ = update->ntimestep;
+  const auto clock = [this]() {
+    const bigint steps = update->ntimestep - time_origin_ - (update->setupflag ? 0 : 1);
+    return double(steps) * update->dt;
+  };
   for (const std::string &spec : specs) {
     try {
       shapes_.push_back(hardsphere::parse_wall_shape(spec + keywords, name));
+      if (wiggle) shapes_.back().clock = clock;
     } catch (const std::exception &e) {
       error->all(FLERR, e.what());
     }

@@ -1,9 +1,9 @@
 #pragma once
 //! `fix ID group wall/hardsphere wallstyle args keyword value ...`: a wall the hard spheres of
 //! `fix hardsphere` collide with, in the geometry of `fix wall/gran` (xplane, yplane, zplane,
-//! zcylinder) and with the hard-sphere wall law (restitution, tangential_restitution, friction)
-//! instead of a contact force. The fix itself does nothing in a step: fix hardsphere reads its
-//! walls at each run's setup and the stepper detects and collides with them (wall_shapes.hpp).
+//! zcylinder; `wiggle dim A P` as fix wall/gran moves it) and with the hard-sphere wall law (restitution,
+//! tangential_restitution, friction) instead of a contact force. The fix itself does nothing in a step: fix hardsphere
+//! reads its walls at each run's setup and the stepper detects and collides with them (wall_shapes.hpp).
 #include <string>
 #include <vector>
 
@@ -23,6 +23,7 @@ class FixWallHardSphere : public Fix {
 
  private:
   std::vector<hardsphere::WallShape> shapes_;
+  bigint time_origin_ = 0;  //!< the step this fix was defined at: a wiggle's time 0 (fix wall/gran's)
 };
 
 }  // namespace LAMMPS_NS

@@ -74,7 +74,21 @@ def wall_gran(ctx, case):
 
 @cases.case
 def wiggle(ctx, case):
-    return refused(ctx, "fix hs all hardsphere\nfix w all wall/hardsphere zplane 0 NULL wiggle z 1 "
+    """One sphere dropped onto 'zplane 2.0 NULL wiggle z 0.3 1.7 restitution 0.5' in two runs
+    (200 + 250 steps): the standalone's --wall "plane ... wiggle z 0.3 1.7" run of 450 steps, so
+    the wall's time runs on across runs (fix wall/gran's: steps since the fix times dt)."""
+    rows = ctx.lammps("shapes/wiggle.lmp", vars=dict(ew=0.5)).rows
+    ctx.standalone("--read-data", "wiggle_start.data", "--boundary", "p,p,w", "--gravity", "0,0,-1", "--dt", 0.01,
+                   "--steps", 450, "--wall", "plane 0 0 2.0 0 0 1 wiggle z 0.3 1.7 restitution 0.5",
+                   "--write-data", "wiggle_cli.data")
+    dx, dv = ctx.difference("wiggle_end.data", "wiggle_cli.data", periodic=(True, True, False))
+    return {"wall contacts": rows[-1]["f_hs[5]"], "position against the standalone's": dx,
+            "velocity against the standalone's": dv}, {}
+
+
+@cases.case
+def wiggle_dim(ctx, case):
+    return refused(ctx, "fix hs all hardsphere\nfix w all wall/hardsphere zcylinder 4 wiggle x 1 "
                    "10\nrun 1\n")
 
 

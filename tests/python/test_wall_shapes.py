@@ -52,3 +52,28 @@ def test_the_event_engine_refuses_shaped_walls():
     s = hs.System.random(n=10, box=(20, 20, 20), boundary="w", seed=1)
     with pytest.raises(ValueError, match="shaped walls run in the stepper only"):
         hs.EventEngine(s, walls=["sphere 10 10 10 1 outside"])
+
+
+PLATE = "plane 0 0 1 0 0 1 wiggle z 0.5 3 restitution 0.9"
+
+
+def test_a_wiggled_bed_equals_the_cli_run_and_its_clock_runs_on(cli, tmp_path):
+    # A vibrated bed (wiggle, the CLI's words): the CLI's run bit for bit; two run() calls of one
+    # Stepper equal one run of their sum (the wall's time runs on between them).
+    start = tmp_path / "start.data"
+    hs.System.random(n=100, box=(10, 10, 12), boundary="p,p,w", seed=3, walls=[PLATE]).write_data(str(start))
+    out = tmp_path / "cli.json"
+    cli("run", "--read-data", start, "--boundary", "p,p,w", "--steps", 600, "--dt", 0.005, "--gravity", "0,0,-1",
+        "--restitution", 0.7, "--tangential-restitution", 0.3, "--wall", PLATE, "--json", out)
+    summary = json.loads(out.read_text())
+    system = hs.System.from_data(str(start), boundary="p,p,w")
+    sim = hs.Stepper(system, walls=[PLATE], **PHYSICS)
+    sim.run(steps=600)
+    split = hs.Stepper(system, walls=[PLATE], **PHYSICS)
+    split.run(steps=250)
+    split.run(steps=350)
+    o = sim.observables()
+    for k in ("shaped_walls", "wall_work", "collisions", "wall_collisions", "resting_contacts", "kinetic_energy_final"):
+        assert o[k] == summary[k], k
+    assert o["shaped_walls"][0]["work"] > 0
+    np.testing.assert_array_equal(split.positions, sim.positions)

@@ -6,6 +6,7 @@
 #include <array>
 #include <cmath>
 #include <cstdint>
+#include <functional>
 #include <limits>
 #include <optional>
 #include <string>
@@ -31,8 +32,10 @@ struct WallLaw {
 
 enum class ShapeKind { Plane, Cylinder, Sphere, Cone };
 
-//! One shaped wall. Its geometry stays where it is; a rotating or shearing wall moves only its
-//! surface (a drum turns in place), which the contact law sees as the wall's velocity.
+//! One shaped wall. A rotating or shearing wall moves only its surface (a drum turns in place),
+//! which the contact law sees as the wall's velocity; `translate` and `wiggle` move its geometry
+//! rigidly (a piston, a vibrated plate): the fields below give it at its time 0, and
+//! shape_displacement() how far it has gone at a time.
 struct WallShape {
   ShapeKind kind = ShapeKind::Plane;
   //! Plane: a point on it. Cylinder, cone: a point on the axis (the axial coordinate unused).
@@ -50,10 +53,24 @@ struct WallShape {
   //! about its normal through `point` (a turning plate: a drum's end walls).
   double omega = 0;
   Vec3<double> surface_velocity{};  //!< plane: the surface's velocity in its plane (shear)
+  Vec3<double> translate{};         //!< the geometry's constant velocity (any shape)
+  //! The geometry oscillating along axis `wiggle_axis` (-1: none) as fix wall/gran's wiggle:
+  //! displacement A (1 - cos 2 pi t / P), from rest at t = 0.
+  int wiggle_axis = -1;
+  double amplitude = 0, period = 0;
+  //! The wall's time when an engine starts with it (a continued run gives the time the last one
+  //! ended, so the wall keeps its place and phase); `clock`, if set, gives it instead when the
+  //! engine is made (an adapter whose engines are remade within a run: LAMMPS).
+  double time = 0;
+  std::function<double()> clock;
   WallLaw law;
   std::string source;  //!< how messages name it, e.g. `--wall 2 "cylinder z 0 0 5"`
 
-  bool moving() const { return omega != 0 || dot(surface_velocity, surface_velocity) != 0; }
+  //! The geometry moves (translate, wiggle): detection follows it.
+  bool geometry_moves() const { return dot(translate, translate) != 0 || wiggle_axis >= 0; }
+  bool moving() const { return omega != 0 || dot(surface_velocity, surface_velocity) != 0 || geometry_moves(); }
+  //! The wall's time when an engine is made with it.
+  double start_time() const { return clock ? clock() : time; }
   //! Outside a cylinder or sphere: an obstacle, which a path can touch and leave within a step.
   bool convex_obstacle() const { return !inside && (kind == ShapeKind::Cylinder || kind == ShapeKind::Sphere); }
 };
@@ -73,6 +90,10 @@ const char* shape_kind_name(ShapeKind k);
 //!                                        plane: about its normal through its point
 //!   axis x|y|z                           sphere: the axis it rotates about (z by default)
 //!   shear VX VY VZ                       plane: surface velocity in the plane
+//!   translate VX VY VZ                   the whole wall moves at this velocity
+//!   wiggle x|y|z A P                     the wall oscillates: A (1 - cos 2 pi t / P) along the axis
+//!                                        (a plane; a cylinder along its own axis, unbounded)
+//!   time T                               the wall's time at the run's start (0 by default)
 //!   restitution E, tangential_restitution B, friction MU   the wall's law
 //! Throws InputError naming `source` and the word for anything else (an unknown word, a missing
 //! or non-numeric value, a keyword the shape does not take, a keyword twice).
@@ -83,9 +104,11 @@ std::string describe(const WallShape& w);
 
 //! Throws InputError naming the wall's source and the value: a zero or non-finite normal, a
 //! radius <= 0, cone radii < 0 or both 0, bounds with lo >= hi, a non-finite number, a shear
-//! velocity with a part along the normal, a motion the shape does not take, or a wall that is not
-//! the same along a periodic axis (a plane whose normal has a component there or that rotates, a
-//! cylinder along another axis or bounded, a sphere or a cone). Returns the wall with its normal made unit.
+//! velocity with a part along the normal, a motion the shape does not take (wiggle: an amplitude
+//! < 0, a period <= 0, a cylinder not along its own axis or bounded, a sphere or a cone), or a wall
+//! that is not the same along a periodic axis (a plane whose normal has a component there or that
+//! rotates, a cylinder along another axis or bounded, a sphere or a cone). Returns the wall with its
+//! normal made unit.
 WallShape validated_shape(WallShape w, const std::array<bool, 3>& periodic);
 
 //! The signed gap between a sphere of radius a at x and the wall (negative: overlapping), or
@@ -159,9 +182,35 @@ inline Vec3<double> shape_surface_velocity(const WallShape& w, Vec3<double> p) {
   return cross(e, p - w.point);
 }
 
+//! How far wall w's geometry has moved at its time t (translate and wiggle).
+inline Vec3<double> shape_displacement(const WallShape& w, double t) {
+  Vec3<double> d = t * w.translate;
+  const double omega = 2 * M_PI / w.period;
+  if (w.wiggle_axis >= 0) d[w.wiggle_axis] += w.amplitude - w.amplitude * std::cos(omega * t);
+  return d;
+}
+//! The velocity of wall w's geometry at its time t.
+inline Vec3<double> shape_motion_velocity(const WallShape& w, double t) {
+  Vec3<double> u = w.translate;
+  const double omega = 2 * M_PI / w.period;
+  if (w.wiggle_axis >= 0) u[w.wiggle_axis] += w.amplitude * omega * std::sin(omega * t);
+  return u;
+}
+//! The acceleration of wall w's geometry at its time t (a wiggle's; 0 otherwise).
+inline Vec3<double> shape_motion_acceleration(const WallShape& w, double t) {
+  Vec3<double> acc{};
+  const double omega = 2 * M_PI / w.period;
+  if (w.wiggle_axis >= 0) acc[w.wiggle_axis] = w.amplitude * omega * omega * std::cos(omega * t);
+  return acc;
+}
+//! The gap of a sphere of radius a at x from wall w where it is at its time t.
+inline double shape_gap_at(const WallShape& w, double t, Vec3<double> x, double a) {
+  return w.geometry_moves() ? shape_gap(w, x - shape_displacement(w, t), a) : shape_gap(w, x, a);
+}
+
 struct ParticleSystem;
-//! Refuses (InputError) a sphere of `sys` that starts overlapping a wall, naming the sphere, the
-//! wall and the overlap.
+//! Refuses (InputError) a sphere of `sys` that starts overlapping a wall (a moving one where it
+//! is at its start_time()), naming the sphere, the wall and the overlap.
 void check_clear_of_shapes(const ParticleSystem& sys, const std::vector<WallShape>& shapes);
 
 //! A wall's totals over a run: its collisions, resting contacts and the work it did on the

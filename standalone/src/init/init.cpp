@@ -160,7 +160,7 @@ void place_random(ParticleSystem& sys, std::int64_t n, double radius, double mas
       ok = true;
       // A funnel's spheres start inside it (its outside is not a wall).
       for (const WallShape& w : walls) {
-        const double gap = shape_gap(w, p, radius);
+        const double gap = shape_gap_at(w, w.start_time(), p, radius);
         ok = ok && gap >= 0 && (w.kind != ShapeKind::Cone || std::isfinite(gap));
       }
       if (!ok) continue;

@@ -131,6 +131,14 @@ WallShape parse_wall_shape(const std::string& spec, const std::string& source) {
     } else if (key == "shear") {
       only(w.kind == ShapeKind::Plane, "a plane (round walls take rotate)");
       for (int d = 0; d < 3; ++d) w.surface_velocity[d] = in.number("shear VX VY VZ");
+    } else if (key == "translate") {
+      for (int d = 0; d < 3; ++d) w.translate[d] = in.number("translate VX VY VZ");
+    } else if (key == "wiggle") {
+      w.wiggle_axis = in.axis("wiggle's axis");
+      w.amplitude = in.number("wiggle's amplitude A");
+      w.period = in.number("wiggle's period P");
+    } else if (key == "time") {
+      w.time = in.number("time T (the wall's time at the run's start)");
     } else if (key == "restitution") {
       w.law.restitution = in.number("restitution E");
     } else if (key == "tangential_restitution") {
@@ -139,8 +147,8 @@ WallShape parse_wall_shape(const std::string& spec, const std::string& source) {
       w.law.friction = in.number("friction MU");
     } else {
       in.fail("unknown keyword '" + key +
-              "' (expected inside, outside, bounds, rotate, axis, shear, restitution, tangential_restitution or "
-              "friction)");
+              "' (expected inside, outside, bounds, rotate, axis, shear, translate, wiggle, time, restitution, "
+              "tangential_restitution or friction)");
     }
   }
   return w;
@@ -173,6 +181,10 @@ std::string describe(const WallShape& w) {
   if (w.omega != 0) o << " rotate " << num(w.omega);
   if (dot(w.surface_velocity, w.surface_velocity) != 0)
     o << " shear " << num(w.surface_velocity.x) << ' ' << num(w.surface_velocity.y) << ' ' << num(w.surface_velocity.z);
+  if (dot(w.translate, w.translate) != 0)
+    o << " translate " << num(w.translate.x) << ' ' << num(w.translate.y) << ' ' << num(w.translate.z);
+  if (w.wiggle_axis >= 0) o << " wiggle " << axes[w.wiggle_axis] << ' ' << num(w.amplitude) << ' ' << num(w.period);
+  if (w.time != 0) o << " time " << num(w.time);
   o << " restitution " << num(w.law.restitution);
   if (w.law.tangential_restitution) o << " tangential_restitution " << num(*w.law.tangential_restitution);
   if (w.law.friction) o << " friction " << num(*w.law.friction);
@@ -235,6 +247,22 @@ WallShape validated_shape(WallShape w, const std::array<bool, 3>& periodic) {
       fail("radii " + num(w.radius_lo) + " " + num(w.radius_hi) + " must be >= 0 and not both 0");
   }
   finite(w.omega, "rotate");
+  for (int d = 0; d < 3; ++d) finite(w.translate[d], "translate component");
+  finite(w.time, "time");
+  if (w.wiggle_axis >= 0) {
+    finite(w.amplitude, "wiggle amplitude");
+    finite(w.period, "wiggle period");
+    if (!(w.amplitude >= 0)) fail("wiggle amplitude " + num(w.amplitude) + " must be >= 0");
+    if (!(w.period > 0)) fail("wiggle period " + num(w.period) + " must be > 0");
+    // Detection follows a wiggle where the gap's second derivative has a bound it can use: a
+    // plane's, or a cylinder's moving along its own unbounded axis (its gap does not change).
+    const bool along_tube =
+        w.kind == ShapeKind::Cylinder && w.wiggle_axis == w.axis && !std::isfinite(w.lo) && !std::isfinite(w.hi);
+    if (w.kind != ShapeKind::Plane && !along_tube)
+      fail(std::string("wiggle ") + "xyz"[w.wiggle_axis] + " moves a " + shape_kind_name(w.kind) +
+           (w.kind == ShapeKind::Cylinder ? " across its axis or with bounds" : "") +
+           ": wiggle takes a plane or an unbounded cylinder along its own axis (translate moves any wall)");
+  }
   return w;
 }
 
@@ -244,11 +272,13 @@ void check_clear_of_shapes(const ParticleSystem& sys, const std::vector<WallShap
       const Vec3<double> x = sys.pos[i];
       const double a = sys.radius[i];
       const double scale = std::max({std::abs(x.x), std::abs(x.y), std::abs(x.z), norm(w.point), w.radius, a});
-      const double gap = shape_gap(w, x, a);
+      const double t = w.geometry_moves() ? w.start_time() : 0.0;
+      const double gap = shape_gap_at(w, t, x, a);
       if (gap < -1e-12 * scale)
         throw InputError(atom_origin(sys, i, sys.source.empty() ? "initial state" : sys.source, nullptr) + " (at " +
                          num(x.x) + " " + num(x.y) + " " + num(x.z) + ", radius " + num(a) + ") overlaps " + w.source +
-                         " by " + num(-gap) + ": start every sphere clear of the wall");
+                         (w.geometry_moves() ? " (where it is at its time " + num(t) + ")" : std::string()) + " by " +
+                         num(-gap) + ": start every sphere clear of the wall");
     }
 }
 

@@ -86,7 +86,10 @@ class ContactResolver {
     last_collision_ = last;
   }
   //! The time at the end of the current step, on the clock of the last collision times.
-  void set_step_end(double t) { step_end_ = t; }
+  void set_step_end(double t) {
+    step_end_ = t;
+    shapes_.set_step_end(t);
+  }
   //! The tangential law of rough spheres, used while ContactArrays::omega is set.
   void set_roughness(const kernel::Roughness<Real>& k) { law_.roughness = k; }
   //! The box faces' laws (kernel::wall_laws()); the default: elastic and smooth.

@@ -4,8 +4,11 @@
 //! goes back to its contact time, found analytically where the shape allows (a plane; a sphere
 //! or a cylinder on a straight path, a cylinder under gravity along its axis) and otherwise by
 //! bisection to rounding; outside a convex obstacle (a cylinder's or a sphere's outside) a path
-//! that touches and leaves it within its window is caught at its closest approach. The geometry
-//! is in double whatever the engine's Real.
+//! that touches and leaves it within its window is caught at its closest approach. A wall whose
+//! geometry moves (translate, wiggle) is followed in its own frame: a translation keeps the path
+//! relative to it a parabola (the same roots), a wiggled plane's gap is advanced conservatively
+//! with a bound on its second derivative (wiggle_back). The geometry is in double whatever the
+//! engine's Real.
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -41,6 +44,8 @@ class ShapeEvents {
         w.hi -= origin[std::size_t(w.axis)];
       }
       size = std::max({size, norm(w.point) + w.radius, w.radius_lo, w.radius_hi});
+      w.time = w.start_time();  // the wall's time at this engine's clock 0
+      w.clock = nullptr;
       shapes_.push_back(w);
       const double beta = w.law.tangential_restitution.value_or(p.tangential_restitution);
       const double mu = w.law.friction.value_or(p.friction);
@@ -62,6 +67,8 @@ class ShapeEvents {
       throw InputError(shapes_.at(k).source + ": rotation rate " + std::to_string(omega) + " must be finite");
     shapes_.at(k).omega = omega;
   }
+  //! The end of the current step on the engine's clock (its time since it was made).
+  void set_step_end(double t) { end_ = t; }
   bool any() const { return !shapes_.empty(); }
   std::size_t size() const { return shapes_.size(); }
   const kernel::WallLaw<double>& law(std::size_t k) const { return laws_[k]; }
@@ -80,6 +87,11 @@ class ShapeEvents {
     const double reach = norm(ve) * w + g_norm_ * w * w + tol_;
     for (std::size_t k = 0; k < shapes_.size(); ++k) {
       const WallShape& s = shapes_[k];
+      if (s.geometry_moves()) {
+        const double back = moving_back_time(s, xe, ve, a, w, reach);
+        if (back >= 0) push(k, Real(back));
+        continue;
+      }
       const double fe = shape_gap(s, xe, a);
       if (fe > reach) continue;
       const double back = back_time(s, xe, ve, a, w, fe);
@@ -87,17 +99,23 @@ class ShapeEvents {
     }
   }
 
-  //! The contact's unit normal (from the wall to the sphere) and the surface's velocity there.
+  //! The contact's unit normal (from the wall to the sphere), the surface's velocity there and,
+  //! for a wall whose geometry moves, the sphere's position relative to it (x otherwise).
   struct Contact {
-    Vec3<double> n, u;
+    Vec3<double> n, u, x;
   };
-  Contact contact(std::size_t k, Vec3<double> x, double a) const {
+  //! A sphere of radius a at x meeting wall k `back` before the end of the step.
+  Contact contact(std::size_t k, Vec3<double> x, double a, double back) const {
     const WallShape& s = shapes_[k];
+    if (s.geometry_moves()) {
+      const double t = s.time + end_ - back;
+      x -= shape_displacement(s, t);
+      const Vec3<double> n = shape_normal(s, x);
+      return {n, shape_surface_velocity(s, x - a * n) + shape_motion_velocity(s, t), x};
+    }
     const Vec3<double> n = shape_normal(s, x);
-    return {n, shape_surface_velocity(s, x - a * n)};
+    return {n, shape_surface_velocity(s, x - a * n), x};
   }
-  //! The gap of a sphere of radius a at x from wall k.
-  double gap(std::size_t k, Vec3<double> x, double a) const { return shape_gap(shapes_[k], x, a); }
 
   //! What a contact did: whether it changed the sphere, rested, the energy it took and the work
   //! the wall did (the spheres' energy gained plus what the contact took; walls at rest: none).
@@ -115,15 +133,21 @@ class ShapeEvents {
     const Vec3<double> xe{double(x.x), double(x.y), double(x.z)}, ve{double(v.x), double(v.y), double(v.z)};
     Vec3<double> xc = xe - t * ve + (0.5 * t * t) * g_;
     const Vec3<double> vc = ve - t * g_;
-    const Contact wall = contact(k, xc, a);
+    const Contact wall = contact(k, xc, a, t);
     Outcome r;
     // A contact at the window's start may be inside the wall (a resting hop along a curved wall
     // ends ~v_t^2 dt^2 / 2R inside it; rounding): the sphere goes back onto the surface along
     // the normal, and the potential energy that takes counts as the wall's work.
-    const double gap = shape_gap(shapes_[k], xc, a);
+    const double gap = shape_gap(shapes_[k], wall.x, a);
     Vec3<double> w{}, w0{};
     if constexpr (Rough) w = w0 = {double(omega->x), double(omega->y), double(omega->z)};
-    const auto out = kernel::collide_surface<Rough>(laws_[k], wall.n, wall.u, vc, g_, double(resting_time), t,
+    // Where gravity pulls a sphere onto a wiggled wall it rests under gravity relative to the
+    // wall (its acceleration taken off): it rides a plate accelerating down slower than g and
+    // leaves one that is faster (the bouncing ball); without that pull there is no rest.
+    const WallShape& s = shapes_[k];
+    const bool relative = s.wiggle_axis >= 0 && dot(g_, wall.n) < 0;
+    const Vec3<double> g_law = relative ? g_ - shape_motion_acceleration(s, s.time + end_ - t) : g_;
+    const auto out = kernel::collide_surface<Rough>(laws_[k], wall.n, wall.u, vc, g_law, double(resting_time), t,
                                                     Rough ? &w : nullptr, m, a, recent);
     if (!out.wall.contact.changed) return r;
     if (gap < 0) {
@@ -150,6 +174,64 @@ class ShapeEvents {
 
  private:
   Vec3<double> at(Vec3<double> xe, Vec3<double> v, double t) const { return xe - t * v + (0.5 * t * t) * g_; }
+
+  //! back_time() for a wall whose geometry moves, or -1; `reach` as predict()'s.
+  double moving_back_time(const WallShape& s, Vec3<double> xe, Vec3<double> v, double a, double w, double reach) const {
+    const double te = s.time + end_;  // the wall's time at the window's end
+    const Vec3<double> xr = xe - shape_displacement(s, te);
+    const bool wiggle_moves_gap = s.wiggle_axis >= 0 && s.kind == ShapeKind::Plane && s.normal[s.wiggle_axis] != 0;
+    if (!wiggle_moves_gap) {
+      // In the frame of the translation (a wiggle along a cylinder's axis or in a plane's
+      // surface changes no gap) the path is the same parabola, relative velocity v - V.
+      const Vec3<double> vr = v - s.translate;
+      const double fe = shape_gap(s, xr, a);
+      if (fe > reach + norm(s.translate) * w) return -1;
+      return back_time(s, xr, vr, a, w, fe);
+    }
+    const double fe = shape_gap(s, xr, a);
+    const double omega = 2 * M_PI / s.period;
+    if (fe > reach + (norm(s.translate) + s.amplitude * omega) * w) return -1;
+    return wiggle_back(s, xe, v, a, w, te);
+  }
+
+  //! A wiggled plane: the gap along the sphere's parabola less the wall's motion,
+  //! f(b) = n.(x(b) - p - D(te - b)) - a at back time b, whose second derivative is bounded by
+  //! M = |n.g| + A omega^2 |n_axis|. From the window's start f is advanced conservatively (the
+  //! first b at which the bound f + f' s - M s^2 / 2 could reach -tol), so no graze is missed; the
+  //! contact is where the sphere is within tol of the plane and approaching it.
+  double wiggle_back(const WallShape& s, Vec3<double> xe, Vec3<double> v, double a, double w, double te) const {
+    const Vec3<double> n = s.normal;
+    const double omega = 2 * M_PI / s.period;
+    const double M = std::abs(dot(g_, n)) + s.amplitude * omega * omega * std::abs(n[s.wiggle_axis]);
+    const auto gap = [&](double b) { return dot(at(xe, v, b) - s.point - shape_displacement(s, te - b), n) - a; };
+    // Its rate forward in time: the normal velocity relative to the wall.
+    const auto rate = [&](double b) { return dot(v - b * g_ - shape_motion_velocity(s, te - b), n); };
+    double b = w, f = gap(b), d = rate(b), before = w;
+    if (f < -tol_) {
+      if (d < 0) return w;  // overlapping at the start and moving in: it bounces there
+      f = 0;                // moving out: it has just left the wall (as back_time())
+    }
+    for (int it = 0; it < 200; ++it) {
+      if (f < -tol_) {  // past the surface (the bound is exact only to rounding): bisect back
+        double lo = b, hi = before;
+        for (int k = 0; k < 200; ++k) {
+          const double mid = 0.5 * (lo + hi);
+          if (!(mid > lo && mid < hi)) break;
+          (gap(mid) < 0 ? lo : hi) = mid;
+        }
+        return hi;
+      }
+      if (f <= tol_ && d < 0) return b;
+      const double c = std::max(f, 0.0) + tol_;
+      const double step = M > 0 ? (d + std::sqrt(d * d + 2 * M * c)) / M : (d < 0 ? c / -d : w);
+      if (!(step < b)) return -1;  // f stays above -tol to the window's end
+      before = b;
+      b -= step;
+      f = gap(b);
+      d = rate(b);
+    }
+    return gap(0) < -tol_ ? b : -1;  // a long graze: the overlap at the end is resolved at the last bound
+  }
 
   //! The back time of the contact in [0, w], or -1: fe is the gap at the window's end.
   double back_time(const WallShape& s, Vec3<double> xe, Vec3<double> v, double a, double w, double fe) const {
@@ -250,7 +332,7 @@ class ShapeEvents {
   std::vector<kernel::WallLaw<double>> laws_;
   std::vector<WallShapeTotals> totals_;
   Vec3<double> g_{};
-  double g_norm_ = 0, tol_ = 0;
+  double g_norm_ = 0, tol_ = 0, end_ = 0;
 };
 
 }  // namespace hardsphere

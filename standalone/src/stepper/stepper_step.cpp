@@ -167,9 +167,10 @@ Real Stepper<Real, Mono>::substep() {
     rebuild();
     cover_windows(false);
   }
+  // Moving walls' predictions need the step's end on the clock.
+  resolver_.set_step_end(clock_ + double(h_));
   scan_pair_list<Sweep, !AllPeriodic>();  // kinematic spheres never take the all-periodic kernel
   if constexpr (!AllPeriodic) resolver_.predict_all_walls();
-  resolver_.set_step_end(clock_ + double(h_));
   Real cut = ContactResolver<Real, Mono>::kWholeStep;
   if (resolver_.has_candidates()) {
     Hooks hooks{*this};
