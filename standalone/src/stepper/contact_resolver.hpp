@@ -508,6 +508,12 @@ class ContactResolver {
                                                      mass(i), c.back, walls_.resting_time(dt_),
                                                      [&] { return collided_recently(i, i, c.back); });
     if (!out.changed) return false;  // receding at the contact
+    if (out.placed) {                // only put back on the surface: no contact
+      tally.wall_work += out.work;
+      mark_changed(i, c.back);
+      hooks.after_bounce(i);
+      return true;
+    }
     if (shapes_.law(k).restitution != 1 && !out.rested) last_collision_[id_index(i)] = step_end_ - double(c.back);
     if constexpr (Rough) {
       tally.dissipated_normal += out.dissipated_normal;

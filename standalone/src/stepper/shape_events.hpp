@@ -120,7 +120,9 @@ class ShapeEvents {
   //! What a contact did: whether it changed the sphere, rested, the energy it took and the work
   //! the wall did (the spheres' energy gained plus what the contact took; walls at rest: none).
   struct Outcome {
-    bool changed = false, rested = false;
+    //! placed: the law did nothing (a path sliding along a concave wall, receding at the start),
+    //! the sphere only put back on the surface at the step's end: no contact to count.
+    bool changed = false, rested = false, placed = false;
     double dissipated_normal = 0, dissipated_tangential = 0, work = 0;
   };
   //! Sphere (x, v, w at the end of the step; radius a, mass m) met wall k `back` before the end:
@@ -149,13 +151,27 @@ class ShapeEvents {
     const Vec3<double> g_law = relative ? g_ - shape_motion_acceleration(s, s.time + end_ - t) : g_;
     const auto out = kernel::collide_surface<Rough>(laws_[k], wall.n, wall.u, vc, g_law, double(resting_time), t,
                                                     Rough ? &w : nullptr, m, a, recent);
-    if (!out.wall.contact.changed) return r;
+    if (!out.wall.contact.changed) {
+      // Sliding along a concave wall (the limit of ever shorter chords) ends inside it by
+      // ~v_t^2 t^2 / 2R: it ends on the surface.
+      Vec3<double> xend = xe;
+      if (!put_on_surface(s, xend, a, m, r.work)) return r;
+      x = {Real(xend.x), Real(xend.y), Real(xend.z)};
+      r.changed = r.placed = true;
+      totals_[k].work += r.work;
+      return r;
+    }
     if (gap < 0) {
       xc -= gap * wall.n;
-      r.work = m * gap * dot(g_, wall.n);
+      r.work += m * gap * dot(g_, wall.n);
     }
     const Vec3<double> v1 = vc + out.dv;
-    const Vec3<double> x1 = xc + t * v1 + (0.5 * t * t) * g_, v_end = v1 + t * g_;
+    Vec3<double> x1 = xc + t * v1 + (0.5 * t * t) * g_;
+    const Vec3<double> v_end = v1 + t * g_;
+    // A resting hop along a concave wall (a drum, a bowl) ends ~v_t^2 t^2 / 2R inside it: it ends
+    // on the surface instead, so no state a step leaves overlaps a wall (which a stepper made from
+    // it refuses), the potential energy that takes again the wall's work.
+    if (out.wall.rested) put_on_surface(s, x1, a, m, r.work);
     x = {Real(x1.x), Real(x1.y), Real(x1.z)};
     v = {Real(v_end.x), Real(v_end.y), Real(v_end.z)};
     r.changed = true, r.rested = out.wall.rested;
@@ -173,6 +189,19 @@ class ShapeEvents {
   }
 
  private:
+  //! Moves a sphere at x (radius a, mass m) at the end of the step that overlaps wall s back onto
+  //! its surface along the normal, adding the work that takes against gravity to `work`; false:
+  //! it was clear.
+  bool put_on_surface(const WallShape& s, Vec3<double>& x, double a, double m, double& work) const {
+    const Vec3<double> shift = s.geometry_moves() ? shape_displacement(s, s.time + end_) : Vec3<double>{};
+    const Vec3<double> xr = x - shift;
+    const double gap = shape_gap(s, xr, a);
+    if (!(gap < 0)) return false;
+    const Vec3<double> n = shape_normal(s, xr);
+    x -= gap * n;
+    work += m * gap * dot(g_, n);
+    return true;
+  }
   Vec3<double> at(Vec3<double> xe, Vec3<double> v, double t) const { return xe - t * v + (0.5 * t * t) * g_; }
 
   //! back_time() for a wall whose geometry moves, or -1; `reach` as predict()'s.
@@ -242,7 +271,12 @@ class ShapeEvents {
       // back on the surface). Moving out there, it has just left the wall: no contact.
       if (!(fs > 0)) {
         const Vec3<double> x0 = at(xe, v, w);
-        return dot(v - w * g_, shape_normal(s, x0)) < 0 ? w : -1;
+        if (dot(v - w * g_, shape_normal(s, x0)) < 0) return w;
+        // Leaving the surface and inside it at the end: a chord (a hop along a concave wall, or
+        // a plane's under gravity) meets the wall again where its gap closes; a path never clear
+        // of it slides along it: a contact at the start, which puts its end on the surface.
+        const double tp = peak(s, xe, v, a, w);
+        return shape_gap(s, at(xe, v, tp), a) > tol_ ? root(s, xe, v, a, 0, tp) : w;
       }
       return root(s, xe, v, a, 0, w);
     }
@@ -326,6 +360,27 @@ class ShapeEvents {
       }
     }
     return f1 < f2 ? t1 : t2;
+  }
+
+  //! The time in [0, w] of the path's largest gap (golden section: the gap along a path that
+  //! leaves a concave wall or a plane rises once and falls).
+  double peak(const WallShape& s, Vec3<double> xe, Vec3<double> v, double a, double w) const {
+    const double phi = 0.5 * (std::sqrt(5.0) - 1);
+    double lo = 0, hi = w;
+    double t1 = hi - phi * (hi - lo), t2 = lo + phi * (hi - lo);
+    double f1 = shape_gap(s, at(xe, v, t1), a), f2 = shape_gap(s, at(xe, v, t2), a);
+    for (int it = 0; it < 60 && hi - lo > 1e-15 * w; ++it) {
+      if (f1 > f2) {
+        hi = t2, t2 = t1, f2 = f1;
+        t1 = hi - phi * (hi - lo);
+        f1 = shape_gap(s, at(xe, v, t1), a);
+      } else {
+        lo = t1, t1 = t2, f1 = f2;
+        t2 = lo + phi * (hi - lo);
+        f2 = shape_gap(s, at(xe, v, t2), a);
+      }
+    }
+    return f1 > f2 ? t1 : t2;
   }
 
   std::vector<WallShape> shapes_;
