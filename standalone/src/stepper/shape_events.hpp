@@ -275,7 +275,7 @@ class ShapeEvents {
         // Leaving the surface and inside it at the end: a chord (a hop along a concave wall, or
         // a plane's under gravity) meets the wall again where its gap closes; a path never clear
         // of it slides along it: a contact at the start, which puts its end on the surface.
-        const double tp = peak(s, xe, v, a, w);
+        const double tp = golden(s, xe, v, a, w, 1);
         return shape_gap(s, at(xe, v, tp), a) > tol_ ? root(s, xe, v, a, 0, tp) : w;
       }
       return root(s, xe, v, a, 0, w);
@@ -344,40 +344,26 @@ class ShapeEvents {
       const double A = dot(u, u);
       return A > 0 ? std::clamp(dot(p, u) / A, 0.0, w) : 0.0;
     }
-    const double phi = 0.5 * (std::sqrt(5.0) - 1);
-    double lo = 0, hi = w;
-    double t1 = hi - phi * (hi - lo), t2 = lo + phi * (hi - lo);
-    double f1 = shape_gap(s, at(xe, v, t1), a), f2 = shape_gap(s, at(xe, v, t2), a);
-    for (int it = 0; it < 60 && hi - lo > 1e-15 * w; ++it) {
-      if (f1 < f2) {
-        hi = t2, t2 = t1, f2 = f1;
-        t1 = hi - phi * (hi - lo);
-        f1 = shape_gap(s, at(xe, v, t1), a);
-      } else {
-        lo = t1, t1 = t2, f1 = f2;
-        t2 = lo + phi * (hi - lo);
-        f2 = shape_gap(s, at(xe, v, t2), a);
-      }
-    }
-    return f1 < f2 ? t1 : t2;
+    return golden(s, xe, v, a, w, -1);
   }
 
-  //! The time in [0, w] of the path's largest gap (golden section: the gap along a path that
-  //! leaves a concave wall or a plane rises once and falls).
-  double peak(const WallShape& s, Vec3<double> xe, Vec3<double> v, double a, double w) const {
+  //! The time in [0, w] of the path's largest gap (sign 1) or smallest (-1), by golden section:
+  //! the gap along a path near a convex obstacle falls once and rises, along one leaving a
+  //! concave wall or a plane rises once and falls.
+  double golden(const WallShape& s, Vec3<double> xe, Vec3<double> v, double a, double w, double sign) const {
     const double phi = 0.5 * (std::sqrt(5.0) - 1);
     double lo = 0, hi = w;
     double t1 = hi - phi * (hi - lo), t2 = lo + phi * (hi - lo);
-    double f1 = shape_gap(s, at(xe, v, t1), a), f2 = shape_gap(s, at(xe, v, t2), a);
+    double f1 = sign * shape_gap(s, at(xe, v, t1), a), f2 = sign * shape_gap(s, at(xe, v, t2), a);
     for (int it = 0; it < 60 && hi - lo > 1e-15 * w; ++it) {
       if (f1 > f2) {
         hi = t2, t2 = t1, f2 = f1;
         t1 = hi - phi * (hi - lo);
-        f1 = shape_gap(s, at(xe, v, t1), a);
+        f1 = sign * shape_gap(s, at(xe, v, t1), a);
       } else {
         lo = t1, t1 = t2, f1 = f2;
         t2 = lo + phi * (hi - lo);
-        f2 = shape_gap(s, at(xe, v, t2), a);
+        f2 = sign * shape_gap(s, at(xe, v, t2), a);
       }
     }
     return f1 > f2 ? t1 : t2;
