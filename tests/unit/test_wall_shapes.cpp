@@ -138,6 +138,22 @@ double energy(const ParticleSystem& s, double q) {
   return 0.5 * dot(v, v) + 0.5 * q * 0.25 * dot(w, w) + s.pos[0].z;
 }
 
+//! Runs 20000 steps of 1e-3 and checks the walls' energy budget: their work (at least 0.1) is
+//! the energy change plus what the wall contacts took, to rounding. Returns the counters.
+StepCounters run_checking_wall_budget(const ParticleSystem& sys, const Physics& ph) {
+  StepperConfig cfg;
+  cfg.dt = 1e-3;
+  auto st = make_stepper(sys, ph, cfg);
+  const double e0 = energy(st->state(), 0.4);
+  st->run(20000);
+  const StepCounters c = st->counters();
+  const double e1 = energy(st->state(), 0.4);
+  const double taken = c.wall_dissipated_normal + c.wall_dissipated_tangential;
+  EXPECT_GT(std::abs(c.wall_work), 0.1);
+  EXPECT_NEAR(c.wall_work, e1 - e0 + taken, 1e-9 * (std::abs(c.wall_work) + taken));
+  return c;
+}
+
 }  // namespace
 
 TEST(WallShapes, ADrumHoldsASlidingSphereWhereTanThetaIsMu) {
@@ -198,18 +214,9 @@ TEST(WallShapes, TheDrumsWorkClosesTheEnergyBudget) {
   Physics ph = d.physics();
   ph.shapes[0].law.restitution = 0.7;
   ph.contact_time = kDefaultContactTime;
-  StepperConfig cfg;
-  cfg.dt = 1e-3;
-  auto st = make_stepper(d.sphere(), ph, cfg);
-  const double e0 = energy(st->state(), 0.4);
-  st->run(20000);
-  const StepCounters& c = st->counters();
-  const double e1 = energy(st->state(), 0.4);
-  const double taken = c.wall_dissipated_normal + c.wall_dissipated_tangential;
+  const StepCounters c = run_checking_wall_budget(d.sphere(), ph);
   ASSERT_EQ(c.shapes.size(), 1u);
   EXPECT_GT(c.shapes[0].resting_contacts + c.shapes[0].collisions, 1000);
-  EXPECT_GT(std::abs(c.wall_work), 0.1);
-  EXPECT_NEAR(c.wall_work, e1 - e0 + taken, 1e-9 * (std::abs(c.wall_work) + taken));
   EXPECT_EQ(c.wall_work, c.shapes[0].work);
 }
 
@@ -280,19 +287,10 @@ TEST(WallShapes, ARotationSetBetweenStepsIsTheWallBuiltTurning) {
 TEST(WallShapes, ATurningPlatesWorkClosesTheEnergyBudget) {
   // Work of the plate = energy change + what the contacts took, to rounding: a sphere dropped
   // from 0.3 above a slow inelastic plate (it bounces, then rests, slips and rolls).
-  StepperConfig cfg;
-  cfg.dt = 1e-3;
-  auto st = make_stepper(one_sphere({13, 10, 2.8}, {}), plate(0.7, 0.4, 0.7), cfg);
-  const double e0 = energy(st->state(), 0.4);
-  st->run(20000);
-  const StepCounters& c = st->counters();
-  const double e1 = energy(st->state(), 0.4);
-  const double taken = c.wall_dissipated_normal + c.wall_dissipated_tangential;
+  const StepCounters c = run_checking_wall_budget(one_sphere({13, 10, 2.8}, {}), plate(0.7, 0.4, 0.7));
   ASSERT_EQ(c.shapes.size(), 1u);
   EXPECT_GT(c.shapes[0].collisions, 3);
   EXPECT_GT(c.shapes[0].resting_contacts, 1000);
-  EXPECT_GT(std::abs(c.wall_work), 0.1);
-  EXPECT_NEAR(c.wall_work, e1 - e0 + taken, 1e-9 * (std::abs(c.wall_work) + taken));
 }
 
 TEST(WallShapes, ParsingNamesTheWallAndTheWord) {
